@@ -1,0 +1,81 @@
+//! Energies, the energy function and the generalized momenta of a body model.
+
+use super::{check_state, kinematics};
+use crate::{Error, Mechanism, Model, Scalar, Workspace};
+
+/// Kinetic energy `T = Σ_b ½ m_b |ṗ_b|² + ½ I_b φ̇_b²` (one velocity pass).
+pub fn kinetic_energy<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
+    check_state(model.n, t, q, Some(qdot))?;
+    kinematics::velocity_pass(model, ws, t, q, qdot);
+    Ok(kinetic_from_velocity(model, ws))
+}
+
+fn kinetic_from_velocity<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &Workspace<S>) -> S {
+    let mut kinetic = S::zero();
+    for b in 0..model.bodies() {
+        let v = &ws.velocity[3 * b..3 * b + 3];
+        kinetic += (v[0] * v[0] + v[1] * v[1]) * (0.5 * model.mass[b]) + v[2] * v[2] * (0.5 * model.inertia[b]);
+    }
+    kinetic
+}
+
+/// Potential energy `V + Σ_b m_b g y_b` (gravity included).
+pub fn potential_energy<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S]) -> Result<S, Error> {
+    check_state(model.n, t, q, None)?;
+    kinematics::position_pass(model, ws, t, q);
+    let mut potential = S::zero();
+    for b in 0..model.bodies() {
+        potential += ws.position[3 * b + 1] * (model.mass[b] * model.gravity);
+    }
+    if model.has_potential {
+        let t_dual = num_dual::Dual::from_re(t);
+        if let Some(v) = model.mechanism.potential(&ws.q_dual, &ws.poses_dual, t_dual) {
+            potential += v.re;
+        }
+    }
+    Ok(potential)
+}
+
+/// The Lagrangian `L = T − V`.
+pub fn lagrangian<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
+    Ok(kinetic_energy(model, ws, t, q, qdot)? - potential_energy(model, ws, t, q)?)
+}
+
+/// Generalized momenta `p = ∂L/∂q̇ = Σ_b J_bᵀ D_b ṗ_b`, borrowed from the workspace.
+pub fn momenta<'w, M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &'w mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<&'w [S], Error> {
+    check_state(model.n, t, q, Some(qdot))?;
+    let n = model.n;
+    kinematics::jacobian_pass(model, ws, t, q, false);
+    kinematics::velocity_pass(model, ws, t, q, qdot);
+    ws.momenta.fill(S::zero());
+    for b in 0..model.bodies() {
+        let (m, inertia) = (model.mass[b], model.inertia[b]);
+        let (vx, vy, va) = (ws.velocity[3 * b] * m, ws.velocity[3 * b + 1] * m, ws.velocity[3 * b + 2] * inertia);
+        for j in 0..n {
+            ws.momenta[j] +=
+                ws.jacobian[3 * b * n + j] * vx + ws.jacobian[(3 * b + 1) * n + j] * vy + ws.jacobian[(3 * b + 2) * n + j] * va;
+        }
+    }
+    Ok(&ws.momenta)
+}
+
+/// The energy function `h = q̇·∂L/∂q̇ − L` (Jacobi's integral). For scleronomic mechanisms it is
+/// `T + V`; it is conserved whenever `∂L/∂t = 0` and `Q = 0`, and in general
+/// `dh/dt = Q·q̇ − ∂L/∂t`.
+pub fn energy<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
+    momenta(model, ws, t, q, qdot)?;
+    let mut qdot_p = S::zero();
+    for (v, p) in qdot.iter().zip(&ws.momenta) {
+        qdot_p += *v * *p;
+    }
+    // The velocity pass of `momenta` is still in the workspace.
+    let kinetic = kinetic_from_velocity(model, ws);
+    let potential = potential_energy(model, ws, t, q)?;
+    Ok(qdot_p - kinetic + potential)
+}

@@ -1,0 +1,133 @@
+//! Equations of motion of a body model, stage by stage:
+//! position (`kinematics`) → mass matrix → right-hand side (`bias`) → `solve`; plus the
+//! quantities derived from the same passes (`energy`, `reactions`) and the raw-Lagrangian
+//! path (`raw`).
+
+pub(crate) mod bias;
+pub(crate) mod energy;
+pub(crate) mod kinematics;
+pub(crate) mod mass_matrix;
+pub(crate) mod raw;
+pub(crate) mod reactions;
+pub mod solve;
+
+use crate::error::Stage;
+use crate::{Error, Mechanism, Model, Scalar, Workspace};
+
+/// Generalized accelerations `q̈ = M(q, t)⁻¹ f(q, q̇, t)` of a body model.
+///
+/// `M = Σ_b J_bᵀ D_b J_b`, `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q`: `n` first-order dual
+/// passes give `J` (and `∂V/∂q`), one second-order pass along `(q̇, 1)` gives `γ`, then an
+/// in-place LDLᵀ solve. A model with a constant mass matrix skips all of it but the potential
+/// gradient and the solve with the stored factor. Generic over the scalar, so `q̈` itself can be
+/// differentiated. The result is borrowed from the workspace.
+///
+/// # Errors
+/// [`Error::DimensionMismatch`], [`Error::NonFinite`] (naming the stage), or
+/// [`Error::SingularMassMatrix`] where the coordinates are not independent.
+pub fn accelerations<'w, M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &'w mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<&'w [S], Error> {
+    let n = model.n;
+    check_state(n, t, q, Some(qdot))?;
+    if model.constant.is_some() {
+        // Constant M: potential gradient, right-hand side, stored factor.
+        if model.has_potential {
+            kinematics::jacobian_pass(model, ws, t, q, true);
+        }
+        bias::assemble(model, ws, t, q, qdot);
+        ws.qddot.copy_from_slice(&ws.rhs);
+        solve::ldlt_solve(n, &ws.constant_factor, &mut ws.qddot);
+    } else {
+        // Position and velocity stages.
+        kinematics::jacobian_pass(model, ws, t, q, true);
+        kinematics::velocity_pass(model, ws, t, q, qdot);
+        // Mass matrix and its factor.
+        mass_matrix::assemble(model, ws);
+        ws.factor.copy_from_slice(&ws.mass_matrix);
+        if let Err((j, pivot)) = solve::ldlt_factor(n, &mut ws.factor) {
+            if !all_finite(&ws.mass_matrix) {
+                return Err(non_finite(Stage::Kinematics, t, q));
+            }
+            return Err(Error::SingularMassMatrix {
+                t: t.re(),
+                q: q.iter().map(|v| v.re()).collect(),
+                coordinate: model.coordinates()[j].name.clone(),
+                pivot,
+            });
+        }
+        // Right-hand side and solve.
+        bias::assemble(model, ws, t, q, qdot);
+        ws.qddot.copy_from_slice(&ws.rhs);
+        solve::ldlt_solve(n, &ws.factor, &mut ws.qddot);
+    }
+    if !all_finite(&ws.qddot) {
+        return Err(diagnose(model, ws, t, q));
+    }
+    Ok(&ws.qddot)
+}
+
+/// Find the first stage that produced a non-finite value (only after the result was one).
+fn diagnose<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &Workspace<S>, t: S, q: &[S]) -> Error {
+    let stage = if model.constant.is_none() && !(all_finite(&ws.jacobian) && all_finite(&ws.convective)) {
+        Stage::Kinematics
+    } else if model.has_potential && !all_finite(&ws.potential_gradient) {
+        Stage::Potential
+    } else if model.has_force && !all_finite(&ws.generalized_force) {
+        Stage::GeneralizedForce
+    } else {
+        Stage::Accelerations
+    };
+    non_finite(stage, t, q)
+}
+
+pub(crate) fn all_finite<S: Scalar>(values: &[S]) -> bool {
+    values.iter().all(|v| v.re().is_finite())
+}
+
+pub(crate) fn non_finite<S: Scalar>(stage: Stage, t: S, q: &[S]) -> Error {
+    Error::NonFinite { stage, t: t.re(), q: q.iter().map(|v| v.re()).collect() }
+}
+
+/// Check lengths and finiteness of a state handed to the engine.
+pub(crate) fn check_state<S: Scalar>(n: usize, t: S, q: &[S], qdot: Option<&[S]>) -> Result<(), Error> {
+    if q.len() != n {
+        return Err(Error::DimensionMismatch { what: "q", expected: n, got: q.len() });
+    }
+    if let Some(qdot) = qdot {
+        if qdot.len() != n {
+            return Err(Error::DimensionMismatch { what: "q̇", expected: n, got: qdot.len() });
+        }
+        if !all_finite(qdot) {
+            return Err(non_finite(Stage::State, t, q));
+        }
+    }
+    if !(t.re().is_finite() && all_finite(q)) {
+        return Err(non_finite(Stage::State, t, q));
+    }
+    Ok(())
+}
+
+/// The mass matrix `M(q, t) = Σ_b J_bᵀ D_b J_b` (n × n, row-major), borrowed from the workspace.
+///
+/// # Errors
+/// [`Error::DimensionMismatch`] or [`Error::NonFinite`] for a bad configuration.
+pub fn mass_matrix<'w, M: Mechanism, S: Scalar>(model: &Model<M>, ws: &'w mut Workspace<S>, t: S, q: &[S]) -> Result<&'w [S], Error> {
+    check_state(model.n, t, q, None)?;
+    if let Some(constant) = &model.constant {
+        for (m, c) in ws.mass_matrix.iter_mut().zip(&constant.mass_matrix) {
+            *m = S::from(*c);
+        }
+    } else {
+        kinematics::jacobian_pass(model, ws, t, q, false);
+        mass_matrix::assemble(model, ws);
+    }
+    if !all_finite(&ws.mass_matrix) {
+        return Err(non_finite(Stage::Kinematics, t, q));
+    }
+    Ok(&ws.mass_matrix)
+}

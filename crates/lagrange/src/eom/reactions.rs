@@ -1,0 +1,60 @@
+//! Constraint (reaction) forces on the bodies.
+
+use super::{accelerations, check_state};
+use crate::{Error, Mechanism, Model, Scalar, Workspace};
+use num_dual::Dual;
+
+/// The constraint force and torque `(F_x, F_y, τ)` on every body (3B, body-major), borrowed
+/// from the workspace: `R_b = D_b p̈_b − F_b^gravity + ∂V/∂p_b`, with `p̈_b = J_b q̈ + γ_b`.
+///
+/// This is what the eliminated constraints (rods, ropes, inclines, rails) exert on the body:
+/// the rope tension on an Atwood mass, the normal force on the block. Forces the mechanism
+/// writes through the body poses in its potential are applied forces and are subtracted; the
+/// parts of `V` written directly in `q` and the generalized forces `Q` act along coordinates,
+/// cannot be attributed to one body, and therefore remain in the reaction.
+pub fn reaction_forces<'w, M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &'w mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<&'w [S], Error> {
+    check_state(model.n, t, q, Some(qdot))?;
+    let n = model.n;
+    accelerations(model, ws, t, q, qdot)?;
+    if model.constant.is_some() {
+        ws.jacobian.copy_from_slice(&ws.constant_jacobian);
+        ws.convective.fill(S::zero());
+    }
+    // ∂V/∂p_b: one dual pass of the potential per pose component, q held fixed.
+    ws.potential_pose_gradient.fill(S::zero());
+    if model.has_potential {
+        super::kinematics::position_pass(model, ws, t, q);
+        let t_dual = Dual::from_re(t);
+        for r in 0..3 * model.bodies() {
+            let (b, c) = (r / 3, r % 3);
+            let set = |pose: &mut crate::Pose<Dual<S>>, eps: S| match c {
+                0 => pose.x.eps = eps,
+                1 => pose.y.eps = eps,
+                _ => pose.angle.eps = eps,
+            };
+            set(&mut ws.poses_dual[b], S::one());
+            if let Some(v) = model.mechanism.potential(&ws.q_dual, &ws.poses_dual, t_dual) {
+                ws.potential_pose_gradient[r] = v.eps;
+            }
+            set(&mut ws.poses_dual[b], S::zero());
+        }
+    }
+    // R_b = D_b (J_b q̈ + γ_b) − F_b + ∂V/∂p_b.
+    for r in 0..3 * model.bodies() {
+        let (b, c) = (r / 3, r % 3);
+        let mut accel = ws.convective[r];
+        for j in 0..n {
+            accel += ws.jacobian[r * n + j] * ws.qddot[j];
+        }
+        let inertia = if c == 2 { model.inertia[b] } else { model.mass[b] };
+        let gravity = if c == 1 { -model.mass[b] * model.gravity } else { 0.0 };
+        ws.reaction[r] = accel * inertia - gravity + ws.potential_pose_gradient[r];
+    }
+    Ok(&ws.reaction)
+}

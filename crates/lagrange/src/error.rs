@@ -1,0 +1,146 @@
+//! Typed errors: bad input, singular configurations, diverging integrations.
+
+use std::fmt;
+
+/// The stage of an evaluation at which a non-finite value appeared
+/// (MuJoCo's `mj_checkPos` / `mj_checkVel` / `mj_checkAcc`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// The state handed to the engine (`t`, `q`, `q̇`).
+    State,
+    /// Body poses and their derivatives.
+    Kinematics,
+    /// The user potential or its gradient.
+    Potential,
+    /// The non-conservative generalized forces.
+    GeneralizedForce,
+    /// The Lagrangian or its derivatives (raw-Lagrangian path, variational integrator).
+    Lagrangian,
+    /// The solved accelerations.
+    Accelerations,
+}
+
+impl fmt::Display for Stage {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Stage::State => "state",
+            Stage::Kinematics => "kinematics",
+            Stage::Potential => "potential",
+            Stage::GeneralizedForce => "generalized force",
+            Stage::Lagrangian => "Lagrangian",
+            Stage::Accelerations => "accelerations",
+        })
+    }
+}
+
+/// Everything that can go wrong, as data.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// A physical or numerical parameter is out of its domain.
+    #[error("invalid parameter `{name}` = {value}: {why}")]
+    InvalidParameter {
+        /// Name of the parameter.
+        name: String,
+        /// The rejected value.
+        value: f64,
+        /// What it must be.
+        why: String,
+    },
+    /// A slice has the wrong length.
+    #[error("dimension mismatch for {what}: expected {expected}, got {got}")]
+    DimensionMismatch {
+        /// Which input.
+        what: &'static str,
+        /// Expected length.
+        expected: usize,
+        /// Length received.
+        got: usize,
+    },
+    /// The mass matrix (or `∂²L/∂q̇²`) is singular or indefinite at this configuration.
+    #[error(
+        "singular mass matrix at t = {t}, q = {q:?}: pivot {pivot:e} for coordinate `{coordinate}` \
+         (the coordinates are not independent here, or this coordinate moves no mass)"
+    )]
+    SingularMassMatrix {
+        /// Time.
+        t: f64,
+        /// Configuration.
+        q: Vec<f64>,
+        /// The coordinate whose pivot vanished.
+        coordinate: String,
+        /// The pivot, relative to the coordinate's own diagonal entry.
+        pivot: f64,
+    },
+    /// A stage of an evaluation produced NaN or infinity.
+    #[error("non-finite {stage} at t = {t}, q = {q:?}")]
+    NonFinite {
+        /// Where it appeared.
+        stage: Stage,
+        /// Time.
+        t: f64,
+        /// Configuration.
+        q: Vec<f64>,
+    },
+    /// An integration blew up.
+    #[error("integration diverged at t = {t} after {step} steps: {quantity}")]
+    Diverged {
+        /// Time of the last finite state.
+        t: f64,
+        /// Number of steps taken.
+        step: usize,
+        /// Which quantity became non-finite or exceeded its bound.
+        quantity: String,
+    },
+    /// A step size or tolerance is not usable.
+    #[error("invalid {what} = {value}: {why}")]
+    InvalidSetting {
+        /// `step`, `tolerance`, `horizon`, …
+        what: &'static str,
+        /// The value.
+        value: f64,
+        /// What it must be.
+        why: &'static str,
+    },
+    /// The adaptive integrator's step collapsed.
+    #[error(
+        "step size underflow at t = {t}: h = {h:e} cannot meet the tolerance \
+         (the problem may be stiff or singular here)"
+    )]
+    StepSizeUnderflow {
+        /// Time.
+        t: f64,
+        /// The rejected step.
+        h: f64,
+    },
+    /// The adaptive integrator needed more steps than allowed.
+    #[error("too many steps: {steps} steps reached t = {t} of {t_end}")]
+    TooManySteps {
+        /// Steps taken.
+        steps: usize,
+        /// Time reached.
+        t: f64,
+        /// Requested end.
+        t_end: f64,
+    },
+    /// Newton's method in an implicit integrator did not converge.
+    #[error("Newton iteration did not converge at t = {t} ({iterations} iterations, residual {residual:e})")]
+    NewtonFailed {
+        /// Time at the start of the step.
+        t: f64,
+        /// Iterations done.
+        iterations: usize,
+        /// Final residual norm.
+        residual: f64,
+    },
+    /// A mechanism declared a property that its functions contradict.
+    #[error("inconsistent mechanism: {what}")]
+    Inconsistent {
+        /// What is contradicted.
+        what: String,
+    },
+}
+
+/// Check that every entry is finite.
+pub(crate) fn all_finite(values: &[f64]) -> bool {
+    values.iter().all(|v| v.is_finite())
+}

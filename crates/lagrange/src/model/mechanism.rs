@@ -1,0 +1,119 @@
+//! What a user writes: coordinates, bodies, and where each body is as a function of them.
+
+use crate::{Pose, Scalar};
+
+/// What a generalized coordinate measures, for units and display.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoordinateKind {
+    /// A length, in metres.
+    Length,
+    /// An angle, in radians.
+    Angle,
+}
+
+/// A named generalized coordinate.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Coordinate {
+    /// Name as the lecture writes it (`X`, `θ`, `x'`).
+    pub name: String,
+    /// Length or angle.
+    pub kind: CoordinateKind,
+}
+
+impl Coordinate {
+    /// A coordinate measuring a length.
+    pub fn length(name: impl Into<String>) -> Self {
+        Self { name: name.into(), kind: CoordinateKind::Length }
+    }
+
+    /// A coordinate measuring an angle.
+    pub fn angle(name: impl Into<String>) -> Self {
+        Self { name: name.into(), kind: CoordinateKind::Angle }
+    }
+
+    /// SI unit of the coordinate (`m` or `rad`).
+    pub fn unit(&self) -> &'static str {
+        match self.kind {
+            CoordinateKind::Length => "m",
+            CoordinateKind::Angle => "rad",
+        }
+    }
+}
+
+/// A rigid body: its mass and its rotational inertia about its centre of mass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    /// Name, for reports and reaction forces.
+    pub name: String,
+    /// Mass `m_b` (kg), finite and ≥ 0.
+    pub mass: f64,
+    /// Moment of inertia `I_b` about the centre of mass (kg m²), finite and ≥ 0.
+    /// Zero for a point mass.
+    pub inertia: f64,
+}
+
+impl Body {
+    /// A point mass.
+    pub fn point(name: impl Into<String>, mass: f64) -> Self {
+        Self { name: name.into(), mass, inertia: 0.0 }
+    }
+
+    /// A body with mass and rotational inertia about its centre of mass.
+    pub fn rigid(name: impl Into<String>, mass: f64, inertia: f64) -> Self {
+        Self { name: name.into(), mass, inertia }
+    }
+}
+
+/// A planar mechanism in generalized coordinates, as the lecture sets it up.
+///
+/// The user chooses independent coordinates `q`, names the bodies, and writes each body's pose
+/// `(x_b, y_b, φ_b)` as a function of `(q, t)` **once**, generic over the scalar, so that the
+/// engine can differentiate it exactly. Gravity `g` acts along −y on every body. An extra
+/// potential `V(q, poses, t)` and non-conservative generalized forces `Q(t, q, q̇)` are optional.
+///
+/// The engine ([`Model`](crate::Model)) derives `T`, `V`, `L = T − V` and Lagrange's equations
+/// `M(q, t) q̈ = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q` from these functions.
+pub trait Mechanism {
+    /// The generalized coordinates, in the order of `q`.
+    fn coordinates(&self) -> &[Coordinate];
+
+    /// The bodies, in the order in which [`poses`](Self::poses) writes them.
+    fn bodies(&self) -> &[Body];
+
+    /// Gravitational acceleration `g` (m/s²) along −y. Default: none.
+    fn gravity(&self) -> f64 {
+        0.0
+    }
+
+    /// Write `world_from_body[b]`, the pose of every body, at coordinates `q` and time `t`.
+    fn poses<S: Scalar>(&self, q: &[S], t: S, world_from_body: &mut [Pose<S>]);
+
+    /// An extra potential energy `V(q, poses, t)` beyond uniform gravity (springs, central
+    /// forces), or `None` if the mechanism has none.
+    ///
+    /// Write the terms that act on a body through its pose (`world_from_body`), and the terms
+    /// that act along coordinates (torsion springs, couplings) through `q`: the first kind is
+    /// attributed to the body in [`reaction_forces`](crate::reaction_forces). Return `None` for
+    /// every input or `Some` for every input: the engine asks once, at construction, and skips
+    /// the potential entirely when it is `None`.
+    fn potential<S: Scalar>(&self, q: &[S], world_from_body: &[Pose<S>], t: S) -> Option<S> {
+        let _ = (q, world_from_body, t);
+        None
+    }
+
+    /// Add the non-conservative generalized forces `Q(t, q, q̇)` (damping, drives) to `force`
+    /// and return `true`; return `false` (writing nothing) if the mechanism has none. As for the
+    /// potential, the answer must not depend on the inputs.
+    fn generalized_force<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
+        let _ = (t, q, qdot, force);
+        false
+    }
+
+    /// Declare that every pose is affine in `q` with constant coefficients and independent of
+    /// `t` (Atwood machines, wedge, oscillator). Then `M` is constant and the convective term
+    /// vanishes: the engine factors `M` once and skips the convective pass.
+    /// [`Model::new`](crate::Model::new) checks the declaration at probe states.
+    fn constant_mass_matrix(&self) -> bool {
+        false
+    }
+}

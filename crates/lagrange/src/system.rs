@@ -1,0 +1,120 @@
+//! An object-safe facade over any [`Dynamics`], for code that picks systems at run time
+//! (scene registries, the command line).
+
+use crate::integrate::{Method, Output, Trajectory, simulate};
+use crate::{Body, Coordinate, Dynamics, Error, State};
+
+/// A system with its own workspace, usable as `Box<dyn System>`. All results are `f64` and
+/// borrowed from internal buffers.
+pub trait System {
+    /// The generalized coordinates.
+    fn coordinates(&self) -> &[Coordinate];
+
+    /// The bodies (empty for a raw Lagrangian).
+    fn bodies(&self) -> &[Body];
+
+    /// `q̈` at `(t, q, q̇)`.
+    ///
+    /// # Errors
+    /// As [`Dynamics::accelerations`].
+    fn accelerations(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error>;
+
+    /// The energy function `h`.
+    ///
+    /// # Errors
+    /// On a malformed state.
+    fn energy(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error>;
+
+    /// Generalized momenta `p = ∂L/∂q̇`.
+    ///
+    /// # Errors
+    /// On a malformed state.
+    fn momenta(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error>;
+
+    /// Constraint forces `(F_x, F_y, τ)` per body (3B), or `None` without bodies.
+    ///
+    /// # Errors
+    /// As [`reaction_forces`](crate::reaction_forces).
+    fn reaction_forces(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error>;
+
+    /// Which coordinates are cyclic.
+    fn cyclic_coordinates(&self) -> &[bool];
+
+    /// Whether `h` is a constant of the motion.
+    fn conserves_energy(&self) -> bool;
+
+    /// Integrate from `initial` to `t_end`; see [`simulate`](crate::simulate).
+    ///
+    /// # Errors
+    /// As [`simulate`](crate::simulate).
+    fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error>;
+}
+
+/// A [`Dynamics`] together with its workspace and result buffers.
+pub struct Simulation<D: Dynamics> {
+    system: D,
+    ws: D::Workspace,
+    /// `q̈` or `p` (n).
+    out: Vec<f64>,
+    /// Reaction forces (3B).
+    reaction: Vec<f64>,
+}
+
+impl<D: Dynamics> Simulation<D> {
+    /// Wrap a system, allocating its workspace.
+    pub fn new(system: D) -> Self {
+        let ws = system.new_workspace();
+        let out = vec![0.0; system.dof()];
+        let reaction = vec![0.0; 3 * system.bodies().len()];
+        Self { system, ws, out, reaction }
+    }
+
+    /// The wrapped system.
+    pub fn system(&self) -> &D {
+        &self.system
+    }
+}
+
+impl<D: Dynamics> System for Simulation<D> {
+    fn coordinates(&self) -> &[Coordinate] {
+        self.system.coordinates()
+    }
+
+    fn bodies(&self) -> &[Body] {
+        self.system.bodies()
+    }
+
+    fn accelerations(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error> {
+        self.system.accelerations(&mut self.ws, t, q, qdot, &mut self.out)?;
+        Ok(&self.out)
+    }
+
+    fn energy(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
+        self.system.energy(&mut self.ws, t, q, qdot)
+    }
+
+    fn momenta(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error> {
+        self.system.momenta(&mut self.ws, t, q, qdot, &mut self.out)?;
+        Ok(&self.out)
+    }
+
+    fn reaction_forces(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error> {
+        if self.system.reaction_forces(&mut self.ws, t, q, qdot, &mut self.reaction)? {
+            Ok(Some(&self.reaction))
+        } else {
+            Ok(None)
+        }
+    }
+
+    fn cyclic_coordinates(&self) -> &[bool] {
+        self.system.cyclic_coordinates()
+    }
+
+    fn conserves_energy(&self) -> bool {
+        self.system.conserves_energy()
+    }
+
+    fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error> {
+        simulate(&self.system, initial, t_end, method, output)
+    }
+}

@@ -1,0 +1,92 @@
+//! Every buffer an evaluation of a body model needs, allocated once.
+
+use crate::{Mechanism, Model, Pose, Scalar};
+use num_dual::{Dual, Dual2};
+
+/// Scratch space for evaluating a [`Model`] in scalar `S` (the *data* of Pinocchio's
+/// model/data split). Allocate it once with [`Model::workspace`]; no evaluation allocates.
+///
+/// Results are borrowed from it: the fields below are public for reading (shapes in
+/// parentheses; `n` coordinates, `B` bodies; matrices row-major).
+#[derive(Clone, Debug)]
+pub struct Workspace<S> {
+    /// Coordinates seeded for one Jacobian column (n), filled by `jacobian_pass`.
+    pub(crate) q_dual: Vec<Dual<S>>,
+    /// Poses of one Jacobian pass (B).
+    pub(crate) poses_dual: Vec<Pose<Dual<S>>>,
+    /// Coordinates as second-order duals along `(q̇, 1)` (n), filled by `velocity_pass`.
+    pub(crate) q_dual2: Vec<Dual2<S>>,
+    /// Poses of the velocity pass (B).
+    pub(crate) poses_dual2: Vec<Pose<Dual2<S>>>,
+    /// Body poses `p_b = (x, y, φ)` (3B), filled by `jacobian_pass`.
+    pub position: Vec<S>,
+    /// Pose Jacobian `J = ∂p/∂q` (3B × n), body-major rows, filled by `jacobian_pass`.
+    pub jacobian: Vec<S>,
+    /// Body velocities `ṗ_b = J_b q̇ + ∂p_b/∂t` (3B), filled by `velocity_pass`.
+    pub velocity: Vec<S>,
+    /// Convective accelerations `γ_b = p̈_b − J_b q̈` (3B), filled by `velocity_pass`.
+    pub convective: Vec<S>,
+    /// Extra potential `V` (without gravity), filled by `jacobian_pass` when the model has one.
+    pub potential: S,
+    /// `∂V/∂q` (n), filled by `jacobian_pass` when the model has a potential.
+    pub potential_gradient: Vec<S>,
+    /// Generalized forces `Q` (n), filled by the bias stage.
+    pub generalized_force: Vec<S>,
+    /// Mass matrix `M = Σ_b J_bᵀ D_b J_b` (n × n), filled by `mass_matrix::assemble`.
+    pub mass_matrix: Vec<S>,
+    /// LDLᵀ factor of `M` (n × n): unit lower triangle below the diagonal, `D` on it.
+    pub factor: Vec<S>,
+    /// Right-hand side `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q` (n), filled by the bias stage.
+    pub rhs: Vec<S>,
+    /// Generalized accelerations `q̈` (n), filled by [`accelerations`](crate::accelerations).
+    pub qddot: Vec<S>,
+    /// Generalized momenta `p = ∂L/∂q̇` (n), filled by [`momenta`](crate::momenta).
+    pub momenta: Vec<S>,
+    /// Constraint forces on the bodies `(F_x, F_y, τ)` (3B), filled by
+    /// [`reaction_forces`](crate::reaction_forces).
+    pub reaction: Vec<S>,
+    /// `∂V/∂p_b`: the potential's force on each body, negated (3B), filled by `reaction_forces`.
+    pub(crate) potential_pose_gradient: Vec<S>,
+    /// Constant terms of the model in `S` (empty unless `M` is constant): `J`, LDLᵀ of `M`,
+    /// generalized gravity.
+    pub(crate) constant_jacobian: Vec<S>,
+    pub(crate) constant_factor: Vec<S>,
+    pub(crate) constant_gravity: Vec<S>,
+}
+
+impl<S: Scalar> Workspace<S> {
+    /// Allocate every buffer for `model`.
+    pub fn new<M: Mechanism>(model: &Model<M>) -> Self {
+        let n = model.dof();
+        let b = model.bodies();
+        let zero = S::zero();
+        let lift = |v: &Vec<f64>| v.iter().map(|&x| S::from(x)).collect::<Vec<S>>();
+        let (constant_jacobian, constant_factor, constant_gravity) = match &model.constant {
+            Some(c) => (lift(&c.jacobian), lift(&c.factor), lift(&c.gravity_force)),
+            None => (Vec::new(), Vec::new(), Vec::new()),
+        };
+        Self {
+            q_dual: vec![Dual::from_re(zero); n],
+            poses_dual: vec![Pose::default(); b],
+            q_dual2: vec![Dual2::from_re(zero); n],
+            poses_dual2: vec![Pose::default(); b],
+            position: vec![zero; 3 * b],
+            jacobian: vec![zero; 3 * b * n],
+            velocity: vec![zero; 3 * b],
+            convective: vec![zero; 3 * b],
+            potential: zero,
+            potential_gradient: vec![zero; n],
+            generalized_force: vec![zero; n],
+            mass_matrix: vec![zero; n * n],
+            factor: vec![zero; n * n],
+            rhs: vec![zero; n],
+            qddot: vec![zero; n],
+            momenta: vec![zero; n],
+            reaction: vec![zero; 3 * b],
+            potential_pose_gradient: vec![zero; 3 * b],
+            constant_jacobian,
+            constant_factor,
+            constant_gravity,
+        }
+    }
+}
