@@ -71,6 +71,8 @@ mod pose;
 mod scalar;
 mod state;
 mod system;
+#[cfg(test)]
+mod test_support;
 mod workspace;
 
 pub use dynamics::Dynamics;

@@ -13,20 +13,19 @@ pub(crate) fn assemble<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Works
         // Gravity minus the inertial (convective) forces, projected body by body.
         ws.rhs.fill(S::zero());
         let g = model.gravity;
-        for b in 0..model.bodies() {
-            let (m, inertia) = (model.mass[b], model.inertia[b]);
-            let wx = ws.convective[3 * b] * (-m);
-            let wy = ws.convective[3 * b + 1] * (-m) - m * g;
-            let jx = &ws.jacobian[3 * b * n..(3 * b + 1) * n];
-            let jy = &ws.jacobian[(3 * b + 1) * n..(3 * b + 2) * n];
-            for j in 0..n {
-                ws.rhs[j] += jx[j] * wx + jy[j] * wy;
+        let bodies = ws.jacobian.chunks_exact(3 * n).zip(ws.convective.chunks_exact(3));
+        for ((block, gamma), (&m, &inertia)) in bodies.zip(model.mass.iter().zip(&model.inertia)) {
+            let (jx, rest) = block.split_at(n);
+            let (jy, ja) = rest.split_at(n);
+            let wx = gamma[0] * (-m);
+            let wy = gamma[1] * (-m) - m * g;
+            for ((r, &x), &y) in ws.rhs.iter_mut().zip(jx).zip(jy) {
+                *r += x * wx + y * wy;
             }
             if inertia != 0.0 {
-                let wa = ws.convective[3 * b + 2] * (-inertia);
-                let ja = &ws.jacobian[(3 * b + 2) * n..(3 * b + 3) * n];
-                for j in 0..n {
-                    ws.rhs[j] += ja[j] * wa;
+                let wa = gamma[2] * (-inertia);
+                for (r, &a) in ws.rhs.iter_mut().zip(ja) {
+                    *r += a * wa;
                 }
             }
         }

@@ -5,35 +5,32 @@ use crate::{Mechanism, Model, Scalar, Workspace};
 /// Assemble `ws.mass_matrix` from `ws.jacobian` (upper triangle, mirrored).
 pub(crate) fn assemble<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>) {
     let n = model.n;
-    ws.mass_matrix.fill(S::zero());
-    for b in 0..model.bodies() {
-        let (m, inertia) = (model.mass[b], model.inertia[b]);
-        let jx = &ws.jacobian[3 * b * n..(3 * b + 1) * n];
-        let jy = &ws.jacobian[(3 * b + 1) * n..(3 * b + 2) * n];
-        let ja = &ws.jacobian[(3 * b + 2) * n..(3 * b + 3) * n];
-        // Translational part m (Jxᵀ Jx + Jyᵀ Jy).
-        if m != 0.0 {
-            for i in 0..n {
+    let mm = &mut ws.mass_matrix;
+    mm.fill(S::zero());
+    for ((block, &m), &inertia) in ws.jacobian.chunks_exact(3 * n).zip(&model.mass).zip(&model.inertia) {
+        let (jx, rest) = block.split_at(n);
+        let (jy, ja) = rest.split_at(n);
+        for (i, row) in mm.chunks_exact_mut(n).enumerate() {
+            // Translational part m (Jxᵀ Jx + Jyᵀ Jy), upper triangle.
+            if m != 0.0 {
                 let (xi, yi) = (jx[i] * m, jy[i] * m);
-                for j in i..n {
-                    ws.mass_matrix[i * n + j] += xi * jx[j] + yi * jy[j];
+                for ((entry, &xj), &yj) in row[i..].iter_mut().zip(&jx[i..]).zip(&jy[i..]) {
+                    *entry += xi * xj + yi * yj;
                 }
             }
-        }
-        // Rotational part I Jφᵀ Jφ.
-        if inertia != 0.0 {
-            for i in 0..n {
+            // Rotational part I Jφᵀ Jφ.
+            if inertia != 0.0 {
                 let ai = ja[i] * inertia;
-                for j in i..n {
-                    ws.mass_matrix[i * n + j] += ai * ja[j];
+                for (entry, &aj) in row[i..].iter_mut().zip(&ja[i..]) {
+                    *entry += ai * aj;
                 }
             }
         }
     }
     // Mirror the upper triangle.
-    for i in 0..n {
+    for i in 1..n {
         for j in 0..i {
-            ws.mass_matrix[i * n + j] = ws.mass_matrix[j * n + i];
+            mm[i * n + j] = mm[j * n + i];
         }
     }
 }

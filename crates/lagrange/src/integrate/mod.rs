@@ -57,3 +57,6 @@ pub(crate) fn check_tolerance(tol: Tolerances) -> Result<(), Error> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests;

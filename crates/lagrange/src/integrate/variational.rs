@@ -6,9 +6,8 @@ use crate::eom::solve;
 use crate::{Error, LagrangianFunction};
 use num_dual::HyperDual64;
 
-/// Newton stops when the update is below this fraction of `‖q₁‖∞ + h‖v‖∞`: after such an
-/// update the remaining error is of order its square (quadratic convergence), far below
-/// round-off.
+/// Newton stops when the update is below this fraction of `‖Δq‖∞`: after such an update the
+/// remaining error is of order its square (quadratic convergence), far below round-off.
 const NEWTON_RTOL: f64 = 1e-10;
 /// Newton iterations before giving up.
 const NEWTON_MAX_ITERATIONS: usize = 50;
@@ -41,10 +40,13 @@ pub struct Variational<F: LagrangianFunction> {
     force: Vec<f64>,
     /// Point at which `derivatives` evaluates: coordinates (n); its velocities are `velocity`.
     q_mid: Vec<f64>,
-    /// Coordinates `q₀`, momenta `p₀` of the current state, and the iterate `q₁` (n each).
+    /// Coordinates `q₀`, momenta `p₀` of the current state, and the Newton unknown, the
+    /// increment `Δq = q₁ − q₀` (n each). Iterating on `Δq` rather than `q₁` keeps the discrete
+    /// velocity `Δq/h` free of the cancellation in `(q₁ − q₀)/h`, which would cost `ε|q|/h` of
+    /// momentum per step.
     q: Vec<f64>,
     p: Vec<f64>,
-    q_next: Vec<f64>,
+    delta: Vec<f64>,
     /// Latest velocity estimate `(q₁ − q₀)/h` (n), the predictor.
     velocity: Vec<f64>,
     /// Current time.
@@ -75,7 +77,7 @@ impl<F: LagrangianFunction> Variational<F> {
             q_mid: z(n),
             q: z(n),
             p: z(n),
-            q_next: z(n),
+            delta: z(n),
             velocity: z(n),
             t: 0.0,
             newton_iterations: 0,
@@ -147,12 +149,12 @@ impl<F: LagrangianFunction> Variational<F> {
         }
     }
 
-    /// Set the midpoint `((q₀+q₁)/2, (q₁−q₀)/h)` of the current iterate and evaluate the
+    /// Set the midpoint `(q₀ + Δq/2, Δq/h)` of the current iterate and evaluate the
     /// generalized force there into `self.force` (zero when the system has none).
     fn midpoint(&mut self, system: &F, tm: f64, h: f64) {
         for i in 0..self.n {
-            self.q_mid[i] = 0.5 * (self.q[i] + self.q_next[i]);
-            self.velocity[i] = (self.q_next[i] - self.q[i]) / h;
+            self.q_mid[i] = self.q[i] + 0.5 * self.delta[i];
+            self.velocity[i] = self.delta[i] / h;
         }
         self.force.fill(0.0);
         system.generalized_force_with(tm, &self.q_mid, &self.velocity, &mut self.force);
@@ -168,9 +170,9 @@ impl<F: LagrangianFunction> Variational<F> {
         let n = self.n;
         let t = self.t;
         let tm = t + 0.5 * h;
-        // Predictor: q₁ = q₀ + h v.
+        // Predictor: Δq = h v.
         for i in 0..n {
-            self.q_next[i] = self.q[i] + h * self.velocity[i];
+            self.delta[i] = h * self.velocity[i];
         }
         let mut converged = false;
         let mut residual_norm = f64::INFINITY;
@@ -201,12 +203,12 @@ impl<F: LagrangianFunction> Variational<F> {
                 return Err(Error::NewtonFailed { t, iterations: iteration, residual: residual_norm });
             }
             solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
-            // q₁ ← q₁ − J⁻¹ R.
+            // Δq ← Δq − J⁻¹ R (dR/dΔq = dR/dq₁).
             let (mut update, mut scale) = (0.0_f64, 0.0_f64);
             for i in 0..n {
-                self.q_next[i] -= self.residual[i];
+                self.delta[i] -= self.residual[i];
                 update = update.max(self.residual[i].abs());
-                scale = scale.max(self.q_next[i].abs() + h * self.velocity[i].abs());
+                scale = scale.max(self.delta[i].abs());
             }
             if update <= NEWTON_RTOL * scale || update == 0.0 {
                 converged = true;
@@ -228,7 +230,9 @@ impl<F: LagrangianFunction> Variational<F> {
             self.p[i] = 0.5 * h * lq + lv;
         }
         self.max_residual = self.max_residual.max(final_residual);
-        self.q.copy_from_slice(&self.q_next);
+        for i in 0..n {
+            self.q[i] += self.delta[i];
+        }
         self.t = t + h;
         if !(crate::error::all_finite(&self.q) && crate::error::all_finite(&self.p)) {
             return Err(crate::eom::non_finite(crate::error::Stage::Lagrangian, self.t, &self.q));
@@ -242,13 +246,13 @@ impl<F: LagrangianFunction> Variational<F> {
     /// # Errors
     /// [`Error::NewtonFailed`] if the Legendre map cannot be inverted (singular `∂²L/∂q̇²`).
     pub fn velocities(&mut self, system: &F, qdot: &mut [f64]) -> Result<(), Error> {
-        // Keep the discrete velocity (the next step's predictor) in `q_next`, which is free
+        // Keep the discrete velocity (the next step's predictor) in `delta`, which is free
         // between steps, and iterate on `velocity` from it.
-        self.q_next.copy_from_slice(&self.velocity);
+        self.delta.copy_from_slice(&self.velocity);
         self.q_mid.copy_from_slice(&self.q);
         let result = self.invert_legendre(system);
         qdot.copy_from_slice(&self.velocity);
-        self.velocity.copy_from_slice(&self.q_next);
+        self.velocity.copy_from_slice(&self.delta);
         result
     }
 

@@ -1,0 +1,113 @@
+//! Integrator checks on small mechanisms: observed order, tolerance tracking, structure.
+
+use super::*;
+use crate::test_support::{Cart, Charge, Spring};
+use crate::{Coordinate, Dynamics, Model, RawModel, State};
+
+fn final_state<D: Dynamics>(system: &D, initial: &State, t_end: f64, method: Method) -> Vec<f64> {
+    let traj = simulate(system, initial, t_end, method, &Output::Ends).unwrap();
+    let k = traj.len() - 1;
+    [traj.q(k), traj.qdot(k)].concat()
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn rk4_is_fourth_order_on_the_cart_pendulum() {
+    let model = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let initial = State::new(0.0, [0.0, 0.5], [0.0, 0.0]);
+    let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
+    let errors: Vec<f64> = [0.02, 0.01, 0.005]
+        .iter()
+        .map(|&dt| max_diff(&final_state(&model, &initial, 2.0, Method::Rk4 { dt }), &reference))
+        .collect();
+    for w in errors.windows(2) {
+        let ratio = w[0] / w[1];
+        // Order 4: ratio 2⁴ = 16 per halving, ±25 % for the asymptotic regime at these steps.
+        assert!((12.0..20.0).contains(&ratio), "errors {errors:?}, ratio {ratio}");
+    }
+}
+
+#[test]
+fn variational_is_second_order_and_conserves_cart_momentum() {
+    let model = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let initial = State::new(0.0, [0.0, 0.5], [0.3, 0.0]);
+    let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
+    let errors: Vec<f64> = [0.02, 0.01, 0.005]
+        .iter()
+        .map(|&dt| max_diff(&final_state(&model, &initial, 2.0, Method::Variational { dt }), &reference))
+        .collect();
+    for w in errors.windows(2) {
+        let ratio = w[0] / w[1];
+        // Order 2: ratio 4 per halving, ±25 %.
+        assert!((3.0..5.0).contains(&ratio), "errors {errors:?}, ratio {ratio}");
+    }
+    // Horizontal momentum p_X: exactly conserved by the discrete Noether theorem.
+    let traj = simulate(&model, &initial, 20.0, Method::Variational { dt: 0.01 }, &Output::Every(1.0)).unwrap();
+    let mut ws = model.workspace();
+    let mut p = [0.0; 2];
+    model.momenta(&mut ws, 0.0, &initial.q, &initial.qdot, &mut p).unwrap();
+    let p0 = p[0];
+    for k in 0..traj.len() {
+        model.momenta(&mut ws, traj.t[k], traj.q(k), traj.qdot(k), &mut p).unwrap();
+        // 2000 steps, each conserving p_X to the Newton residual (~1e-16 relative): 1e-12 bound.
+        assert!((p[0] - p0).abs() <= 1e-12 * p0.abs().max(1.0), "t = {}: p_X = {} vs {}", traj.t[k], p[0], p0);
+    }
+}
+
+#[test]
+fn adaptive_error_tracks_tolerance_and_dense_output_is_accurate() {
+    let model = Model::new(Spring::new(1.0, 10.0, 0.0)).unwrap();
+    let omega = 10.0_f64.sqrt();
+    let initial = State::new(0.0, [0.1], [0.0]);
+    let times: Vec<f64> = (0..=50).map(|k| k as f64 * 0.2).collect();
+    let mut previous = f64::INFINITY;
+    for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
+        let traj = simulate(&model, &initial, 10.0, Method::Adaptive { tol: Tolerances::uniform(tol) }, &Output::Times(times.clone())).unwrap();
+        let err = (0..traj.len()).map(|k| (traj.q(k)[0] - 0.1 * (omega * traj.t[k]).cos()).abs()).fold(0.0, f64::max);
+        // Global error within a factor 100 of the tolerance (local control, ~16 periods of accumulation),
+        // and decreasing with it.
+        assert!(err < 100.0 * tol, "tol {tol}: error {err}");
+        assert!(err < previous, "tol {tol}: error {err} not below {previous}");
+        previous = err;
+    }
+}
+
+#[test]
+fn raw_lagrangian_of_a_body_model_matches_the_body_path() {
+    let model = Model::new(Cart::new(2.0, 1.0, 1.3)).unwrap();
+    let raw = RawModel::new(Model::new(Cart::new(2.0, 1.0, 1.3)).unwrap()).unwrap();
+    let (mut ws, mut rws) = (model.workspace(), raw.workspace());
+    for (q, v) in [([0.1, 0.4], [0.2, -1.0]), ([-2.0, 2.9], [1.5, 3.0])] {
+        let a = crate::accelerations(&model, &mut ws, 0.0, &q, &v).unwrap().to_vec();
+        let b = raw.accelerations(&mut rws, 0.0, &q, &v).unwrap();
+        let expected = model.mechanism().closed_form(&q, &v);
+        for i in 0..2 {
+            assert!((a[i] - expected[i]).abs() <= 1e-13 * expected[i].abs().max(1.0), "body {a:?} vs {expected:?}");
+            assert!((b[i] - expected[i]).abs() <= 1e-13 * expected[i].abs().max(1.0), "raw {b:?} vs {expected:?}");
+        }
+    }
+    assert_eq!(model.cyclic_coordinates(), &[true, false]);
+    assert_eq!(raw.cyclic_coordinates(), &[true, false]);
+}
+
+#[test]
+fn velocity_dependent_potential_gives_cyclotron_motion() {
+    let raw = RawModel::new(Charge { coordinates: [Coordinate::length("x"), Coordinate::length("y")], m: 2.0, e_b: 3.0 }).unwrap();
+    let mut ws = raw.workspace();
+    let a = raw.accelerations(&mut ws, 0.0, &[0.3, -0.2], &[0.7, 1.1]).unwrap();
+    let omega = 1.5;
+    assert!((a[0] - omega * 1.1).abs() < 1e-14 && (a[1] + omega * 0.7).abs() < 1e-14, "{a:?}");
+}
+
+#[test]
+fn damped_oscillator_is_not_energy_conserving_and_decays() {
+    let model = Model::new(Spring::new(1.0, 4.0, 0.5)).unwrap();
+    assert!(model.has_generalized_force() && !model.conserves_energy() && model.has_constant_mass_matrix());
+    let traj = simulate(&model, &State::new(0.0, [1.0], [0.0]), 10.0, Method::Rk4 { dt: 0.01 }, &Output::Every(1.0)).unwrap();
+    // E(t) decays like exp(−c t / m) on average: after 10 s below 1 % of E0 = 2.
+    assert!(traj.energy[traj.len() - 1] < 0.02 * traj.energy[0], "{:?}", traj.energy);
+}
+
