@@ -1,1 +1,107 @@
-//! placeholder
+//! # lagrange-scenes — the lecture's mechanical systems, and more, with their closed forms
+//!
+//! Every scene is a planar system described to the [`lagrange`] engine (bodies and their poses as
+//! functions of the generalized coordinates, or a raw Lagrangian), which derives
+//! `M(q, t) q̈ = f(q, q̇, t)` by automatic differentiation. Next to that description each scene
+//! carries what the engine is checked against: hand-coded closed-form accelerations (no AD, no
+//! engine) from `SYSTEMS.md` (the lecture's systems derived independently) or from a derivation
+//! in the scene's file, exact solutions where the motion has one, and conserved quantities.
+//!
+//! Each scene comes in two forms:
+//! * a typed struct (e.g. [`CartPendulum`]) with public fields named after the physics, a
+//!   validating constructor `new`, `from_params`, its parameter table `PARAMS`,
+//!   `closed_form_accelerations` and the extra closed forms, implementing
+//!   [`lagrange::Mechanism`] (or [`lagrange::Lagrangian`]);
+//! * a unit struct (e.g. [`CartPendulumScene`]) implementing the object-safe [`Scene`], for code
+//!   that picks scenes by id at run time ([`all`], [`find`], [`ids`]) with [`Params`] set by
+//!   parameter name or lecture symbol. Generic code that needs a scene's concrete mechanism
+//!   type runs through [`visit_mechanism`] with a [`MechanismVisitor`].
+//!
+//! # Scenes
+//!
+//! | id | system | coordinates | reference |
+//! |---|---|---|---|
+//! | `cart_pendulum` | pendulum on a movable support | `X`, `θ` | SYSTEMS.md §1 |
+//! | `harmonic_oscillator` | mass on a spring, optional damping | `x` | §2 |
+//! | `kepler` | central force `V = −k/r` | `r`, `θ` | §3a |
+//! | `isotropic_oscillator` | central force `V = ½ k r²` | `r`, `θ` | §3b |
+//! | `atwood` | Atwood machine, massive pulley | `x` | §4 |
+//! | `double_atwood` | double Atwood machine | `x`, `x'` | §5 |
+//! | `double_double_atwood` | two movable pulleys, four masses | `x`, `x'`, `x''` | §6 |
+//! | `wedge` | block on a movable wedge | `x`, `x'` | §7 |
+//! | `double_pendulum` | two point masses on rods | `θ1`, `θ2` | beyond the lecture |
+//! | `chain` | `N` rigid links | `θ1` … `θN` | beyond the lecture |
+//! | `spring_pendulum` | elastic pendulum | `r`, `θ` | beyond the lecture |
+//! | `driven_pendulum` | horizontally driven support (rheonomic) | `θ` | beyond the lecture |
+//! | `charged_particle` | uniform magnetic field (raw Lagrangian) | `x`, `y` | beyond the lecture |
+//!
+//! Conventions follow SYSTEMS.md: gravity `g` along −y, angles counter-clockwise, pendulum
+//! angles from the downward vertical, pulley depths measured downward.
+//!
+//! # Example: the engine against the lecture's closed form
+//!
+//! ```
+//! use lagrange::{Model, Simulation, System};
+//! use lagrange_scenes::{CartPendulum, Scene};
+//!
+//! // Cart mass M = 2, bob mass m = 1, rod length r = 1.5, g = 9.81.
+//! let cart_pendulum = CartPendulum::new(2.0, 1.0, 1.5, 9.81)?;
+//! let (q, qdot) = ([0.0, 0.3], [0.1, 0.5]);
+//! // Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ), and θ̈ (SYSTEMS.md §1).
+//! let closed_form = cart_pendulum.closed_form_accelerations(&q, &qdot);
+//!
+//! let mut simulation = Simulation::new(Model::new(cart_pendulum)?);
+//! let engine = simulation.accelerations(0.0, &q, &qdot)?;
+//! for (a, b) in engine.iter().zip(closed_form) {
+//!     approx::assert_relative_eq!(*a, b, max_relative = 1e-12);
+//! }
+//!
+//! // The same through the registry, with parameters set by symbol.
+//! let scene = lagrange_scenes::find("cart_pendulum").expect("registered");
+//! let mut params = scene.default_params();
+//! params.set("r", 1.5)?;
+//! let mut system = scene.build(&params)?;
+//! let from_registry = system.accelerations(0.0, &q, &qdot)?.to_vec();
+//! let closed_form = scene.closed_form_accelerations(&params, 0.0, &q, &qdot)?;
+//! assert_eq!(closed_form.map(|a| a.len()), Some(from_registry.len()));
+//! # Ok::<(), lagrange::Error>(())
+//! ```
+
+mod checks;
+mod params;
+mod scene;
+#[cfg(test)]
+mod testing;
+mod uniform_acceleration;
+mod visit;
+
+pub mod atwood;
+pub mod cart_pendulum;
+pub mod chain;
+pub mod charged_particle;
+pub mod double_atwood;
+pub mod double_double_atwood;
+pub mod double_pendulum;
+pub mod driven_pendulum;
+pub mod harmonic_oscillator;
+pub mod isotropic_oscillator;
+pub mod kepler;
+pub mod spring_pendulum;
+pub mod wedge;
+
+pub use atwood::{Atwood, AtwoodScene};
+pub use cart_pendulum::{CartPendulum, CartPendulumScene};
+pub use chain::{Chain, ChainScene};
+pub use charged_particle::{ChargedParticle, ChargedParticleScene};
+pub use double_atwood::{DoubleAtwood, DoubleAtwoodScene};
+pub use double_double_atwood::{DoubleDoubleAtwood, DoubleDoubleAtwoodScene};
+pub use double_pendulum::{DoublePendulum, DoublePendulumScene};
+pub use driven_pendulum::{DrivenPendulum, DrivenPendulumScene};
+pub use harmonic_oscillator::{HarmonicOscillator, HarmonicOscillatorScene};
+pub use isotropic_oscillator::{IsotropicOscillator, IsotropicOscillatorScene};
+pub use kepler::{Kepler, KeplerScene, Orbit};
+pub use params::{Domain, ParamSpec, Params};
+pub use scene::{Scene, all, find, ids};
+pub use spring_pendulum::{SpringPendulum, SpringPendulumScene};
+pub use visit::{MechanismVisitor, visit_mechanism};
+pub use wedge::{Wedge, WedgeScene};

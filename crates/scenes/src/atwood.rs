@@ -1,0 +1,255 @@
+//! Atwood machine with a massive pulley (SYSTEMS.md §4; lecture 27).
+
+use crate::checks::{check_dimensions, check_state, fixed};
+use crate::params::{GRAVITY, check_all};
+use crate::uniform_acceleration::uniformly_accelerated;
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use std::f64::consts::PI;
+
+/// Parameters: masses `m1`, `m2`, pulley inertia `I`, pulley radius `a`, rope length `l`, `g`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("mass_1", "m1", "kg", 2.0, Domain::Positive, "mass on the left end of the rope"),
+    ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass on the right end of the rope"),
+    ParamSpec::new("pulley_inertia", "I", "kg m²", 0.1, Domain::NonNegative, "moment of inertia of the pulley"),
+    ParamSpec::new("pulley_radius", "a", "m", 0.5, Domain::Positive, "radius of the pulley"),
+    ParamSpec::new("rope_length", "l", "m", 10.0, Domain::Positive, "length of the rope"),
+    GRAVITY,
+];
+
+/// Masses `m1` at `(−a, −x)` and `m2` at `(a, −(l − πa − x))` on a rope over a pulley of radius
+/// `a` and inertia `I` at the origin, turning by `x/a` (no slip); `q = (x)`, the depth of `m1`
+/// below the axle, measured downward (SYSTEMS.md §4).
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Atwood {
+    /// Mass `m₁` (kg) on the left, at depth `x`.
+    pub mass_1: f64,
+    /// Mass `m₂` (kg) on the right, at depth `l − πa − x`.
+    pub mass_2: f64,
+    /// Pulley moment of inertia `I` (kg m²); 0 for the ideal machine.
+    pub pulley_inertia: f64,
+    /// Pulley radius `a` (m).
+    pub pulley_radius: f64,
+    /// Rope length `l` (m), including the `πa` around the pulley. `l > πa` is not required:
+    /// it shifts `m2`'s height only.
+    pub rope_length: f64,
+    /// Gravitational acceleration `g` (m/s²).
+    pub gravity: f64,
+    coordinates: [Coordinate; 1],
+    bodies: [Body; 3],
+}
+
+impl Atwood {
+    /// An Atwood machine with masses `m1`, `m2`, pulley inertia `I`, pulley radius `a`, rope
+    /// length `l` and gravity `g`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(
+        mass_1: f64,
+        mass_2: f64,
+        pulley_inertia: f64,
+        pulley_radius: f64,
+        rope_length: f64,
+        gravity: f64,
+    ) -> Result<Self, Error> {
+        check_all(PARAMS, &[mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity])?;
+        Ok(Self {
+            mass_1,
+            mass_2,
+            pulley_inertia,
+            pulley_radius,
+            rope_length,
+            gravity,
+            coordinates: [Coordinate::length("x")],
+            bodies: [
+                Body::point("mass 1", mass_1),
+                Body::point("mass 2", mass_2),
+                Body::rigid("pulley", 0.0, pulley_inertia),
+            ],
+        })
+    }
+
+    /// The Atwood machine with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity] = params.values_of(PARAMS)?;
+        Self::new(mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity)
+    }
+
+    /// The constant `ẍ = (m1 − m2) g / (m1 + m2 + I/a²)` (SYSTEMS.md §4, "Closed form"; the
+    /// lecture's result). Positive when `m1` descends.
+    pub fn acceleration(&self) -> f64 {
+        let a = self.pulley_radius;
+        (self.mass_1 - self.mass_2) * self.gravity / (self.mass_1 + self.mass_2 + self.pulley_inertia / (a * a))
+    }
+
+    /// `[ẍ]`, the constant acceleration (independent of the state).
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 1 entry.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 1] {
+        let _: ([f64; 1], [f64; 1]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        [self.acceleration()]
+    }
+
+    /// The rope tensions `(T1, T2) = (m1 (g − ẍ), m2 (g + ẍ))` (N) on `m1` and `m2`
+    /// (SYSTEMS.md §4; `(T1 − T2) a = I ẍ / a`). Constant: the state does not enter.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 1 entry.
+    pub fn tensions(&self, q: &[f64], qdot: &[f64]) -> (f64, f64) {
+        let [acceleration] = self.closed_form_accelerations(q, qdot);
+        (self.mass_1 * (self.gravity - acceleration), self.mass_2 * (self.gravity + acceleration))
+    }
+}
+
+impl Mechanism for Atwood {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (x, a) = (q[0], self.pulley_radius);
+        // m1 at depth x on the left, m2 at depth l − πa − x on the right, pulley turning x/a.
+        world_from_body[0] = Pose::point(S::from(-a), -x);
+        world_from_body[1] = Pose::point(S::from(a), x - (self.rope_length - PI * a));
+        world_from_body[2] = Pose::new(S::zero(), S::zero(), x * (1.0 / a));
+    }
+
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}
+
+/// The [`Atwood`] machine as a [`Scene`] (`atwood`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AtwoodScene;
+
+impl Scene for AtwoodScene {
+    fn id(&self) -> &'static str {
+        "atwood"
+    }
+
+    fn title(&self) -> &'static str {
+        "Atwood machine with a massive pulley"
+    }
+
+    fn reference(&self) -> &'static str {
+        "SYSTEMS.md §4; lecture 27, example: Atwood machine"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(Atwood::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `x = 1`, at rest.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [1.0], [0.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(Atwood::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = Atwood::from_params(params)?;
+        check_dimensions(1, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// Uniform acceleration: `x = x₀ + ẋ₀ τ + ½ ẍ τ²`.
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        let scene = Atwood::from_params(params)?;
+        check_state(1, initial)?;
+        Ok(Some(uniformly_accelerated(initial, &[scene.acceleration()], t)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{
+        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+    };
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [1.0], [0.0]),
+            State::new(0.5, [-0.4], [1.2]),
+            State::new(1.0, [2.0], [-3.0]),
+            State::new(3.0, [7.5], [0.7]),
+            State::new(7.0, [-1.5], [-0.2]),
+        ]
+    }
+
+    #[test]
+    fn engine_matches_closed_form() {
+        let mut params = AtwoodScene.default_params();
+        assert_engine_matches_closed_form(&AtwoodScene, &params, &states());
+        for (key, value) in [("I", 0.0), ("m2", 3.5), ("a", 0.2), ("g", 1.6)] {
+            params.set(key, value).unwrap();
+            assert_engine_matches_closed_form(&AtwoodScene, &params, &states());
+        }
+    }
+
+    #[test]
+    fn exact_solution_is_consistent() {
+        let params = AtwoodScene.default_params();
+        for initial in [State::new(0.0, [1.0], [0.0]), State::new(2.0, [-0.5], [0.8])] {
+            assert_exact_solution_consistent(&AtwoodScene, &params, &initial, &[0.5, 3.0]);
+        }
+    }
+
+    /// The engine's reaction forces on the masses are the rope tensions (vertical), and the
+    /// net rope torque on the pulley is `I φ̈`.
+    #[test]
+    fn tensions_match_the_engine_reactions() {
+        let scene = Atwood::new(2.0, 1.0, 0.1, 0.5, 10.0, 9.81).unwrap();
+        let mut system = Simulation::new(Model::new(scene.clone()).unwrap());
+        let (q, qdot) = ([1.0], [0.3]);
+        let (t1, t2) = scene.tensions(&q, &qdot);
+        let reactions = system.reaction_forces(0.0, &q, &qdot).unwrap().unwrap().to_vec();
+        let tolerance = ENGINE_VS_CLOSED_FORM * scene.mass_1 * scene.gravity;
+        assert_close("reactions on m1, m2", &[0.0, t1, 0.0, 0.0, t2, 0.0], &reactions[..6], tolerance);
+        let a = scene.pulley_radius;
+        assert_close("torque on the pulley", &[(t1 - t2) * a], &reactions[8..9], tolerance);
+        assert_close(
+            "(T1 − T2) a = I ẍ/a",
+            &[(t1 - t2) * a],
+            &[scene.pulley_inertia * scene.acceleration() / a],
+            tolerance,
+        );
+    }
+
+    #[test]
+    fn limits_of_the_lecture_result() {
+        let ideal = Atwood::new(3.0, 1.0, 0.0, 0.5, 10.0, 10.0).unwrap();
+        assert_eq!(ideal.acceleration(), 5.0, "I = 0: (m1 − m2) g / (m1 + m2)");
+        let balanced = Atwood::new(1.5, 1.5, 0.3, 0.5, 10.0, 9.81).unwrap();
+        assert_eq!(balanced.acceleration(), 0.0);
+    }
+}

@@ -1,0 +1,268 @@
+//! Pendulum on a movable support: a cart on a frictionless rail with a pendulum hanging from it
+//! (SYSTEMS.md §1; lecture 27, the first example).
+
+use crate::checks::{check_dimensions, fixed};
+use crate::params::{GRAVITY, check_all};
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+
+/// Parameters: cart mass `M`, bob mass `m`, rod length `r`, gravity `g`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("cart_mass", "M", "kg", 2.0, Domain::Positive, "mass of the cart"),
+    ParamSpec::new("bob_mass", "m", "kg", 1.0, Domain::Positive, "mass of the pendulum bob"),
+    ParamSpec::new("rod_length", "r", "m", 1.0, Domain::Positive, "length of the massless rod"),
+    GRAVITY,
+];
+
+/// A cart of mass `M` at `(X, 0)` on a horizontal rail, and a bob of mass `m` on a massless rod
+/// of length `r` at `(X + r sinθ, −r cosθ)`; `q = (X, θ)`, `θ` from the downward vertical,
+/// counter-clockwise (SYSTEMS.md §1).
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params), which validate the
+/// parameters and build the body list; the fields are public for reading (changing one
+/// afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CartPendulum {
+    /// Cart mass `M` (kg).
+    pub cart_mass: f64,
+    /// Bob mass `m` (kg).
+    pub bob_mass: f64,
+    /// Rod length `r` (m).
+    pub rod_length: f64,
+    /// Gravitational acceleration `g` (m/s²).
+    pub gravity: f64,
+    coordinates: [Coordinate; 2],
+    bodies: [Body; 2],
+}
+
+impl CartPendulum {
+    /// A cart pendulum with cart mass `M`, bob mass `m`, rod length `r` and gravity `g`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]):
+    /// masses and the rod length must be positive and finite, `g` non-negative.
+    pub fn new(cart_mass: f64, bob_mass: f64, rod_length: f64, gravity: f64) -> Result<Self, Error> {
+        check_all(PARAMS, &[cart_mass, bob_mass, rod_length, gravity])?;
+        Ok(Self {
+            cart_mass,
+            bob_mass,
+            rod_length,
+            gravity,
+            coordinates: [Coordinate::length("X"), Coordinate::angle("θ")],
+            bodies: [Body::point("cart", cart_mass), Body::point("bob", bob_mass)],
+        })
+    }
+
+    /// The cart pendulum with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [cart_mass, bob_mass, rod_length, gravity] = params.values_of(PARAMS)?;
+        Self::new(cart_mass, bob_mass, rod_length, gravity)
+    }
+
+    /// `(Ẍ, θ̈)` in closed form (SYSTEMS.md §1, "Closed form (exact, any amplitude)"):
+    /// `Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ)`,
+    /// `θ̈ = −((M + m) g sinθ + m r θ̇² sinθ cosθ) / (r (M + m sin²θ))`.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let [_, theta] = fixed(q, "q");
+        let [_, theta_dot] = fixed(qdot, "q̇");
+        let (cart, bob, r, g) = (self.cart_mass, self.bob_mass, self.rod_length, self.gravity);
+        let (sin, cos) = theta.sin_cos();
+        let denominator = cart + bob * sin * sin;
+        let cart_acceleration = bob * sin * (r * theta_dot * theta_dot + g * cos) / denominator;
+        let angular_acceleration =
+            -((cart + bob) * g * sin + bob * r * theta_dot * theta_dot * sin * cos) / (r * denominator);
+        [cart_acceleration, angular_acceleration]
+    }
+
+    /// The conserved horizontal momentum `p_X = (M + m) Ẋ + m r θ̇ cosθ` (SYSTEMS.md §1,
+    /// "Conserved quantities": `X` is cyclic).
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn horizontal_momentum(&self, q: &[f64], qdot: &[f64]) -> f64 {
+        let [_, theta] = fixed(q, "q");
+        let [cart_velocity, theta_dot] = fixed(qdot, "q̇");
+        (self.cart_mass + self.bob_mass) * cart_velocity + self.bob_mass * self.rod_length * theta_dot * theta.cos()
+    }
+
+    /// The non-zero normal-mode frequency about `θ = 0`, `ω = √(g (M + m) / (M r))` (SYSTEMS.md §1,
+    /// "Small oscillations"; the other mode, free translation, has `ω = 0`).
+    pub fn small_oscillation_frequency(&self) -> f64 {
+        (self.gravity * (self.cart_mass + self.bob_mass) / (self.cart_mass * self.rod_length)).sqrt()
+    }
+
+    /// The rod tension `T = m (g cosθ + r θ̇² − Ẍ sinθ)` (N), with `Ẍ` from the closed form: the
+    /// rod pulls the bob towards the pivot, along `(−sinθ, cosθ)`, with this magnitude
+    /// (Newton's law for the bob projected on the rod, from SYSTEMS.md §1's bob acceleration).
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn rod_tension(&self, q: &[f64], qdot: &[f64]) -> f64 {
+        let [cart_acceleration, _] = self.closed_form_accelerations(q, qdot);
+        let [_, theta] = fixed(q, "q");
+        let [_, theta_dot] = fixed(qdot, "q̇");
+        let (sin, cos) = theta.sin_cos();
+        self.bob_mass * (self.gravity * cos + self.rod_length * theta_dot * theta_dot - cart_acceleration * sin)
+    }
+}
+
+impl Mechanism for CartPendulum {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (cart_x, theta) = (q[0], q[1]);
+        // Cart on the rail; bob at the end of the rod.
+        world_from_body[0] = Pose::point(cart_x, S::zero());
+        world_from_body[1] = Pose::point(cart_x + theta.sin() * self.rod_length, -theta.cos() * self.rod_length);
+    }
+}
+
+/// The [`CartPendulum`] as a [`Scene`] (`cart_pendulum`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CartPendulumScene;
+
+impl Scene for CartPendulumScene {
+    fn id(&self) -> &'static str {
+        "cart_pendulum"
+    }
+
+    fn title(&self) -> &'static str {
+        "Pendulum on a movable support (cart)"
+    }
+
+    fn reference(&self) -> &'static str {
+        "SYSTEMS.md §1; lecture 27, example: pendulum attached to a movable support"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(CartPendulum::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `X = 0`, `θ = 0.5`, at rest.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [0.0, 0.5], [0.0, 0.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(CartPendulum::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = CartPendulum::from_params(params)?;
+        check_dimensions(2, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// None: the motion has no closed form.
+    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
+        CartPendulum::from_params(params)?;
+        Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form};
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [0.0, 0.5], [0.0, 0.0]),
+            State::new(0.3, [1.2, -0.7], [0.4, 1.3]),
+            State::new(1.0, [-2.0, 2.5], [-1.0, -2.2]),
+            State::new(2.0, [0.5, 1.4], [0.3, 0.1]),
+            State::new(5.0, [3.0, -2.9], [2.0, 4.0]),
+        ]
+    }
+
+    #[test]
+    fn engine_matches_closed_form() {
+        let mut params = CartPendulumScene.default_params();
+        assert_engine_matches_closed_form(&CartPendulumScene, &params, &states());
+        params.set("M", 0.3).unwrap();
+        params.set("r", 1.7).unwrap();
+        params.set("g", 3.0).unwrap();
+        assert_engine_matches_closed_form(&CartPendulumScene, &params, &states());
+    }
+
+    /// The engine's reaction force on the bob is the rod tension along `(−sinθ, cosθ)`, and the
+    /// engine's `p_X` is the closed-form horizontal momentum.
+    #[test]
+    fn rod_tension_and_momentum_match_the_engine() {
+        let scene = CartPendulum::new(2.0, 1.0, 1.3, 9.81).unwrap();
+        let mut system = CartPendulumScene.build(&CartPendulumScene.default_params()).unwrap();
+        let mut system_r = Simulation::new(Model::new(scene.clone()).unwrap());
+        for state in states() {
+            let tension = scene.rod_tension(&state.q, &state.qdot);
+            let reactions = system_r.reaction_forces(state.t, &state.q, &state.qdot).unwrap().unwrap().to_vec();
+            let (sin, cos) = state.q[1].sin_cos();
+            let tolerance = ENGINE_VS_CLOSED_FORM * tension.abs().max(scene.bob_mass * scene.gravity);
+            assert_close("reaction on the bob", &[-tension * sin, tension * cos], &reactions[3..5], tolerance);
+            let momenta = system_r.momenta(state.t, &state.q, &state.qdot).unwrap();
+            let expected = scene.horizontal_momentum(&state.q, &state.qdot);
+            assert_close("p_X", &[expected], &momenta[..1], ENGINE_VS_CLOSED_FORM * expected.abs().max(1.0));
+        }
+        assert_eq!(system.cyclic_coordinates(), &[true, false], "X is cyclic");
+        assert!(system.accelerations(0.0, &[0.0, 0.5], &[0.0, 0.0]).is_ok());
+    }
+
+    /// `det(K₀ − ω² M₀) = 0` at the closed-form frequency (SYSTEMS.md §1's `M₀`, `K₀`).
+    #[test]
+    fn small_oscillation_frequency_solves_the_characteristic_equation() {
+        let scene = CartPendulum::new(2.0, 0.7, 1.3, 9.81).unwrap();
+        let omega2 = scene.small_oscillation_frequency().powi(2);
+        let (cart, bob, r, g) = (scene.cart_mass, scene.bob_mass, scene.rod_length, scene.gravity);
+        let m0 = [[cart + bob, bob * r], [bob * r, bob * r * r]];
+        let k0 = [[0.0, 0.0], [0.0, bob * g * r]];
+        let a = |i: usize, j: usize| k0[i][j] - omega2 * m0[i][j];
+        let determinant = a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0);
+        let scale = (omega2 * m0[0][0]) * (bob * g * r);
+        assert!(determinant.abs() <= 1e-14 * scale, "det = {determinant:e}, scale {scale:e}");
+        // M → ∞ gives the simple pendulum.
+        let heavy = CartPendulum::new(1e12, 1.0, 2.0, 9.81).unwrap();
+        assert!((heavy.small_oscillation_frequency() - (9.81_f64 / 2.0).sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn zero_length_rod_and_bad_masses_are_rejected_with_the_parameter_named() {
+        let cases = [
+            (CartPendulum::new(2.0, 1.0, 0.0, 9.81), "rod_length"),
+            (CartPendulum::new(f64::NAN, 1.0, 1.0, 9.81), "cart_mass"),
+            (CartPendulum::new(2.0, -1.0, 1.0, 9.81), "bob_mass"),
+            (CartPendulum::new(0.0, 1.0, 1.0, 9.81), "cart_mass"),
+            (CartPendulum::new(2.0, 1.0, 1.0, -1.0), "gravity"),
+        ];
+        for (result, expected) in cases {
+            assert!(
+                matches!(result, Err(Error::InvalidParameter { ref name, .. }) if name == expected),
+                "expected {expected} rejected, got {result:?}"
+            );
+        }
+    }
+}

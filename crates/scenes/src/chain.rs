@@ -1,0 +1,267 @@
+//! A hanging chain of `N` uniform rigid links (beyond the lecture).
+
+use crate::checks::check_dimensions;
+use crate::params::{GRAVITY, check_all};
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use nalgebra::{DMatrix, DVector};
+
+/// Parameters: number of links `N`, link mass `m`, link length `l`, `g`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("links", "N", "", 4.0, Domain::Integer { min: 1, max: 256 }, "number of links"),
+    ParamSpec::new("link_mass", "m", "kg", 1.0, Domain::Positive, "mass of each link"),
+    ParamSpec::new("link_length", "l", "m", 1.0, Domain::Positive, "length of each link"),
+    GRAVITY,
+];
+
+/// `N` uniform rods (mass `m`, length `l`, inertia `m l²/12` about the centre) hinged end to end,
+/// the first one to the origin; `q = (θ₁, …, θ_N)`, absolute angles from the downward vertical,
+/// counter-clockwise. With `u(θ) = (sinθ, −cosθ)`: pivot₁ = 0, rod `i`'s centre at
+/// `pivot_i + (l/2) u(θ_i)`, its angle `θ_i`, and `pivot_{i+1} = pivot_i + l u(θ_i)`.
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chain {
+    /// Number of links `N` (1 to 256).
+    pub links: usize,
+    /// Mass of each link `m` (kg).
+    pub link_mass: f64,
+    /// Length of each link `l` (m).
+    pub link_length: f64,
+    /// Gravitational acceleration `g` (m/s²).
+    pub gravity: f64,
+    coordinates: Vec<Coordinate>,
+    bodies: Vec<Body>,
+}
+
+impl Chain {
+    /// A chain of `N` links of mass `m` and length `l` under gravity `g`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(links: usize, link_mass: f64, link_length: f64, gravity: f64) -> Result<Self, Error> {
+        // usize → f64 is exact up to 2⁵³, far beyond the allowed 256.
+        check_all(PARAMS, &[links as f64, link_mass, link_length, gravity])?;
+        let inertia = link_mass * link_length * link_length / 12.0;
+        Ok(Self {
+            links,
+            link_mass,
+            link_length,
+            gravity,
+            coordinates: (1..=links).map(|i| Coordinate::angle(format!("θ{i}"))).collect(),
+            bodies: (1..=links).map(|i| Body::rigid(format!("link {i}"), link_mass, inertia)).collect(),
+        })
+    }
+
+    /// The chain with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [links, link_mass, link_length, gravity] = params.values_of(PARAMS)?;
+        // Check the count as a real number before it becomes an integer (2.5 must not become 2).
+        check_all(PARAMS, &[links, link_mass, link_length, gravity])?;
+        Self::new(links as usize, link_mass, link_length, gravity)
+    }
+
+    /// `S_ij = Σ_k a_ki a_kj` (0-based `i`, `j`), where `a_ki` = 1 if rod `i` is above rod `k`,
+    /// ½ if `i = k`, 0 otherwise (rod `k`'s centre is `l Σ_i a_ki u(θ_i)`): rods `k ≥ max(i, j)`
+    /// contribute, so `S_ij = N − max(i, j) − ½` for `i ≠ j` and `S_ii = N − i − ¾`.
+    fn overlap(&self, i: usize, j: usize) -> f64 {
+        let below = (self.links - i.max(j)) as f64;
+        if i == j { below - 0.75 } else { below - 0.5 }
+    }
+
+    /// `q̈` from the hand-derived equations, solved by Cholesky factorization (nalgebra).
+    ///
+    /// From `T = Σ_k ½ m |ċ_k|² + ½ (m l²/12) θ̇_k²` with `ċ_k = l Σ_i a_ki θ̇_i (cosθ_i, sinθ_i)`
+    /// and `V = −m g l Σ_k Σ_i a_ki cosθ_i` (see `overlap` for `a`, `S`), Lagrange's equations are
+    /// `Σ_j M_ij θ̈_j = F_i` with
+    /// `M_ij = m l² (S_ij cos(θ_i − θ_j) + δ_ij/12)`,
+    /// `F_i = −m l² Σ_j S_ij sin(θ_i − θ_j) θ̇_j² − m g l (Σ_k a_ki) sinθ_i`, `Σ_k a_ki = N − i − ½`
+    /// (the `∂M/∂θ` terms of `d/dt ∂T/∂θ̇_i − ∂T/∂θ_i` combine into the single `θ̇_j²` sum).
+    /// `M` is positive definite for every `q` (a Schur product of two Gram matrices plus
+    /// `m l²/12` on the diagonal); for non-finite input the result is NaN.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have `N` entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> Vec<f64> {
+        let n = self.links;
+        assert!(q.len() == n && qdot.len() == n, "q and q̇ must have {n} entries, got {} and {}", q.len(), qdot.len());
+        let (m, l, g) = (self.link_mass, self.link_length, self.gravity);
+        let scale = m * l * l;
+        // Mass matrix and generalized forces.
+        let mass_matrix = DMatrix::from_fn(n, n, |i, j| {
+            let diagonal = if i == j { 1.0 / 12.0 } else { 0.0 };
+            scale * (self.overlap(i, j) * (q[i] - q[j]).cos() + diagonal)
+        });
+        let force = DVector::from_fn(n, |i, _| {
+            let centrifugal: f64 = (0..n).map(|j| self.overlap(i, j) * (q[i] - q[j]).sin() * qdot[j] * qdot[j]).sum();
+            let weight_below = (n - i) as f64 - 0.5;
+            -scale * centrifugal - m * g * l * weight_below * q[i].sin()
+        });
+        // Cholesky solve.
+        match mass_matrix.cholesky() {
+            Some(factor) => factor.solve(&force).iter().copied().collect(),
+            None => vec![f64::NAN; n],
+        }
+    }
+}
+
+impl Mechanism for Chain {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (length, half) = (self.link_length, 0.5 * self.link_length);
+        let (mut pivot_x, mut pivot_y) = (S::zero(), S::zero());
+        // Walk down the chain: each rod's centre half a length below its pivot, then the next pivot.
+        for (pose, &theta) in world_from_body.iter_mut().zip(q) {
+            let (sin, cos) = (theta.sin(), theta.cos());
+            *pose = Pose::new(pivot_x + sin * half, pivot_y - cos * half, theta);
+            pivot_x += sin * length;
+            pivot_y -= cos * length;
+        }
+    }
+}
+
+/// The [`Chain`] as a [`Scene`] (`chain`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ChainScene;
+
+impl Scene for ChainScene {
+    fn id(&self) -> &'static str {
+        "chain"
+    }
+
+    fn title(&self) -> &'static str {
+        "Hanging chain of N rigid links"
+    }
+
+    fn reference(&self) -> &'static str {
+        "beyond the lecture; closed form derived in chain.rs"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(Chain::from_params(params)?.coordinates)
+    }
+
+    /// Every `θ_i = 0.5`, at rest.
+    fn default_state(&self, params: &Params) -> Result<State, Error> {
+        let n = Chain::from_params(params)?.links;
+        Ok(State::new(0.0, vec![0.5; n], vec![0.0; n]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(Chain::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = Chain::from_params(params)?;
+        check_dimensions(scene.links, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot)))
+    }
+
+    /// None: the motion has no closed form.
+    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
+        Chain::from_params(params)?;
+        Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::assert_engine_matches_closed_form;
+
+    /// Five fixed generic states of `n` links (angles and rates from a fixed formula).
+    fn states(n: usize) -> Vec<State> {
+        let angle = |k: usize, i: usize| 0.5 + 0.9 * ((3 * k + 7 * i) as f64).sin() * if k == 0 { 0.0 } else { 1.0 };
+        let rate = |k: usize, i: usize| if k == 0 { 0.0 } else { 1.3 * ((5 * k + 2 * i + 1) as f64).cos() };
+        (0..5)
+            .map(|k| {
+                State::new(
+                    k as f64,
+                    (0..n).map(|i| angle(k, i)).collect::<Vec<_>>(),
+                    (0..n).map(|i| rate(k, i)).collect::<Vec<_>>(),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn engine_matches_closed_form_for_several_lengths() {
+        let mut params = ChainScene.default_params();
+        for (links, mass, length) in [(4.0, 1.0, 1.0), (1.0, 2.0, 0.5), (2.0, 0.7, 1.3), (7.0, 1.5, 0.4)] {
+            params.set("N", links).unwrap();
+            params.set("m", mass).unwrap();
+            params.set("l", length).unwrap();
+            assert_engine_matches_closed_form(&ChainScene, &params, &states(links as usize));
+        }
+    }
+
+    /// At the largest allowed `N` the mass matrix is no longer well conditioned: its eigenvalues
+    /// lie between `m l²/12` and its trace `≈ m l² N²/2`, so `cond(M) ≤ 6 N²` (≈ 4e5 at
+    /// N = 256) and both solves carry a relative error up to ~`cond(M)·ε`; the tolerance is
+    /// `10 · 6 N² ε` ≈ 9e-10 (observed ≈ 1e-11).
+    #[test]
+    fn engine_matches_closed_form_for_the_longest_chain() {
+        let n = 256;
+        let mut params = ChainScene.default_params();
+        params.set("N", n as f64).unwrap();
+        let q: Vec<f64> = (0..n).map(|i| 0.5 + 0.3 * (i as f64).sin()).collect();
+        let qdot: Vec<f64> = (0..n).map(|i| 0.2 * (0.7 * i as f64).cos()).collect();
+        let mut system = ChainScene.build(&params).unwrap();
+        let got = system.accelerations(0.0, &q, &qdot).unwrap().to_vec();
+        let expected = Chain::from_params(&params).unwrap().closed_form_accelerations(&q, &qdot);
+        let tolerance = 10.0 * 6.0 * (n * n) as f64 * f64::EPSILON * crate::testing::max_abs(&expected);
+        crate::testing::assert_close("N = 256: engine vs closed form", &expected, &got, tolerance);
+    }
+
+    /// One link is a physical pendulum: `θ̈ = −(3g/2l) sinθ`.
+    #[test]
+    fn one_link_is_the_physical_pendulum() {
+        let chain = Chain::new(1, 2.0, 0.8, 9.81).unwrap();
+        let [alpha] = chain.closed_form_accelerations(&[0.4], &[1.7])[..] else { panic!("one coordinate") };
+        let expected = -1.5 * 9.81 / 0.8 * 0.4_f64.sin();
+        assert!((alpha - expected).abs() <= 1e-14 * expected.abs(), "expected {expected}, got {alpha}");
+    }
+
+    #[test]
+    fn link_count_is_validated_and_names_the_coordinates() {
+        let chain = Chain::new(3, 1.0, 1.0, 9.81).unwrap();
+        let names: Vec<&str> = chain.coordinates().iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, ["θ1", "θ2", "θ3"]);
+        for links in [0, 257] {
+            let result = Chain::new(links, 1.0, 1.0, 9.81);
+            assert!(matches!(result, Err(Error::InvalidParameter { ref name, .. }) if name == "links"), "{result:?}");
+        }
+        assert!(Chain::new(256, 1.0, 1.0, 9.81).is_ok());
+        let zero_length = Chain::new(2, 1.0, 0.0, 9.81);
+        assert!(matches!(zero_length, Err(Error::InvalidParameter { ref name, .. }) if name == "link_length"));
+        assert_eq!(
+            Chain::new(2, 1.0, 1.0, 9.81).unwrap().closed_form_accelerations(&[f64::NAN, 0.0], &[0.0, 0.0]).len(),
+            2
+        );
+    }
+}

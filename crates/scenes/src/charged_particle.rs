@@ -1,0 +1,208 @@
+//! A charged particle in a uniform magnetic field: a velocity-dependent potential, given as a
+//! raw Lagrangian (beyond the lecture).
+
+use crate::checks::{check_dimensions, check_state, fixed};
+use crate::params::check_all;
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Coordinate, Error, Lagrangian, RawModel, Scalar, Simulation, State, System};
+
+/// Parameters: mass `m`, charge `e`, field `B`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass of the particle"),
+    ParamSpec::new("charge", "e", "C", 1.0, Domain::Finite, "charge of the particle"),
+    ParamSpec::new("field", "B", "T", 1.0, Domain::Finite, "uniform magnetic field along +z"),
+];
+
+/// A particle of mass `m` and charge `e` in the plane, in a uniform magnetic field `B` along
+/// `+z`, with the symmetric-gauge vector potential `A = (B/2)(−y, x)`:
+/// `L = ½ m (ẋ² + ẏ²) + (e B / 2)(x ẏ − y ẋ)`; `q = (x, y)`. A velocity-dependent potential, so
+/// it is given as a raw [`Lagrangian`] rather than as bodies (Goldstein, *Classical Mechanics*,
+/// §1.5, `L = T − qφ + q A·v`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChargedParticle {
+    /// Mass `m` (kg).
+    pub mass: f64,
+    /// Charge `e` (C); any sign.
+    pub charge: f64,
+    /// Field `B` along `+z` (T); any sign.
+    pub field: f64,
+    coordinates: [Coordinate; 2],
+}
+
+impl ChargedParticle {
+    /// A particle of mass `m` and charge `e` in the field `B`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(mass: f64, charge: f64, field: f64) -> Result<Self, Error> {
+        check_all(PARAMS, &[mass, charge, field])?;
+        Ok(Self { mass, charge, field, coordinates: [Coordinate::length("x"), Coordinate::length("y")] })
+    }
+
+    /// The charged particle with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, charge, field] = params.values_of(PARAMS)?;
+        Self::new(mass, charge, field)
+    }
+
+    /// The cyclotron (signed angular) frequency `ω_c = e B / m` (rad/s).
+    pub fn cyclotron_frequency(&self) -> f64 {
+        self.charge * self.field / self.mass
+    }
+
+    /// `ẍ = (e B/m) ẏ`, `ÿ = −(e B/m) ẋ`: Lagrange's equations of `L`
+    /// (`d/dt(m ẋ − e B y/2) = e B ẏ/2` and `d/dt(m ẏ + e B x/2) = −e B ẋ/2`), i.e. the Lorentz
+    /// force `e v × B`.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let _: [f64; 2] = fixed(q, "q");
+        let [vx, vy] = fixed(qdot, "q̇");
+        let omega = self.cyclotron_frequency();
+        [omega * vy, -omega * vx]
+    }
+
+    /// `(q, q̇)` a time `tau` after `(q₀, q̇₀)`: the velocity turns clockwise at `ω_c` (for
+    /// `ω_c > 0`), `v(τ) = R(−ω_c τ) v₀`, and the position follows the circle
+    /// `x = x₀ + (ẋ₀ sin ω_cτ + ẏ₀ (1 − cos ω_cτ))/ω_c`, `y = y₀ + (ẏ₀ sin ω_cτ − ẋ₀ (1 − cos ω_cτ))/ω_c`
+    /// (uniform circular motion, radius `|v|/|ω_c|`); a straight line when `ω_c = 0` (`B = 0` or
+    /// `e = 0`). `1 − cos` is written `2 sin²(ω_cτ/2)` so that small `ω_c` loses no digits.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn motion(&self, q: &[f64], qdot: &[f64], tau: f64) -> ([f64; 2], [f64; 2]) {
+        let [x0, y0] = fixed(q, "q");
+        let [vx0, vy0] = fixed(qdot, "q̇");
+        let omega = self.cyclotron_frequency();
+        if omega == 0.0 {
+            return ([x0 + vx0 * tau, y0 + vy0 * tau], [vx0, vy0]);
+        }
+        let (sin, cos) = (omega * tau).sin_cos();
+        let half_sin = (0.5 * omega * tau).sin();
+        let one_minus_cos = 2.0 * half_sin * half_sin;
+        let x = x0 + (vx0 * sin + vy0 * one_minus_cos) / omega;
+        let y = y0 + (vy0 * sin - vx0 * one_minus_cos) / omega;
+        ([x, y], [vx0 * cos + vy0 * sin, -vx0 * sin + vy0 * cos])
+    }
+}
+
+impl Lagrangian for ChargedParticle {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn lagrangian<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S]) -> S {
+        let (x, y, vx, vy) = (q[0], q[1], qdot[0], qdot[1]);
+        // Kinetic energy plus e A·v with A = (B/2)(−y, x).
+        (vx * vx + vy * vy) * (0.5 * self.mass) + (x * vy - y * vx) * (0.5 * self.charge * self.field)
+    }
+}
+
+/// The [`ChargedParticle`] as a [`Scene`] (`charged_particle`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ChargedParticleScene;
+
+impl Scene for ChargedParticleScene {
+    fn id(&self) -> &'static str {
+        "charged_particle"
+    }
+
+    fn title(&self) -> &'static str {
+        "Charged particle in a uniform magnetic field"
+    }
+
+    fn reference(&self) -> &'static str {
+        "beyond the lecture (velocity-dependent potential, raw Lagrangian); Goldstein, Classical Mechanics, §1.5"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(ChargedParticle::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `x = 1`, `y = 0`, `ẋ = 0`, `ẏ = 1`.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [1.0, 0.0], [0.0, 1.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(RawModel::new(ChargedParticle::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = ChargedParticle::from_params(params)?;
+        check_dimensions(2, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// Uniform circular motion; see [`ChargedParticle::motion`].
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        let scene = ChargedParticle::from_params(params)?;
+        check_state(2, initial)?;
+        let (q, qdot) = scene.motion(&initial.q, &initial.qdot, t - initial.t);
+        Ok(Some(State::new(t, q, qdot)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
+    use std::f64::consts::TAU;
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [1.0, 0.0], [0.0, 1.0]),
+            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
+            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
+            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
+            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
+        ]
+    }
+
+    #[test]
+    fn engine_matches_closed_form() {
+        let mut params = ChargedParticleScene.default_params();
+        assert_engine_matches_closed_form(&ChargedParticleScene, &params, &states());
+        for (key, value) in [("B", -2.5), ("e", 0.3), ("m", 4.0)] {
+            params.set(key, value).unwrap();
+            assert_engine_matches_closed_form(&ChargedParticleScene, &params, &states());
+        }
+    }
+
+    #[test]
+    fn exact_solution_is_consistent_for_both_signs_and_zero_field() {
+        for field in [1.0, -2.0, 0.0, 1e-9] {
+            let mut params = ChargedParticleScene.default_params();
+            params.set("B", field).unwrap();
+            for initial in [State::new(0.0, [1.0, 0.0], [0.0, 1.0]), State::new(0.7, [-0.5, 2.0], [0.4, -1.3])] {
+                assert_exact_solution_consistent(&ChargedParticleScene, &params, &initial, &[0.3, 2.0, 9.0]);
+            }
+        }
+    }
+
+    /// The default state circles the centre `(2, 0)` with radius 1 and period `2π/ω_c`.
+    #[test]
+    fn default_orbit_is_a_unit_circle() {
+        let scene = ChargedParticle::new(1.0, 1.0, 1.0).unwrap();
+        for k in 0..8 {
+            let (q, _) = scene.motion(&[1.0, 0.0], &[0.0, 1.0], f64::from(k) * 0.4);
+            assert!(((q[0] - 2.0).hypot(q[1]) - 1.0).abs() < 1e-15, "{q:?}");
+        }
+        let (q, qdot) = scene.motion(&[1.0, 0.0], &[0.0, 1.0], TAU);
+        assert_close("one cyclotron period", &[1.0, 0.0, 0.0, 1.0], &[q[0], q[1], qdot[0], qdot[1]], 1e-14);
+    }
+}

@@ -1,0 +1,311 @@
+//! Double Atwood machine, optionally with a massive movable pulley (SYSTEMS.md §5; lecture 27).
+
+use crate::checks::{check_dimensions, check_state, fixed};
+use crate::params::{GRAVITY, check_all};
+use crate::uniform_acceleration::uniformly_accelerated;
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+
+/// Parameters: masses `m1`, `m2`, `m3`, rope lengths `l`, `l'`, movable-pulley mass `m_p`, `g`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("mass_1", "m1", "kg", 3.0, Domain::Positive, "mass on the upper rope"),
+    ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass on the lower rope, side x'"),
+    ParamSpec::new("mass_3", "m3", "kg", 1.5, Domain::Positive, "mass on the lower rope, other side"),
+    ParamSpec::new("rope_length", "l", "m", 5.0, Domain::Positive, "length of the upper rope"),
+    ParamSpec::new("lower_rope_length", "l'", "m", 2.0, Domain::Positive, "length of the lower rope"),
+    ParamSpec::new(
+        "lower_pulley_mass",
+        "m_p",
+        "kg",
+        0.0,
+        Domain::NonNegative,
+        "mass of the movable pulley (0: the lecture's massless pulley)",
+    ),
+    GRAVITY,
+];
+
+/// A fixed upper pulley whose rope (length `l`) carries `m1` on one end and a movable pulley on
+/// the other; the movable pulley's rope (length `l'`) carries `m2` and `m3`. Radii neglected,
+/// depths measured downward from the upper pulley: `x₁ = x`, movable pulley at `x_p = l − x`,
+/// `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`; body `i` at `(0, −x_i)`; `q = (x, x')`
+/// (SYSTEMS.md §5). The movable pulley is a point body of mass `m_p` (0 in the lecture).
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DoubleAtwood {
+    /// Mass `m₁` (kg) on the upper rope.
+    pub mass_1: f64,
+    /// Mass `m₂` (kg) on the lower rope, at `x'` below the movable pulley.
+    pub mass_2: f64,
+    /// Mass `m₃` (kg) on the lower rope, at `l' − x'` below the movable pulley.
+    pub mass_3: f64,
+    /// Upper rope length `l` (m).
+    pub rope_length: f64,
+    /// Lower rope length `l'` (m).
+    pub lower_rope_length: f64,
+    /// Movable pulley mass `m_p` (kg); 0 for the lecture's massless pulley.
+    pub lower_pulley_mass: f64,
+    /// Gravitational acceleration `g` (m/s²).
+    pub gravity: f64,
+    coordinates: [Coordinate; 2],
+    bodies: [Body; 4],
+}
+
+impl DoubleAtwood {
+    /// A double Atwood machine with masses `m1`, `m2`, `m3`, rope lengths `l`, `l'`, movable
+    /// pulley mass `m_p` and gravity `g`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(
+        mass_1: f64,
+        mass_2: f64,
+        mass_3: f64,
+        rope_length: f64,
+        lower_rope_length: f64,
+        lower_pulley_mass: f64,
+        gravity: f64,
+    ) -> Result<Self, Error> {
+        check_all(PARAMS, &[mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity])?;
+        Ok(Self {
+            mass_1,
+            mass_2,
+            mass_3,
+            rope_length,
+            lower_rope_length,
+            lower_pulley_mass,
+            gravity,
+            coordinates: [Coordinate::length("x"), Coordinate::length("x'")],
+            bodies: [
+                Body::point("mass 1", mass_1),
+                Body::point("mass 2", mass_2),
+                Body::point("mass 3", mass_3),
+                Body::point("movable pulley", lower_pulley_mass),
+            ],
+        })
+    }
+
+    /// The double Atwood machine with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity] =
+            params.values_of(PARAMS)?;
+        Self::new(mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity)
+    }
+
+    /// The constant mass matrix `M = [[m1 + m2 + m3 + m_p, m3 − m2], [m3 − m2, m2 + m3]]`, from
+    /// `T = ½ m1 ẋ² + ½ m2 (ẋ' − ẋ)² + ½ m3 (ẋ + ẋ')² + ½ m_p ẋ²` (SYSTEMS.md §5 plus the pulley).
+    pub fn mass_matrix(&self) -> [[f64; 2]; 2] {
+        let (m1, m2, m3, mp) = (self.mass_1, self.mass_2, self.mass_3, self.lower_pulley_mass);
+        [[m1 + m2 + m3 + mp, m3 - m2], [m3 - m2, m2 + m3]]
+    }
+
+    /// The constant generalized gravity force `F = −∂V/∂q = g (m1 − m2 − m3 − m_p, m2 − m3)`, from
+    /// `V = −g (m1 x₁ + m2 x₂ + m3 x₃ + m_p x_p)` (SYSTEMS.md §5 plus the pulley).
+    pub fn applied_force(&self) -> [f64; 2] {
+        let (m1, m2, m3, mp, g) = (self.mass_1, self.mass_2, self.mass_3, self.lower_pulley_mass, self.gravity);
+        [g * (m1 - m2 - m3 - mp), g * (m2 - m3)]
+    }
+
+    /// The constant `(ẍ, ẍ')`. With a massless pulley, SYSTEMS.md §5's closed forms
+    /// `ẍ = g (m1 (m2 + m3) − 4 m2 m3) / (m1 (m2 + m3) + 4 m2 m3)`,
+    /// `ẍ' = 2 m1 (m2 − m3) g / (m1 (m2 + m3) + 4 m2 m3)`; otherwise `M q̈ = F`
+    /// ([`mass_matrix`](Self::mass_matrix), [`applied_force`](Self::applied_force)) by Cramer's rule.
+    pub fn acceleration(&self) -> [f64; 2] {
+        let (m1, m2, m3, g) = (self.mass_1, self.mass_2, self.mass_3, self.gravity);
+        if self.lower_pulley_mass == 0.0 {
+            let denominator = m1 * (m2 + m3) + 4.0 * m2 * m3;
+            return [g * (m1 * (m2 + m3) - 4.0 * m2 * m3) / denominator, 2.0 * m1 * (m2 - m3) * g / denominator];
+        }
+        let [[a, b], [c, d]] = self.mass_matrix();
+        let [f1, f2] = self.applied_force();
+        let determinant = a * d - b * c;
+        [(f1 * d - b * f2) / determinant, (a * f2 - c * f1) / determinant]
+    }
+
+    /// `[ẍ, ẍ']`, the constant accelerations (independent of the state).
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let _: ([f64; 2], [f64; 2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        self.acceleration()
+    }
+
+    /// The rope tensions `(upper, lower) = (m1 (g − ẍ₁), m2 (g − ẍ₂))` (N), with the downward
+    /// accelerations `ẍ₁ = ẍ`, `ẍ₂ = −ẍ + ẍ'` (SYSTEMS.md §5, "Absolute accelerations").
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn tensions(&self, q: &[f64], qdot: &[f64]) -> (f64, f64) {
+        let [x_ddot, x_prime_ddot] = self.closed_form_accelerations(q, qdot);
+        let g = self.gravity;
+        (self.mass_1 * (g - x_ddot), self.mass_2 * (g - (x_prime_ddot - x_ddot)))
+    }
+}
+
+impl Mechanism for DoubleAtwood {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (x, x_prime) = (q[0], q[1]);
+        // Depths below the upper pulley: m1, the movable pulley, and the masses below it.
+        let pulley_depth = -x + self.rope_length;
+        let depths = [x, pulley_depth + x_prime, pulley_depth - x_prime + self.lower_rope_length, pulley_depth];
+        for (pose, depth) in world_from_body.iter_mut().zip(depths) {
+            *pose = Pose::point(S::zero(), -depth);
+        }
+    }
+
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}
+
+/// The [`DoubleAtwood`] machine as a [`Scene`] (`double_atwood`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DoubleAtwoodScene;
+
+impl Scene for DoubleAtwoodScene {
+    fn id(&self) -> &'static str {
+        "double_atwood"
+    }
+
+    fn title(&self) -> &'static str {
+        "Double Atwood machine"
+    }
+
+    fn reference(&self) -> &'static str {
+        "SYSTEMS.md §5; lecture 27, example: double Atwood machine (massive pulley beyond the lecture)"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(DoubleAtwood::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `x = 2`, `x' = 1`, at rest.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [2.0, 1.0], [0.0, 0.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(DoubleAtwood::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = DoubleAtwood::from_params(params)?;
+        check_dimensions(2, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        let scene = DoubleAtwood::from_params(params)?;
+        check_state(2, initial)?;
+        Ok(Some(uniformly_accelerated(initial, &scene.acceleration(), t)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{
+        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+    };
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [2.0, 1.0], [0.0, 0.0]),
+            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
+            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
+            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
+            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
+        ]
+    }
+
+    #[test]
+    fn engine_matches_closed_form_with_massless_and_massive_pulley() {
+        let mut params = DoubleAtwoodScene.default_params();
+        assert_engine_matches_closed_form(&DoubleAtwoodScene, &params, &states());
+        for (key, value) in [("m_p", 0.7), ("m1", 0.5), ("m3", 4.0), ("m_p", 0.0)] {
+            params.set(key, value).unwrap();
+            assert_engine_matches_closed_form(&DoubleAtwoodScene, &params, &states());
+        }
+    }
+
+    /// Cramer's rule on `M q̈ = F` reproduces SYSTEMS.md §5's closed forms at `m_p = 0` (the
+    /// two branches of `acceleration` agree), and the massive-pulley `M`, `F` are the engine's.
+    #[test]
+    fn cramer_branch_agrees_with_the_lecture_closed_form_and_the_engine() {
+        let massless = DoubleAtwood::new(3.0, 1.0, 1.5, 5.0, 2.0, 0.0, 9.81).unwrap();
+        let nearly = DoubleAtwood::new(3.0, 1.0, 1.5, 5.0, 2.0, 1e-300, 9.81).unwrap();
+        assert_close("m_p → 0", &massless.acceleration(), &nearly.acceleration(), 1e-14);
+        let scene = DoubleAtwood::new(3.0, 1.0, 1.5, 5.0, 2.0, 0.8, 9.81).unwrap();
+        let model = Model::new(scene.clone()).unwrap();
+        let mut ws = model.workspace();
+        let mass_matrix = lagrange::mass_matrix(&model, &mut ws, 0.0, &[2.0, 1.0]).unwrap().to_vec();
+        let expected: Vec<f64> = scene.mass_matrix().concat();
+        assert_close("M", &expected, &mass_matrix, ENGINE_VS_CLOSED_FORM * 6.0);
+        let qddot = lagrange::accelerations(&model, &mut ws, 0.0, &[2.0, 1.0], &[0.0, 0.0]).unwrap().to_vec();
+        let force: Vec<f64> = (0..2).map(|i| (0..2).map(|j| expected[2 * i + j] * qddot[j]).sum()).collect();
+        assert_close("F = M q̈", &scene.applied_force(), &force, ENGINE_VS_CLOSED_FORM * 60.0);
+    }
+
+    #[test]
+    fn exact_solution_is_consistent() {
+        let mut params = DoubleAtwoodScene.default_params();
+        for m_p in [0.0, 0.4] {
+            params.set("m_p", m_p).unwrap();
+            for initial in [State::new(0.0, [2.0, 1.0], [0.0, 0.0]), State::new(1.0, [1.0, 0.5], [0.3, -0.2])] {
+                assert_exact_solution_consistent(&DoubleAtwoodScene, &params, &initial, &[0.5, 2.0]);
+            }
+        }
+    }
+
+    /// The engine's reaction forces on `m1` and `m2` are the rope tensions; SYSTEMS.md §5's
+    /// tension check: with a massless pulley the lower masses act like `μ = 4 m2 m3/(m2 + m3)`.
+    #[test]
+    fn tensions_match_the_engine_and_the_effective_mass() {
+        let scene = DoubleAtwood::new(3.0, 1.0, 1.5, 5.0, 2.0, 0.0, 9.81).unwrap();
+        let mut system = Simulation::new(Model::new(scene.clone()).unwrap());
+        let (q, qdot) = ([2.0, 1.0], [0.1, 0.2]);
+        let (upper, lower) = scene.tensions(&q, &qdot);
+        let reactions = system.reaction_forces(0.0, &q, &qdot).unwrap().unwrap().to_vec();
+        let tolerance = ENGINE_VS_CLOSED_FORM * scene.mass_1 * scene.gravity;
+        assert_close("vertical reactions on m1, m2", &[upper, lower], &[reactions[1], reactions[4]], tolerance);
+        // Massless pulley: the upper rope carries twice the lower tension.
+        assert_close("upper = 2 lower", &[upper], &[2.0 * lower], tolerance);
+        let mu = 4.0 * scene.mass_2 * scene.mass_3 / (scene.mass_2 + scene.mass_3);
+        let x_ddot = scene.gravity * (scene.mass_1 - mu) / (scene.mass_1 + mu);
+        assert_close("ẍ = g (m1 − μ)/(m1 + μ)", &[x_ddot], &scene.acceleration()[..1], 1e-14);
+    }
+
+    #[test]
+    fn equilibrium_iff_equal_lower_masses_and_m1_twice() {
+        let balanced = DoubleAtwood::new(2.0, 1.0, 1.0, 5.0, 2.0, 0.0, 9.81).unwrap();
+        assert_eq!(balanced.acceleration(), [0.0, 0.0]);
+    }
+}

@@ -1,0 +1,349 @@
+//! Double-double Atwood machine: two movable pulleys, each with two masses (SYSTEMS.md §6; the
+//! lecture's homework remark).
+
+use crate::checks::{check_dimensions, check_state, fixed};
+use crate::params::{GRAVITY, check_all};
+use crate::uniform_acceleration::uniformly_accelerated;
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+
+/// Parameters: masses `m2`–`m5`, rope lengths `l`, `l'`, `l''`, pulley masses `m_A`, `m_B`, `g`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass on pulley B's rope, side x'"),
+    ParamSpec::new("mass_3", "m3", "kg", 1.5, Domain::Positive, "mass on pulley B's rope, other side"),
+    ParamSpec::new("mass_4", "m4", "kg", 2.0, Domain::Positive, "mass on pulley A's rope, side x''"),
+    ParamSpec::new("mass_5", "m5", "kg", 0.5, Domain::Positive, "mass on pulley A's rope, other side"),
+    ParamSpec::new("rope_length", "l", "m", 5.0, Domain::Positive, "length of the upper rope"),
+    ParamSpec::new("rope_length_b", "l'", "m", 2.0, Domain::Positive, "length of pulley B's rope"),
+    ParamSpec::new("rope_length_a", "l''", "m", 2.0, Domain::Positive, "length of pulley A's rope"),
+    ParamSpec::new("pulley_a_mass", "m_A", "kg", 0.0, Domain::NonNegative, "mass of movable pulley A (0: massless)"),
+    ParamSpec::new("pulley_b_mass", "m_B", "kg", 0.0, Domain::NonNegative, "mass of movable pulley B (0: massless)"),
+    GRAVITY,
+];
+
+/// A fixed upper pulley whose rope (length `l`) carries movable pulley A (depth `x`) and
+/// movable pulley B (depth `l − x`); B's rope (length `l'`) carries `m2`, `m3`; A's rope
+/// (length `l''`) carries `m4`, `m5`. Radii neglected, depths downward from the upper pulley:
+/// `x_A = x`, `x_B = l − x`, `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`, `x₄ = x + x''`,
+/// `x₅ = x + (l'' − x'')`; body `i` at `(0, −x_i)`; `q = (x, x', x'')` (SYSTEMS.md §6). The
+/// pulleys are point bodies of masses `m_A`, `m_B` (0 in SYSTEMS.md).
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DoubleDoubleAtwood {
+    /// Mass `m₂` (kg), at `x'` below pulley B.
+    pub mass_2: f64,
+    /// Mass `m₃` (kg), at `l' − x'` below pulley B.
+    pub mass_3: f64,
+    /// Mass `m₄` (kg), at `x''` below pulley A.
+    pub mass_4: f64,
+    /// Mass `m₅` (kg), at `l'' − x''` below pulley A.
+    pub mass_5: f64,
+    /// Upper rope length `l` (m).
+    pub rope_length: f64,
+    /// Pulley B's rope length `l'` (m).
+    pub rope_length_b: f64,
+    /// Pulley A's rope length `l''` (m).
+    pub rope_length_a: f64,
+    /// Pulley A's mass `m_A` (kg).
+    pub pulley_a_mass: f64,
+    /// Pulley B's mass `m_B` (kg).
+    pub pulley_b_mass: f64,
+    /// Gravitational acceleration `g` (m/s²).
+    pub gravity: f64,
+    coordinates: [Coordinate; 3],
+    bodies: [Body; 6],
+}
+
+impl DoubleDoubleAtwood {
+    /// A double-double Atwood machine (parameters in the order of [`PARAMS`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(
+        mass_2: f64,
+        mass_3: f64,
+        mass_4: f64,
+        mass_5: f64,
+        rope_length: f64,
+        rope_length_b: f64,
+        rope_length_a: f64,
+        pulley_a_mass: f64,
+        pulley_b_mass: f64,
+        gravity: f64,
+    ) -> Result<Self, Error> {
+        let values = [
+            mass_2,
+            mass_3,
+            mass_4,
+            mass_5,
+            rope_length,
+            rope_length_b,
+            rope_length_a,
+            pulley_a_mass,
+            pulley_b_mass,
+            gravity,
+        ];
+        check_all(PARAMS, &values)?;
+        Ok(Self {
+            mass_2,
+            mass_3,
+            mass_4,
+            mass_5,
+            rope_length,
+            rope_length_b,
+            rope_length_a,
+            pulley_a_mass,
+            pulley_b_mass,
+            gravity,
+            coordinates: [Coordinate::length("x"), Coordinate::length("x'"), Coordinate::length("x''")],
+            bodies: [
+                Body::point("pulley A", pulley_a_mass),
+                Body::point("pulley B", pulley_b_mass),
+                Body::point("mass 2", mass_2),
+                Body::point("mass 3", mass_3),
+                Body::point("mass 4", mass_4),
+                Body::point("mass 5", mass_5),
+            ],
+        })
+    }
+
+    /// The machine with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g] = params.values_of(PARAMS)?;
+        Self::new(m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g)
+    }
+
+    /// The constant mass matrix, from
+    /// `T = ½ (m_A + m_B) ẋ² + ½ m2 (ẋ' − ẋ)² + ½ m3 (ẋ + ẋ')² + ½ m4 (ẋ + ẋ'')² + ½ m5 (ẋ − ẋ'')²`
+    /// (SYSTEMS.md §6's `T` plus the pulleys, which move with `ẋ_A = ẋ`, `ẋ_B = −ẋ`):
+    /// `M = [[m_A + m_B + m2 + m3 + m4 + m5, m3 − m2, m4 − m5], [m3 − m2, m2 + m3, 0], [m4 − m5, 0, m4 + m5]]`.
+    pub fn mass_matrix(&self) -> [[f64; 3]; 3] {
+        let (m2, m3, m4, m5) = (self.mass_2, self.mass_3, self.mass_4, self.mass_5);
+        let pulleys = self.pulley_a_mass + self.pulley_b_mass;
+        [[pulleys + m2 + m3 + m4 + m5, m3 - m2, m4 - m5], [m3 - m2, m2 + m3, 0.0], [m4 - m5, 0.0, m4 + m5]]
+    }
+
+    /// The constant generalized gravity force `F = −∂V/∂q` from
+    /// `V = −g (m_A x_A + m_B x_B + m2 x₂ + m3 x₃ + m4 x₄ + m5 x₅)` (SYSTEMS.md §6 plus the pulleys):
+    /// `F = g (m_A − m_B − m2 − m3 + m4 + m5, m2 − m3, m4 − m5)`.
+    pub fn applied_force(&self) -> [f64; 3] {
+        let (m2, m3, m4, m5, g) = (self.mass_2, self.mass_3, self.mass_4, self.mass_5, self.gravity);
+        [g * (self.pulley_a_mass - self.pulley_b_mass - m2 - m3 + m4 + m5), g * (m2 - m3), g * (m4 - m5)]
+    }
+
+    /// The constant `(ẍ, ẍ', ẍ'')`. With massless pulleys, SYSTEMS.md §6's effective-mass closed
+    /// forms `ẍ = g (m4 m5 (m2 + m3) − m2 m3 (m4 + m5)) / (m4 m5 (m2 + m3) + m2 m3 (m4 + m5))`,
+    /// `ẍ' = (m2 − m3)/(m2 + m3) (g + ẍ)`, `ẍ'' = (m4 − m5)/(m4 + m5) (g − ẍ)`; otherwise
+    /// `M q̈ = F` ([`mass_matrix`](Self::mass_matrix), [`applied_force`](Self::applied_force)) by
+    /// Cramer's rule.
+    pub fn acceleration(&self) -> [f64; 3] {
+        let (m2, m3, m4, m5, g) = (self.mass_2, self.mass_3, self.mass_4, self.mass_5, self.gravity);
+        if self.pulley_a_mass == 0.0 && self.pulley_b_mass == 0.0 {
+            let (b_pair, a_pair) = (m2 * m3 * (m4 + m5), m4 * m5 * (m2 + m3));
+            let x_ddot = g * (a_pair - b_pair) / (a_pair + b_pair);
+            return [x_ddot, (m2 - m3) / (m2 + m3) * (g + x_ddot), (m4 - m5) / (m4 + m5) * (g - x_ddot)];
+        }
+        let m = self.mass_matrix();
+        let f = self.applied_force();
+        // Cramer's rule: replace column j of M by F.
+        let determinant = det3(m);
+        let with_column = |j: usize| {
+            let mut replaced = m;
+            for (row, value) in replaced.iter_mut().zip(f) {
+                row[j] = value;
+            }
+            det3(replaced) / determinant
+        };
+        [with_column(0), with_column(1), with_column(2)]
+    }
+
+    /// `[ẍ, ẍ', ẍ'']`, the constant accelerations (independent of the state).
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 3 entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 3] {
+        let _: ([f64; 3], [f64; 3]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        self.acceleration()
+    }
+}
+
+/// The determinant of a 3 × 3 matrix, expanded along the first row.
+fn det3(m: [[f64; 3]; 3]) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+}
+
+impl Mechanism for DoubleDoubleAtwood {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (x, x_b, x_a) = (q[0], q[1], q[2]);
+        // Depths below the upper pulley: pulleys A and B, then the masses below each.
+        let depth_a = x;
+        let depth_b = -x + self.rope_length;
+        let depths = [
+            depth_a,
+            depth_b,
+            depth_b + x_b,
+            depth_b - x_b + self.rope_length_b,
+            depth_a + x_a,
+            depth_a - x_a + self.rope_length_a,
+        ];
+        for (pose, depth) in world_from_body.iter_mut().zip(depths) {
+            *pose = Pose::point(S::zero(), -depth);
+        }
+    }
+
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}
+
+/// The [`DoubleDoubleAtwood`] machine as a [`Scene`] (`double_double_atwood`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DoubleDoubleAtwoodScene;
+
+impl Scene for DoubleDoubleAtwoodScene {
+    fn id(&self) -> &'static str {
+        "double_double_atwood"
+    }
+
+    fn title(&self) -> &'static str {
+        "Double-double Atwood machine"
+    }
+
+    fn reference(&self) -> &'static str {
+        "SYSTEMS.md §6; lecture 27, homework remark (massive pulleys beyond the lecture)"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(DoubleDoubleAtwood::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `x = 2`, `x' = 1`, `x'' = 1`, at rest.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [2.0, 1.0, 1.0], [0.0, 0.0, 0.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(DoubleDoubleAtwood::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = DoubleDoubleAtwood::from_params(params)?;
+        check_dimensions(3, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        let scene = DoubleDoubleAtwood::from_params(params)?;
+        check_state(3, initial)?;
+        Ok(Some(uniformly_accelerated(initial, &scene.acceleration(), t)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{
+        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+    };
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [2.0, 1.0, 1.0], [0.0, 0.0, 0.0]),
+            State::new(0.5, [-0.4, 0.3, 1.5], [1.2, -0.5, 0.2]),
+            State::new(1.0, [2.0, 1.9, -0.3], [-3.0, 2.0, 0.9]),
+            State::new(3.0, [4.5, -0.7, 0.8], [0.7, 0.1, -1.4]),
+            State::new(7.0, [-1.5, 2.5, 2.2], [-0.2, -1.1, 0.05]),
+        ]
+    }
+
+    fn with_pulley_masses(m_a: f64, m_b: f64) -> Params {
+        let mut params = DoubleDoubleAtwoodScene.default_params();
+        params.set("m_A", m_a).unwrap();
+        params.set("m_B", m_b).unwrap();
+        params
+    }
+
+    #[test]
+    fn engine_matches_closed_form_with_massless_and_massive_pulleys() {
+        for (m_a, m_b) in [(0.0, 0.0), (0.6, 0.0), (0.0, 0.9), (0.3, 1.2)] {
+            assert_engine_matches_closed_form(&DoubleDoubleAtwoodScene, &with_pulley_masses(m_a, m_b), &states());
+        }
+    }
+
+    /// The hand-derived `M` and `F` with pulley masses are the engine's: `M` entry by entry,
+    /// and `F = M q̈_engine`.
+    #[test]
+    fn derived_mass_matrix_and_force_with_pulley_masses_match_the_engine() {
+        for (m_a, m_b) in [(0.6, 0.0), (0.3, 1.2)] {
+            let scene = DoubleDoubleAtwood::from_params(&with_pulley_masses(m_a, m_b)).unwrap();
+            let model = Model::new(scene.clone()).unwrap();
+            let mut ws = model.workspace();
+            let q = [2.0, 1.0, 1.0];
+            let engine_mass_matrix = lagrange::mass_matrix(&model, &mut ws, 0.0, &q).unwrap().to_vec();
+            let derived: Vec<f64> = scene.mass_matrix().concat();
+            let scale = derived.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            assert_close("M", &derived, &engine_mass_matrix, ENGINE_VS_CLOSED_FORM * scale);
+            let qddot = lagrange::accelerations(&model, &mut ws, 0.0, &q, &[0.3, -0.2, 0.1]).unwrap().to_vec();
+            let force: Vec<f64> = (0..3).map(|i| (0..3).map(|j| derived[3 * i + j] * qddot[j]).sum()).collect();
+            let expected = scene.applied_force();
+            assert_close("F = M q̈", &expected, &force, ENGINE_VS_CLOSED_FORM * scale * scene.gravity * 10.0);
+        }
+    }
+
+    /// Cramer's rule at vanishing pulley masses reproduces SYSTEMS.md §6's effective-mass forms,
+    /// and replacing pulley A by a mass (`μ₄₅ → m1`) gives the double Atwood machine.
+    #[test]
+    fn cramer_branch_agrees_with_the_effective_mass_closed_forms() {
+        let massless = DoubleDoubleAtwood::from_params(&with_pulley_masses(0.0, 0.0)).unwrap();
+        let nearly = DoubleDoubleAtwood::from_params(&with_pulley_masses(1e-300, 0.0)).unwrap();
+        assert_close("m_A → 0", &massless.acceleration(), &nearly.acceleration(), 1e-14);
+        // SYSTEMS.md §6 sympy form of ẍ'.
+        let (m2, m3, m4, m5, g) = (1.0, 1.5, 2.0, 0.5, 9.81);
+        let denominator = m2 * m3 * m4 + m2 * m3 * m5 + m2 * m4 * m5 + m3 * m4 * m5;
+        let x_prime_ddot = 2.0 * g * m4 * m5 * (m2 - m3) / denominator;
+        let x_second_ddot = 2.0 * g * m2 * m3 * (m4 - m5) / denominator;
+        assert_close("ẍ', ẍ''", &[x_prime_ddot, x_second_ddot], &massless.acceleration()[1..], 1e-14);
+        // μ₄₅ = 4 m4 m5/(m4 + m5) = m1 reproduces the double Atwood ẍ.
+        let m1 = 4.0 * m4 * m5 / (m4 + m5);
+        let double = crate::DoubleAtwood::new(m1, m2, m3, 5.0, 2.0, 0.0, g).unwrap();
+        assert_close("ẍ vs double Atwood", &double.acceleration(), &massless.acceleration()[..2], 1e-14);
+    }
+
+    #[test]
+    fn exact_solution_is_consistent() {
+        for (m_a, m_b) in [(0.0, 0.0), (0.3, 1.2)] {
+            let params = with_pulley_masses(m_a, m_b);
+            let initial = State::new(0.5, [2.0, 1.0, 1.0], [0.1, 0.0, -0.3]);
+            assert_exact_solution_consistent(&DoubleDoubleAtwoodScene, &params, &initial, &[0.5, 2.0]);
+        }
+    }
+}

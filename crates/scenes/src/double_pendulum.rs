@@ -1,0 +1,240 @@
+//! Double pendulum: two point masses on massless rods (beyond the lecture).
+
+use crate::checks::{check_dimensions, fixed};
+use crate::params::{GRAVITY, check_all};
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+
+/// Parameters: masses `m1`, `m2`, rod lengths `l1`, `l2`, `g`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("mass_1", "m1", "kg", 1.0, Domain::Positive, "mass of the upper bob"),
+    ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass of the lower bob"),
+    ParamSpec::new("length_1", "l1", "m", 1.0, Domain::Positive, "length of the upper rod"),
+    ParamSpec::new("length_2", "l2", "m", 1.0, Domain::Positive, "length of the lower rod"),
+    GRAVITY,
+];
+
+/// Bob 1 (mass `m1`) at `(l1 sinθ₁, −l1 cosθ₁)` on a massless rod from the origin, bob 2 (mass
+/// `m2`) at bob 1 + `(l2 sinθ₂, −l2 cosθ₂)`; `q = (θ₁, θ₂)`, absolute angles from the downward
+/// vertical, counter-clockwise.
+///
+/// `T = ½ (m1 + m2) l1² θ̇₁² + ½ m2 l2² θ̇₂² + m2 l1 l2 θ̇₁ θ̇₂ cos(θ₁ − θ₂)`,
+/// `V = −(m1 + m2) g l1 cosθ₁ − m2 g l2 cosθ₂` (derived here from the Cartesian maps, as the
+/// lecture does; the system is treated in Taylor, *Classical Mechanics*, §11.4).
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DoublePendulum {
+    /// Upper bob mass `m₁` (kg).
+    pub mass_1: f64,
+    /// Lower bob mass `m₂` (kg).
+    pub mass_2: f64,
+    /// Upper rod length `l₁` (m).
+    pub length_1: f64,
+    /// Lower rod length `l₂` (m).
+    pub length_2: f64,
+    /// Gravitational acceleration `g` (m/s²).
+    pub gravity: f64,
+    coordinates: [Coordinate; 2],
+    bodies: [Body; 2],
+}
+
+impl DoublePendulum {
+    /// A double pendulum with masses `m1`, `m2`, rod lengths `l1`, `l2` and gravity `g`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(mass_1: f64, mass_2: f64, length_1: f64, length_2: f64, gravity: f64) -> Result<Self, Error> {
+        check_all(PARAMS, &[mass_1, mass_2, length_1, length_2, gravity])?;
+        Ok(Self {
+            mass_1,
+            mass_2,
+            length_1,
+            length_2,
+            gravity,
+            coordinates: [Coordinate::angle("θ1"), Coordinate::angle("θ2")],
+            bodies: [Body::point("bob 1", mass_1), Body::point("bob 2", mass_2)],
+        })
+    }
+
+    /// The double pendulum with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass_1, mass_2, length_1, length_2, gravity] = params.values_of(PARAMS)?;
+        Self::new(mass_1, mass_2, length_1, length_2, gravity)
+    }
+
+    /// `(θ̈₁, θ̈₂)` in closed form. Lagrange's equations (divided by `l1` and `m2 l2`), with
+    /// `Δ = θ₁ − θ₂`, `s = sinΔ`, `c = cosΔ`:
+    /// `(m1 + m2) l1 θ̈₁ + m2 l2 c θ̈₂ = −m2 l2 θ̇₂² s − (m1 + m2) g sinθ₁`,
+    /// `l1 c θ̈₁ + l2 θ̈₂ = l1 θ̇₁² s − g sinθ₂`;
+    /// solved by Cramer's rule (determinant `l1 l2 (m1 + m2 s²)`):
+    /// `θ̈₁ = (−m2 s (l2 θ̇₂² + l1 θ̇₁² c) − (m1 + m2) g sinθ₁ + m2 g c sinθ₂) / (l1 (m1 + m2 s²))`,
+    /// `θ̈₂ = ((m1 + m2)(l1 θ̇₁² s − g sinθ₂ + g c sinθ₁) + m2 l2 θ̇₂² s c) / (l2 (m1 + m2 s²))`.
+    /// The same as the usual textbook form with denominator `2 m1 + m2 − m2 cos 2Δ`
+    /// (e.g. myPhysicsLab's double pendulum), since `2 m1 + m2 − m2 cos 2Δ = 2 (m1 + m2 s²)`.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let [theta_1, theta_2] = fixed(q, "q");
+        let [omega_1, omega_2] = fixed(qdot, "q̇");
+        let (m1, m2, l1, l2, g) = (self.mass_1, self.mass_2, self.length_1, self.length_2, self.gravity);
+        let (s, c) = (theta_1 - theta_2).sin_cos();
+        let (sin_1, sin_2) = (theta_1.sin(), theta_2.sin());
+        let (w1_sq, w2_sq) = (omega_1 * omega_1, omega_2 * omega_2);
+        let reduced = m1 + m2 * s * s;
+        let alpha_1 =
+            (-m2 * s * (l2 * w2_sq + l1 * w1_sq * c) - (m1 + m2) * g * sin_1 + m2 * g * c * sin_2) / (l1 * reduced);
+        let alpha_2 =
+            ((m1 + m2) * (l1 * w1_sq * s - g * sin_2 + g * c * sin_1) + m2 * l2 * w2_sq * s * c) / (l2 * reduced);
+        [alpha_1, alpha_2]
+    }
+
+    /// The two normal-mode angular frequencies `(ω_slow, ω_fast)` about the hanging equilibrium.
+    ///
+    /// `det(K − ω² M) = 0` with `M = [[(m1 + m2) l1², m2 l1 l2], [m2 l1 l2, m2 l2²]]`,
+    /// `K = diag((m1 + m2) g l1, m2 g l2)` gives
+    /// `m1 l1 l2 ω⁴ − (m1 + m2) g (l1 + l2) ω² + (m1 + m2) g² = 0`, i.e.
+    /// `ω² = g / (2 m1 l1 l2) [(m1 + m2)(l1 + l2) ∓ √((m1 + m2)² (l1 + l2)² − 4 m1 (m1 + m2) l1 l2)]`
+    /// (derived here; Taylor §11.4 gives the equal-mass, equal-length case `ω² = (2 ∓ √2) g/l`).
+    /// The slow root is computed as `(m1 + m2) g² / (m1 l1 l2 ω_fast²)` to avoid cancellation.
+    pub fn small_oscillation_frequencies(&self) -> (f64, f64) {
+        let (m1, m2, l1, l2, g) = (self.mass_1, self.mass_2, self.length_1, self.length_2, self.gravity);
+        let (total, lengths) = (m1 + m2, l1 + l2);
+        let root = (total * total * lengths * lengths - 4.0 * m1 * total * l1 * l2).sqrt();
+        let fast_sq = g / (2.0 * m1 * l1 * l2) * (total * lengths + root);
+        if fast_sq == 0.0 {
+            return (0.0, 0.0);
+        }
+        let slow_sq = total * g * g / (m1 * l1 * l2 * fast_sq);
+        (slow_sq.sqrt(), fast_sq.sqrt())
+    }
+}
+
+impl Mechanism for DoublePendulum {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (theta_1, theta_2) = (q[0], q[1]);
+        // Bob 1 at the end of rod 1; bob 2 at the end of rod 2, hung from bob 1.
+        let (x1, y1) = (theta_1.sin() * self.length_1, -theta_1.cos() * self.length_1);
+        world_from_body[0] = Pose::point(x1, y1);
+        world_from_body[1] = Pose::point(x1 + theta_2.sin() * self.length_2, y1 - theta_2.cos() * self.length_2);
+    }
+}
+
+/// The [`DoublePendulum`] as a [`Scene`] (`double_pendulum`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DoublePendulumScene;
+
+impl Scene for DoublePendulumScene {
+    fn id(&self) -> &'static str {
+        "double_pendulum"
+    }
+
+    fn title(&self) -> &'static str {
+        "Double pendulum"
+    }
+
+    fn reference(&self) -> &'static str {
+        "beyond the lecture; closed forms derived in double_pendulum.rs (cf. Taylor, Classical Mechanics, §11.4)"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(DoublePendulum::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `θ₁ = θ₂ = 0.5`, at rest.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [0.5, 0.5], [0.0, 0.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(DoublePendulum::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = DoublePendulum::from_params(params)?;
+        check_dimensions(2, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// None: the motion is chaotic and has no closed form.
+    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
+        DoublePendulum::from_params(params)?;
+        Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::assert_engine_matches_closed_form;
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [0.5, 0.5], [0.0, 0.0]),
+            State::new(0.5, [-0.4, 1.3], [1.2, -0.5]),
+            State::new(1.0, [2.0, -2.9], [-3.0, 2.0]),
+            State::new(3.0, [3.0, 0.1], [0.7, 4.1]),
+            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
+        ]
+    }
+
+    #[test]
+    fn engine_matches_closed_form() {
+        let mut params = DoublePendulumScene.default_params();
+        assert_engine_matches_closed_form(&DoublePendulumScene, &params, &states());
+        for (key, value) in [("m1", 0.3), ("l2", 1.7), ("m2", 2.5), ("l1", 0.6)] {
+            params.set(key, value).unwrap();
+            assert_engine_matches_closed_form(&DoublePendulumScene, &params, &states());
+        }
+    }
+
+    /// Both frequencies solve `det(K − ω² M) = 0`, and equal masses and lengths give the
+    /// textbook `ω² = (2 ∓ √2) g/l`.
+    #[test]
+    fn small_oscillation_frequencies_solve_the_characteristic_equation() {
+        for (m1, m2, l1, l2) in [(1.0, 1.0, 1.0, 1.0), (0.3, 2.5, 0.6, 1.7), (10.0, 0.01, 1.0, 2.0)] {
+            let scene = DoublePendulum::new(m1, m2, l1, l2, 9.81).unwrap();
+            let (slow, fast) = scene.small_oscillation_frequencies();
+            assert!(0.0 < slow && slow < fast, "{slow}, {fast}");
+            let g = scene.gravity;
+            let mass = [[(m1 + m2) * l1 * l1, m2 * l1 * l2], [m2 * l1 * l2, m2 * l2 * l2]];
+            let stiffness = [[(m1 + m2) * g * l1, 0.0], [0.0, m2 * g * l2]];
+            for omega in [slow, fast] {
+                let a = |i: usize, j: usize| stiffness[i][j] - omega * omega * mass[i][j];
+                let determinant = a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0);
+                let scale = stiffness[0][0] * stiffness[1][1] + (omega * omega).powi(2) * mass[0][0] * mass[1][1];
+                assert!(determinant.abs() <= 1e-13 * scale, "ω = {omega}: det = {determinant:e}, scale {scale:e}");
+            }
+        }
+        let (slow, fast) = DoublePendulum::new(1.0, 1.0, 1.0, 1.0, 9.81).unwrap().small_oscillation_frequencies();
+        let expected = [((2.0 - 2.0_f64.sqrt()) * 9.81).sqrt(), ((2.0 + 2.0_f64.sqrt()) * 9.81).sqrt()];
+        crate::testing::assert_close("ω for equal masses and lengths", &expected, &[slow, fast], 1e-14);
+    }
+}

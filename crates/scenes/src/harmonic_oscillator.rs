@@ -1,0 +1,261 @@
+//! Harmonic oscillator, optionally with linear damping (SYSTEMS.md §2; lecture 27).
+
+use crate::checks::{check_dimensions, check_state, fixed};
+use crate::params::check_all;
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+
+/// Parameters: mass `m`, stiffness `k`, damping `c`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass on the spring"),
+    ParamSpec::new("stiffness", "k", "N/m", 10.0, Domain::Positive, "spring constant"),
+    ParamSpec::new("damping", "c", "kg/s", 0.0, Domain::NonNegative, "linear damping coefficient (force −c ẋ)"),
+];
+
+/// A mass `m` at `(x, 0)` on a spring of stiffness `k`, `V = ½ k x²`, with an optional
+/// damping force `−c ẋ` (a generalized force); `q = (x)`, the displacement from the spring's
+/// rest position (SYSTEMS.md §2). No gravity.
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HarmonicOscillator {
+    /// Mass `m` (kg).
+    pub mass: f64,
+    /// Spring constant `k` (N/m).
+    pub stiffness: f64,
+    /// Damping coefficient `c` (kg/s); 0 for the lecture's undamped oscillator.
+    pub damping: f64,
+    coordinates: [Coordinate; 1],
+    bodies: [Body; 1],
+}
+
+impl HarmonicOscillator {
+    /// An oscillator with mass `m`, stiffness `k` and damping `c`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(mass: f64, stiffness: f64, damping: f64) -> Result<Self, Error> {
+        check_all(PARAMS, &[mass, stiffness, damping])?;
+        Ok(Self {
+            mass,
+            stiffness,
+            damping,
+            coordinates: [Coordinate::length("x")],
+            bodies: [Body::point("mass", mass)],
+        })
+    }
+
+    /// The oscillator with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, stiffness, damping] = params.values_of(PARAMS)?;
+        Self::new(mass, stiffness, damping)
+    }
+
+    /// `ẍ = −(k x + c ẋ)/m` (SYSTEMS.md §2 with the damping force added).
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 1 entry.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 1] {
+        let [x] = fixed(q, "q");
+        let [velocity] = fixed(qdot, "q̇");
+        [-(self.stiffness * x + self.damping * velocity) / self.mass]
+    }
+
+    /// The natural (undamped) angular frequency `ω₀ = √(k/m)` (SYSTEMS.md §2).
+    pub fn natural_frequency(&self) -> f64 {
+        (self.stiffness / self.mass).sqrt()
+    }
+
+    /// `(x, ẋ)` a time `tau` after `(x₀, v₀)`: the exact solution of `ẍ + 2γ ẋ + ω₀² x = 0`,
+    /// `γ = c/(2m)`, `ω₀² = k/m` (any textbook, e.g. Taylor, *Classical Mechanics*, §5.4):
+    /// `x = e^{−γτ} [x₀ C(τ) + (v₀ + γ x₀) S(τ)]`, `ẋ = e^{−γτ} [v₀ C(τ) − (ω₀² x₀ + γ v₀) S(τ)]`
+    /// with `C = cos ω_d τ`, `S = sin(ω_d τ)/ω_d` (under-damped, `ω_d² = ω₀² − γ² > 0`; the
+    /// undamped `x₀ cos ω₀τ + v₀/ω₀ sin ω₀τ` at `γ = 0`), `C = 1`, `S = τ` (critical), and
+    /// `C = cosh sτ`, `S = sinh(sτ)/s` (over-damped, `s² = γ² − ω₀²`).
+    pub fn motion(&self, x0: f64, v0: f64, tau: f64) -> (f64, f64) {
+        let gamma = self.damping / (2.0 * self.mass);
+        let omega0_sq = self.stiffness / self.mass;
+        let discriminant = omega0_sq - gamma * gamma;
+        // e^{−γτ} C(τ) and e^{−γτ} S(τ) for the three regimes.
+        let (decay_c, decay_s) = if discriminant > 0.0 {
+            let omega_d = discriminant.sqrt();
+            let decay = (-gamma * tau).exp();
+            let (sin, cos) = (omega_d * tau).sin_cos();
+            (decay * cos, decay * sin / omega_d)
+        } else if discriminant == 0.0 {
+            let decay = (-gamma * tau).exp();
+            (decay, decay * tau)
+        } else {
+            let s = (-discriminant).sqrt();
+            if (s * tau).abs() < 1.0 {
+                // sinh(sτ)/s without cancellation for small sτ.
+                let decay = (-gamma * tau).exp();
+                (decay * (s * tau).cosh(), decay * (s * tau).sinh() / s)
+            } else {
+                // e^{−γτ}(e^{sτ} ± e^{−sτ})/2 with the slow rate s − γ = −ω₀²/(γ + s) formed
+                // without cancellation, so that large γτ neither overflows nor loses digits.
+                let slow = (-omega0_sq / (gamma + s) * tau).exp();
+                let fast = (-(gamma + s) * tau).exp();
+                (0.5 * (slow + fast), 0.5 * (slow - fast) / s)
+            }
+        };
+        let x = x0 * decay_c + (v0 + gamma * x0) * decay_s;
+        let v = v0 * decay_c - (omega0_sq * x0 + gamma * v0) * decay_s;
+        (x, v)
+    }
+}
+
+impl Mechanism for HarmonicOscillator {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        world_from_body[0] = Pose::point(q[0], S::zero());
+    }
+
+    /// `V = ½ k x²`, through the body's position so that the spring force is applied to it.
+    fn potential<S: Scalar>(&self, _q: &[S], world_from_body: &[Pose<S>], _t: S) -> Option<S> {
+        let x = world_from_body[0].x;
+        Some(x * x * (0.5 * self.stiffness))
+    }
+
+    /// `Q = −c ẋ`; none when `c = 0` (the answer depends only on the parameters).
+    fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S], force: &mut [S]) -> bool {
+        if self.damping == 0.0 {
+            return false;
+        }
+        force[0] -= qdot[0] * self.damping;
+        true
+    }
+
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}
+
+/// The [`HarmonicOscillator`] as a [`Scene`] (`harmonic_oscillator`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct HarmonicOscillatorScene;
+
+impl Scene for HarmonicOscillatorScene {
+    fn id(&self) -> &'static str {
+        "harmonic_oscillator"
+    }
+
+    fn title(&self) -> &'static str {
+        "Harmonic oscillator (optionally damped)"
+    }
+
+    fn reference(&self) -> &'static str {
+        "SYSTEMS.md §2; lecture 27, example: harmonic oscillator (damping beyond the lecture)"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(HarmonicOscillator::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `x = 0.1`, at rest.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [0.1], [0.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(HarmonicOscillator::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = HarmonicOscillator::from_params(params)?;
+        check_dimensions(1, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// See [`HarmonicOscillator::motion`].
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        let scene = HarmonicOscillator::from_params(params)?;
+        check_state(1, initial)?;
+        let (x, v) = scene.motion(initial.q[0], initial.qdot[0], t - initial.t);
+        Ok(Some(State::new(t, [x], [v])))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [0.1], [0.0]),
+            State::new(0.5, [-0.4], [1.2]),
+            State::new(1.0, [2.0], [-3.0]),
+            State::new(3.0, [0.0], [0.7]),
+            State::new(7.0, [-1.5], [-0.2]),
+        ]
+    }
+
+    /// Damping `c` for each regime at `m = 1`, `k = 10` (critical: `c = 2√(km)`).
+    fn damping_cases() -> [f64; 4] {
+        [0.0, 1.5, 2.0 * 10.0_f64.sqrt(), 25.0]
+    }
+
+    #[test]
+    fn engine_matches_closed_form_with_and_without_damping() {
+        for c in damping_cases() {
+            let mut params = HarmonicOscillatorScene.default_params();
+            params.set("c", c).unwrap();
+            assert_engine_matches_closed_form(&HarmonicOscillatorScene, &params, &states());
+            let system = HarmonicOscillatorScene.build(&params).unwrap();
+            assert_eq!(system.conserves_energy(), c == 0.0, "c = {c}");
+        }
+    }
+
+    #[test]
+    fn exact_solution_in_every_damping_regime() {
+        for c in damping_cases() {
+            let mut params = HarmonicOscillatorScene.default_params();
+            params.set("c", c).unwrap();
+            for initial in [State::new(0.0, [0.1], [0.0]), State::new(0.4, [-0.3], [1.1])] {
+                assert_exact_solution_consistent(&HarmonicOscillatorScene, &params, &initial, &[0.3, 1.7, 4.0]);
+            }
+        }
+    }
+
+    #[test]
+    fn undamped_solution_is_the_lecture_cosine() {
+        let scene = HarmonicOscillator::new(2.0, 8.0, 0.0).unwrap();
+        let omega = scene.natural_frequency();
+        assert_eq!(omega, 2.0);
+        let (x, v) = scene.motion(0.3, 0.5, 1.1);
+        let expected = [0.3 * (2.2_f64).cos() + 0.25 * (2.2_f64).sin(), -0.6 * (2.2_f64).sin() + 0.5 * (2.2_f64).cos()];
+        assert_close("x, ẋ", &expected, &[x, v], 1e-15);
+    }
+
+    /// Heavy over-damping over a long time neither overflows nor loses the slow mode.
+    #[test]
+    fn heavily_overdamped_motion_decays_on_the_slow_rate() {
+        let scene = HarmonicOscillator::new(1.0, 1.0, 2000.0).unwrap();
+        let (x, v) = scene.motion(1.0, 0.0, 1000.0);
+        // Slow rate ≈ −ω₀²/(2γ) = −1/2000 per second: x ≈ e^{−0.5}.
+        assert!(x.is_finite() && v.is_finite(), "x = {x}, v = {v}");
+        assert!((x - (-0.5_f64).exp()).abs() < 1e-3, "x = {x}");
+    }
+}

@@ -1,0 +1,253 @@
+//! Central force with the isotropic-oscillator potential `V = ½ k r²` (SYSTEMS.md §3b;
+//! lecture 27).
+
+use crate::checks::{check_dimensions, check_state, fixed};
+use crate::params::check_all;
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// Parameters: mass `m`, stiffness `k`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass of the particle"),
+    ParamSpec::new("stiffness", "k", "N/m", 1.0, Domain::Positive, "spring constant of the central force"),
+];
+
+/// A particle of mass `m` at `(r cosθ, r sinθ)` bound to the origin by `V = ½ k r²`;
+/// `q = (r, θ)`, plane polar coordinates (SYSTEMS.md §3b). No gravity.
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IsotropicOscillator {
+    /// Mass `m` (kg).
+    pub mass: f64,
+    /// Spring constant `k` (N/m).
+    pub stiffness: f64,
+    coordinates: [Coordinate; 2],
+    bodies: [Body; 1],
+}
+
+impl IsotropicOscillator {
+    /// An isotropic oscillator with mass `m` and stiffness `k`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(mass: f64, stiffness: f64) -> Result<Self, Error> {
+        check_all(PARAMS, &[mass, stiffness])?;
+        Ok(Self {
+            mass,
+            stiffness,
+            coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
+            bodies: [Body::point("particle", mass)],
+        })
+    }
+
+    /// The oscillator with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, stiffness] = params.values_of(PARAMS)?;
+        Self::new(mass, stiffness)
+    }
+
+    /// `r̈ = r θ̇² − (k/m) r`, `θ̈ = −2 ṙ θ̇ / r` (SYSTEMS.md §3b, "Equations").
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let [r, _] = fixed(q, "q");
+        let [r_dot, theta_dot] = fixed(qdot, "q̇");
+        [r * theta_dot * theta_dot - self.stiffness / self.mass * r, -2.0 * r_dot * theta_dot / r]
+    }
+
+    /// The angular frequency `ω = √(k/m)` of the Cartesian motion (SYSTEMS.md §3b).
+    pub fn frequency(&self) -> f64 {
+        (self.stiffness / self.mass).sqrt()
+    }
+
+    /// The state `(r, θ, ṙ, θ̇)` a time `tau` after `(q, q̇)`, from the Cartesian solution
+    /// `x(t) = x₀ cos ωτ + (ẋ₀/ω) sin ωτ` (same for `y`; SYSTEMS.md §3b) converted back to polar
+    /// coordinates with `θ` continuous: the position turns by exactly `π` (with the sign of the
+    /// angular momentum) every half period `π/ω`, and by less than `π` in the remainder.
+    /// The sign of `r` is kept (a negative `r₀` stays negative); with zero angular momentum the
+    /// motion is along a line through the origin, `θ` constant and `r` changing sign.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn motion(&self, q: &[f64], qdot: &[f64], tau: f64) -> ([f64; 2], [f64; 2]) {
+        let [r0, theta0] = fixed(q, "q");
+        let [r_dot0, theta_dot0] = fixed(qdot, "q̇");
+        let omega = self.frequency();
+        let h = r0 * r0 * theta_dot0;
+        if h == 0.0 {
+            // Radial motion: r itself is a one-dimensional oscillator.
+            let (sin, cos) = (omega * tau).sin_cos();
+            let r = r0 * cos + r_dot0 / omega * sin;
+            let r_dot = -r0 * omega * sin + r_dot0 * cos;
+            return ([r, theta0], [r_dot, 0.0]);
+        }
+        // Cartesian initial state (with the signed r₀).
+        let (sin0, cos0) = theta0.sin_cos();
+        let position0 = [r0 * cos0, r0 * sin0];
+        let velocity0 = [r_dot0 * cos0 - r0 * theta_dot0 * sin0, r_dot0 * sin0 + r0 * theta_dot0 * cos0];
+        // Whole half periods, then the remainder τ_r ∈ [0, π/ω).
+        let half_periods = (omega * tau / PI).floor();
+        let remainder = tau - half_periods * PI / omega;
+        let (sin, cos) = (omega * remainder).sin_cos();
+        let at = |i: usize| position0[i] * cos + velocity0[i] / omega * sin;
+        let speed = |i: usize| -position0[i] * omega * sin + velocity0[i] * cos;
+        let (position_r, velocity_r) = ([at(0), at(1)], [speed(0), speed(1)]);
+        // Angle swept in the remainder: in [0, π) for h > 0, (−π, 0] for h < 0; atan2 may land
+        // on the other side of ±π or 0 by round-off, which the sign of h resolves.
+        let cross = position0[0] * position_r[1] - position0[1] * position_r[0];
+        let dot = position0[0] * position_r[0] + position0[1] * position_r[1];
+        let mut swept = cross.atan2(dot);
+        if h > 0.0 && swept < -FRAC_PI_2 {
+            swept += TAU;
+        } else if h < 0.0 && swept > FRAC_PI_2 {
+            swept -= TAU;
+        }
+        let theta = theta0 + (half_periods * PI).copysign(h) + swept;
+        // After an odd number of half periods the position is −position_r; r, ṙ, θ̇ are even.
+        let distance = position_r[0].hypot(position_r[1]);
+        let r = distance.copysign(r0);
+        let r_dot = (position_r[0] * velocity_r[0] + position_r[1] * velocity_r[1]) / distance.copysign(r0);
+        let theta_dot = (position_r[0] * velocity_r[1] - position_r[1] * velocity_r[0]) / (distance * distance);
+        ([r, theta], [r_dot, theta_dot])
+    }
+}
+
+impl Mechanism for IsotropicOscillator {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (r, theta) = (q[0], q[1]);
+        world_from_body[0] = Pose::point(r * theta.cos(), r * theta.sin());
+    }
+
+    /// `V = ½ k |x|²`, through the particle's position so that the force is applied to it.
+    fn potential<S: Scalar>(&self, _q: &[S], world_from_body: &[Pose<S>], _t: S) -> Option<S> {
+        let Pose { x, y, .. } = world_from_body[0];
+        Some((x * x + y * y) * (0.5 * self.stiffness))
+    }
+}
+
+/// The [`IsotropicOscillator`] as a [`Scene`] (`isotropic_oscillator`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct IsotropicOscillatorScene;
+
+impl Scene for IsotropicOscillatorScene {
+    fn id(&self) -> &'static str {
+        "isotropic_oscillator"
+    }
+
+    fn title(&self) -> &'static str {
+        "Central force: isotropic oscillator (V = k r²/2)"
+    }
+
+    fn reference(&self) -> &'static str {
+        "SYSTEMS.md §3b; lecture 27, example: central force"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(IsotropicOscillator::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 0.5`.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [1.0, 0.0], [0.0, 0.5]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(IsotropicOscillator::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = IsotropicOscillator::from_params(params)?;
+        check_dimensions(2, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// See [`IsotropicOscillator::motion`].
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        let scene = IsotropicOscillator::from_params(params)?;
+        check_state(2, initial)?;
+        let (q, qdot) = scene.motion(&initial.q, &initial.qdot, t - initial.t);
+        Ok(Some(State::new(t, q, qdot)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [1.0, 0.0], [0.0, 0.5]),
+            State::new(0.5, [0.7, 1.1], [0.4, -2.0]),
+            State::new(1.0, [2.3, -3.0], [-0.6, 0.3]),
+            State::new(2.0, [0.4, 7.0], [1.5, 4.0]),
+            State::new(4.0, [5.0, 0.2], [0.1, 0.05]),
+        ]
+    }
+
+    #[test]
+    fn engine_matches_closed_form() {
+        let mut params = IsotropicOscillatorScene.default_params();
+        assert_engine_matches_closed_form(&IsotropicOscillatorScene, &params, &states());
+        params.set("m", 0.4).unwrap();
+        params.set("k", 3.0).unwrap();
+        assert_engine_matches_closed_form(&IsotropicOscillatorScene, &params, &states());
+    }
+
+    #[test]
+    fn exact_solution_is_consistent_including_negative_r_and_radial_motion() {
+        let mut params = IsotropicOscillatorScene.default_params();
+        params.set("k", 2.0).unwrap();
+        let initials = [
+            State::new(0.0, [1.0, 0.0], [0.0, 0.5]),
+            State::new(0.2, [0.6, 2.0], [0.9, -1.7]),
+            State::new(0.0, [-0.8, 0.3], [0.2, 0.6]),
+            State::new(0.0, [0.5, 1.0], [1.0, 0.0]),
+        ];
+        for initial in &initials {
+            assert_exact_solution_consistent(&IsotropicOscillatorScene, &params, initial, &[0.3, 1.1, 2.2, 9.0, 31.0]);
+        }
+    }
+
+    /// Over one period `2π/ω` the orbit closes and `θ` advances by exactly 2π.
+    #[test]
+    fn one_period_closes_the_ellipse() {
+        let scene = IsotropicOscillator::new(1.0, 4.0).unwrap();
+        let period = TAU / scene.frequency();
+        for (q, qdot) in [([1.0, 0.3], [0.2, 0.5]), ([2.0, -1.0], [-1.0, -0.1])] {
+            let (q1, qdot1) = scene.motion(&q, &qdot, period);
+            let turn = TAU.copysign(qdot[1]);
+            assert_close(
+                "after one period",
+                &[q[0], q[1] + turn, qdot[0], qdot[1]],
+                &[q1[0], q1[1], qdot1[0], qdot1[1]],
+                1e-12,
+            );
+        }
+    }
+}

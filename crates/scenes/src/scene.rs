@@ -1,0 +1,250 @@
+//! The scene interface, object-safe so that scenes can be chosen by id at run time, and the
+//! registry of all scenes.
+
+use crate::{
+    AtwoodScene, CartPendulumScene, ChainScene, ChargedParticleScene, DoubleAtwoodScene, DoubleDoubleAtwoodScene,
+    DoublePendulumScene, DrivenPendulumScene, HarmonicOscillatorScene, IsotropicOscillatorScene, KeplerScene,
+    ParamSpec, Params, SpringPendulumScene, WedgeScene,
+};
+use lagrange::{Coordinate, Error, State, System};
+
+/// A mechanical system with named parameters, a default initial state, a simulation built by
+/// the engine, and the hand-derived closed forms to check it against.
+///
+/// Every method that takes [`Params`] validates them (a value outside its domain, or a set
+/// built for another scene, is an [`Error::InvalidParameter`] naming the parameter); methods
+/// that take a state check its dimensions ([`Error::DimensionMismatch`]).
+pub trait Scene: Send + Sync {
+    /// Short identifier (`cart_pendulum`), unique in [`all`].
+    fn id(&self) -> &'static str;
+
+    /// Human-readable title.
+    fn title(&self) -> &'static str;
+
+    /// Where the system and its closed forms come from (`SYSTEMS.md §1; lecture 27`, or
+    /// `beyond the lecture` with the textbook it follows).
+    fn reference(&self) -> &'static str;
+
+    /// The parameter specifications, in order.
+    fn params(&self) -> &'static [ParamSpec];
+
+    /// Every parameter at its default.
+    fn default_params(&self) -> Params {
+        Params::defaults(self.params())
+    }
+
+    /// The generalized coordinates for these parameters (their number may depend on them).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid parameters.
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error>;
+
+    /// The scene's default initial state (at `t = 0`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid parameters.
+    fn default_state(&self, params: &Params) -> Result<State, Error>;
+
+    /// The engine's simulation of the scene: a validated [`Model`](lagrange::Model) (or
+    /// [`RawModel`](lagrange::RawModel)) behind the object-safe [`System`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid parameters, or whatever the engine rejects.
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error>;
+
+    /// Hand-coded closed-form `q̈(t, q, q̇)` (no automatic differentiation, no engine), where one
+    /// exists; `None` otherwise.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid parameters, [`Error::DimensionMismatch`] for a
+    /// state of the wrong size.
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error>;
+
+    /// The exact state at time `t` of the motion starting at `initial`, where the motion has a
+    /// closed form (constant-acceleration scenes, oscillators, Kepler orbits through Kepler's
+    /// equation, the charged particle); `None` otherwise, or for initial states outside the
+    /// closed form's reach (unbound Kepler orbits).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid parameters, [`Error::DimensionMismatch`] for a
+    /// state of the wrong size.
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error>;
+}
+
+/// Every scene, in the order of the lecture followed by the systems beyond it.
+static ALL: [&dyn Scene; 13] = [
+    &CartPendulumScene,
+    &HarmonicOscillatorScene,
+    &KeplerScene,
+    &IsotropicOscillatorScene,
+    &AtwoodScene,
+    &DoubleAtwoodScene,
+    &DoubleDoubleAtwoodScene,
+    &WedgeScene,
+    &DoublePendulumScene,
+    &ChainScene,
+    &SpringPendulumScene,
+    &DrivenPendulumScene,
+    &ChargedParticleScene,
+];
+
+/// Every scene: `cart_pendulum`, `harmonic_oscillator`, `kepler`, `isotropic_oscillator`,
+/// `atwood`, `double_atwood`, `double_double_atwood`, `wedge`, `double_pendulum`, `chain`,
+/// `spring_pendulum`, `driven_pendulum`, `charged_particle`.
+pub fn all() -> &'static [&'static dyn Scene] {
+    &ALL
+}
+
+/// The scene with this id, if any.
+pub fn find(id: &str) -> Option<&'static dyn Scene> {
+    all().iter().copied().find(|scene| scene.id() == id)
+}
+
+/// The ids of all scenes, in registry order.
+pub fn ids() -> Vec<&'static str> {
+    all().iter().map(|scene| scene.id()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Domain;
+    use std::collections::HashSet;
+
+    #[test]
+    fn registry_order_and_lookup() {
+        let expected = [
+            "cart_pendulum",
+            "harmonic_oscillator",
+            "kepler",
+            "isotropic_oscillator",
+            "atwood",
+            "double_atwood",
+            "double_double_atwood",
+            "wedge",
+            "double_pendulum",
+            "chain",
+            "spring_pendulum",
+            "driven_pendulum",
+            "charged_particle",
+        ];
+        assert_eq!(ids(), expected);
+        for id in expected {
+            assert_eq!(find(id).map(|s| s.id()), Some(id));
+        }
+        assert!(find("pendulum").is_none());
+    }
+
+    #[test]
+    fn every_scene_builds_at_its_defaults_with_consistent_shapes() {
+        for scene in all() {
+            let params = scene.default_params();
+            let coordinates = scene.coordinates(&params).unwrap();
+            let state = scene.default_state(&params).unwrap();
+            let mut system = scene.build(&params).unwrap();
+            let n = coordinates.len();
+            assert_eq!(system.coordinates(), coordinates.as_slice(), "{}", scene.id());
+            assert_eq!((state.q.len(), state.qdot.len(), state.t), (n, n, 0.0), "{}", scene.id());
+            let qddot = system.accelerations(state.t, &state.q, &state.qdot).unwrap().to_vec();
+            assert!(qddot.iter().all(|a| a.is_finite()), "{}: {qddot:?}", scene.id());
+            let closed = scene.closed_form_accelerations(&params, state.t, &state.q, &state.qdot).unwrap();
+            assert_eq!(closed.map(|a| a.len()), Some(n), "{}: every scene has a closed form", scene.id());
+            // Wrong sizes are errors, not panics.
+            let short = &state.q[..n - 1];
+            let error = scene.closed_form_accelerations(&params, 0.0, short, &state.qdot).unwrap_err();
+            assert!(matches!(error, Error::DimensionMismatch { .. }), "{}: {error}", scene.id());
+            let bad = State::new(0.0, short.to_vec(), state.qdot.clone());
+            let error = scene.exact_solution(&params, &bad, 1.0);
+            assert!(matches!(error, Ok(None) | Err(Error::DimensionMismatch { .. })), "{}: {error:?}", scene.id());
+        }
+    }
+
+    #[test]
+    fn parameter_names_and_symbols_are_unique_per_scene() {
+        for scene in all() {
+            let names: HashSet<_> = scene.params().iter().map(|s| s.name).collect();
+            let symbols: HashSet<_> = scene.params().iter().map(|s| s.symbol).collect();
+            assert_eq!(names.len(), scene.params().len(), "{}", scene.id());
+            assert_eq!(symbols.len(), scene.params().len(), "{}", scene.id());
+            for spec in scene.params() {
+                assert_eq!(spec.check(spec.default), Ok(()), "{}: default of {}", scene.id(), spec.name);
+                if spec.name == "gravity" {
+                    assert_eq!(
+                        (spec.symbol, spec.unit, spec.default, spec.domain),
+                        ("g", "m/s²", 9.81, Domain::NonNegative)
+                    );
+                }
+            }
+        }
+    }
+
+    /// Values outside each domain: NaN always; then what the domain excludes.
+    fn invalid_values(domain: Domain) -> Vec<f64> {
+        let mut values = vec![f64::NAN, f64::INFINITY];
+        match domain {
+            Domain::Positive => values.extend([0.0, -1.0]),
+            Domain::NonNegative => values.push(-1.0),
+            Domain::Finite => {}
+            Domain::OpenInterval(low, high) => values.extend([low, high]),
+            Domain::Integer { min, max } => values.extend([f64::from(min) - 1.0, f64::from(max) + 1.0, 1.5]),
+        }
+        values
+    }
+
+    /// The typed constructors validate every parameter themselves: values that bypass
+    /// `Params::set` are still rejected by `build`, `coordinates`, and the closed forms, with
+    /// the parameter named.
+    #[test]
+    fn constructors_reject_invalid_values_naming_the_parameter() {
+        for scene in all() {
+            let defaults = scene.default_params();
+            let state = scene.default_state(&defaults).unwrap();
+            for spec in scene.params() {
+                for value in invalid_values(spec.domain) {
+                    let mut params = defaults.clone();
+                    assert!(params.set(spec.name, value).is_err(), "{}: set {} = {value}", scene.id(), spec.name);
+                    params.set_unchecked(spec.name, value);
+                    let named =
+                        |error: Error| matches!(error, Error::InvalidParameter { ref name, .. } if name == spec.name);
+                    let what = format!("{}: {} = {value}", scene.id(), spec.name);
+                    assert!(scene.build(&params).err().is_some_and(named), "{what}: build");
+                    assert!(scene.coordinates(&params).err().is_some_and(named), "{what}: coordinates");
+                    let closed = scene.closed_form_accelerations(&params, 0.0, &state.q, &state.qdot);
+                    assert!(closed.err().is_some_and(named), "{what}: closed form");
+                }
+            }
+        }
+    }
+
+    /// Potentials are written through the body poses, so the engine attributes their forces to
+    /// the bodies: a particle whose coordinates reach the whole plane (or, for the oscillator,
+    /// a line without gravity) feels no constraint force at all.
+    #[test]
+    fn potential_forces_are_applied_to_the_bodies_not_left_in_the_reactions() {
+        for id in ["harmonic_oscillator", "kepler", "isotropic_oscillator", "spring_pendulum"] {
+            let scene = find(id).unwrap();
+            let params = scene.default_params();
+            let mut system = scene.build(&params).unwrap();
+            let state = scene.default_state(&params).unwrap();
+            let qdot: Vec<f64> = state.qdot.iter().map(|v| v + 0.3).collect();
+            let reactions = system.reaction_forces(0.0, &state.q, &qdot).unwrap().unwrap().to_vec();
+            // The applied forces are O(1–100) N here; the reaction is their round-off.
+            crate::testing::assert_close(&format!("{id}: reaction forces"), &[0.0; 3], &reactions, 1e-12);
+        }
+    }
+
+    #[test]
+    fn parameters_of_another_scene_are_an_error_not_a_panic() {
+        let foreign = crate::ChargedParticleScene.default_params();
+        for scene in all().iter().filter(|s| s.id() != "charged_particle") {
+            let error = scene.build(&foreign).err();
+            assert!(matches!(error, Some(Error::InvalidParameter { .. })), "{}: {error:?}", scene.id());
+        }
+    }
+}

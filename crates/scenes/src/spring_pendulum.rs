@@ -1,0 +1,190 @@
+//! Elastic (spring) pendulum: a bob on a spring swinging under gravity (beyond the lecture).
+
+use crate::checks::{check_dimensions, fixed};
+use crate::params::{GRAVITY, check_all};
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+
+/// Parameters: mass `m`, stiffness `k`, rest length `L0`, `g`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass of the bob"),
+    ParamSpec::new("stiffness", "k", "N/m", 100.0, Domain::Positive, "spring constant"),
+    ParamSpec::new("rest_length", "L0", "m", 1.0, Domain::Positive, "unstretched length of the spring"),
+    GRAVITY,
+];
+
+/// A bob of mass `m` at `(r sinθ, −r cosθ)` on a massless spring (stiffness `k`, rest length
+/// `L0`) hung from the origin, `V_spring = ½ k (|x| − L0)²`; `q = (r, θ)`, `θ` from the downward
+/// vertical, counter-clockwise. The closed forms assume `r > 0`.
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpringPendulum {
+    /// Bob mass `m` (kg).
+    pub mass: f64,
+    /// Spring constant `k` (N/m).
+    pub stiffness: f64,
+    /// Rest length `L₀` (m).
+    pub rest_length: f64,
+    /// Gravitational acceleration `g` (m/s²).
+    pub gravity: f64,
+    coordinates: [Coordinate; 2],
+    bodies: [Body; 1],
+}
+
+impl SpringPendulum {
+    /// A spring pendulum with mass `m`, stiffness `k`, rest length `L0` and gravity `g`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(mass: f64, stiffness: f64, rest_length: f64, gravity: f64) -> Result<Self, Error> {
+        check_all(PARAMS, &[mass, stiffness, rest_length, gravity])?;
+        Ok(Self {
+            mass,
+            stiffness,
+            rest_length,
+            gravity,
+            coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
+            bodies: [Body::point("bob", mass)],
+        })
+    }
+
+    /// The spring pendulum with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, stiffness, rest_length, gravity] = params.values_of(PARAMS)?;
+        Self::new(mass, stiffness, rest_length, gravity)
+    }
+
+    /// `r̈ = r θ̇² + g cosθ − (k/m)(r − L0)`, `θ̈ = −(g sinθ + 2 ṙ θ̇)/r`, from
+    /// `L = ½ m (ṙ² + r² θ̇²) + m g r cosθ − ½ k (r − L0)²` (derived as in SYSTEMS.md §3, with
+    /// the gravity term of §1).
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let [r, theta] = fixed(q, "q");
+        let [r_dot, theta_dot] = fixed(qdot, "q̇");
+        let (sin, cos) = theta.sin_cos();
+        let g = self.gravity;
+        let radial = r * theta_dot * theta_dot + g * cos - self.stiffness / self.mass * (r - self.rest_length);
+        [radial, -(g * sin + 2.0 * r_dot * theta_dot) / r]
+    }
+}
+
+impl Mechanism for SpringPendulum {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (r, theta) = (q[0], q[1]);
+        world_from_body[0] = Pose::point(r * theta.sin(), -r * theta.cos());
+    }
+
+    /// `V = ½ k (|x| − L0)²`, through the bob's position so that the spring force is applied to it.
+    fn potential<S: Scalar>(&self, _q: &[S], world_from_body: &[Pose<S>], _t: S) -> Option<S> {
+        let Pose { x, y, .. } = world_from_body[0];
+        let stretch = (x * x + y * y).sqrt() - self.rest_length;
+        Some(stretch * stretch * (0.5 * self.stiffness))
+    }
+}
+
+/// The [`SpringPendulum`] as a [`Scene`] (`spring_pendulum`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SpringPendulumScene;
+
+impl Scene for SpringPendulumScene {
+    fn id(&self) -> &'static str {
+        "spring_pendulum"
+    }
+
+    fn title(&self) -> &'static str {
+        "Elastic (spring) pendulum"
+    }
+
+    fn reference(&self) -> &'static str {
+        "beyond the lecture; closed form derived in spring_pendulum.rs"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(SpringPendulum::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `r = 1.1`, `θ = 0.5`, at rest.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [1.1, 0.5], [0.0, 0.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(SpringPendulum::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = SpringPendulum::from_params(params)?;
+        check_dimensions(2, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// None: the motion has no closed form.
+    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
+        SpringPendulum::from_params(params)?;
+        Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::assert_engine_matches_closed_form;
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [1.1, 0.5], [0.0, 0.0]),
+            State::new(0.5, [0.7, -1.3], [0.4, -2.0]),
+            State::new(1.0, [2.3, 3.0], [-0.6, 0.3]),
+            State::new(2.0, [0.4, 7.0], [1.5, 4.0]),
+            State::new(4.0, [1.0, 0.2], [0.1, 0.05]),
+        ]
+    }
+
+    #[test]
+    fn engine_matches_closed_form() {
+        let mut params = SpringPendulumScene.default_params();
+        assert_engine_matches_closed_form(&SpringPendulumScene, &params, &states());
+        for (key, value) in [("k", 3.0), ("L0", 0.6), ("m", 0.2), ("g", 0.0)] {
+            params.set(key, value).unwrap();
+            assert_engine_matches_closed_form(&SpringPendulumScene, &params, &states());
+        }
+    }
+
+    /// Hanging at rest at the stretched length `L0 + m g/k` is an equilibrium.
+    #[test]
+    fn static_stretch_is_an_equilibrium() {
+        let scene = SpringPendulum::new(2.0, 50.0, 1.0, 9.81).unwrap();
+        let stretched = 1.0 + 2.0 * 9.81 / 50.0;
+        let [radial, angular] = scene.closed_form_accelerations(&[stretched, 0.0], &[0.0, 0.0]);
+        assert!(radial.abs() < 1e-14 && angular == 0.0, "{radial}, {angular}");
+    }
+}

@@ -1,0 +1,96 @@
+//! Static dispatch from a scene id to its typed mechanism, for generic code that needs the
+//! concrete [`Mechanism`] type (workspaces in dual numbers, a [`RawModel`](lagrange::RawModel)
+//! over a [`Model`](lagrange::Model), allocation checks), which `Box<dyn System>` hides.
+
+use crate::{
+    Atwood, CartPendulum, Chain, ChargedParticle, DoubleAtwood, DoubleDoubleAtwood, DoublePendulum, DrivenPendulum,
+    HarmonicOscillator, IsotropicOscillator, Kepler, Params, SpringPendulum, Wedge,
+};
+use lagrange::{Error, Mechanism};
+
+/// Generic code to run on a scene's typed mechanism (the visitor pattern: a generic method
+/// cannot be called through `dyn`, so the scene calls it with its concrete type).
+pub trait MechanismVisitor {
+    /// What a visit returns.
+    type Output;
+
+    /// Run on the mechanism, by value.
+    fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) -> Self::Output;
+}
+
+/// Build the typed mechanism of the scene `id` from `params` and run `visitor` on it.
+///
+/// Returns `Ok(None)` for a scene that is not a body mechanism (`charged_particle`, a raw
+/// [`Lagrangian`](lagrange::Lagrangian)); its parameters are still validated.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for invalid parameters (naming the parameter), or for an unknown
+/// id (named `scene`, listing the known ids).
+pub fn visit_mechanism<V: MechanismVisitor>(id: &str, params: &Params, visitor: V) -> Result<Option<V::Output>, Error> {
+    let output = match id {
+        "cart_pendulum" => visitor.visit(CartPendulum::from_params(params)?),
+        "harmonic_oscillator" => visitor.visit(HarmonicOscillator::from_params(params)?),
+        "kepler" => visitor.visit(Kepler::from_params(params)?),
+        "isotropic_oscillator" => visitor.visit(IsotropicOscillator::from_params(params)?),
+        "atwood" => visitor.visit(Atwood::from_params(params)?),
+        "double_atwood" => visitor.visit(DoubleAtwood::from_params(params)?),
+        "double_double_atwood" => visitor.visit(DoubleDoubleAtwood::from_params(params)?),
+        "wedge" => visitor.visit(Wedge::from_params(params)?),
+        "double_pendulum" => visitor.visit(DoublePendulum::from_params(params)?),
+        "chain" => visitor.visit(Chain::from_params(params)?),
+        "spring_pendulum" => visitor.visit(SpringPendulum::from_params(params)?),
+        "driven_pendulum" => visitor.visit(DrivenPendulum::from_params(params)?),
+        "charged_particle" => {
+            ChargedParticle::from_params(params)?;
+            return Ok(None);
+        }
+        _ => {
+            return Err(Error::InvalidParameter {
+                name: "scene".into(),
+                value: f64::NAN,
+                why: format!("unknown scene id `{id}`; known: {}", crate::ids().join(", ")),
+            });
+        }
+    };
+    Ok(Some(output))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Scene, all};
+    use lagrange::Model;
+
+    /// Reports the mechanism's number of coordinates and whether the engine accepts it.
+    struct Dof;
+
+    impl MechanismVisitor for Dof {
+        type Output = (usize, bool);
+
+        fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) -> (usize, bool) {
+            (mechanism.coordinates().len(), Model::new(mechanism).is_ok())
+        }
+    }
+
+    #[test]
+    fn every_body_scene_is_visited_with_its_own_mechanism() {
+        for scene in all() {
+            let params = scene.default_params();
+            let visited = visit_mechanism(scene.id(), &params, Dof).unwrap();
+            let n = scene.coordinates(&params).unwrap().len();
+            let expected = if scene.id() == "charged_particle" { None } else { Some((n, true)) };
+            assert_eq!(visited, expected, "{}", scene.id());
+        }
+    }
+
+    #[test]
+    fn unknown_ids_and_invalid_parameters_are_errors() {
+        let params = crate::CartPendulumScene.default_params();
+        let unknown = visit_mechanism("pendulum", &params, Dof).unwrap_err();
+        assert!(
+            matches!(unknown, Error::InvalidParameter { ref name, ref why, .. } if name == "scene" && why.contains("cart_pendulum"))
+        );
+        let foreign = visit_mechanism("charged_particle", &params, Dof).unwrap_err();
+        assert!(matches!(foreign, Error::InvalidParameter { .. }), "{foreign}");
+    }
+}

@@ -1,0 +1,250 @@
+//! Block sliding on a movable frictionless wedge (SYSTEMS.md §7; lecture 27).
+
+use crate::checks::{check_dimensions, check_state, fixed};
+use crate::params::{GRAVITY, check_all};
+use crate::uniform_acceleration::uniformly_accelerated;
+use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
+
+/// Parameters: wedge mass `M`, block mass `m`, incline angle `α`, incline length `L`, `g`.
+pub const PARAMS: &[ParamSpec] = &[
+    ParamSpec::new("wedge_mass", "M", "kg", 3.0, Domain::Positive, "mass of the wedge"),
+    ParamSpec::new("block_mass", "m", "kg", 1.0, Domain::Positive, "mass of the block"),
+    ParamSpec::new("angle", "α", "rad", FRAC_PI_6, Domain::OpenInterval(0.0, FRAC_PI_2), "angle of the incline"),
+    ParamSpec::new("incline_length", "L", "m", 2.0, Domain::Positive, "length of the incline"),
+    GRAVITY,
+];
+
+/// A wedge of mass `M` sliding on a frictionless floor, its top corner at `(x, 0)`, and a block
+/// of mass `m` on its frictionless incline (angle `α`, length `L`, descending towards `+x`) at
+/// `(x + x' cosα, (L − x') sinα)`; `q = (x, x')`, `x'` measured down the slope from the top
+/// corner (SYSTEMS.md §7). The wedge only translates.
+///
+/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+/// for reading (changing one afterwards does not update the bodies the engine sees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Wedge {
+    /// Wedge mass `M` (kg).
+    pub wedge_mass: f64,
+    /// Block mass `m` (kg).
+    pub block_mass: f64,
+    /// Incline angle `α` (rad), `0 < α < π/2`.
+    pub angle: f64,
+    /// Incline length `L` (m).
+    pub incline_length: f64,
+    /// Gravitational acceleration `g` (m/s²).
+    pub gravity: f64,
+    coordinates: [Coordinate; 2],
+    bodies: [Body; 2],
+}
+
+impl Wedge {
+    /// A wedge of mass `M` with a block of mass `m`, incline angle `α`, incline length `L` and
+    /// gravity `g`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
+    pub fn new(wedge_mass: f64, block_mass: f64, angle: f64, incline_length: f64, gravity: f64) -> Result<Self, Error> {
+        check_all(PARAMS, &[wedge_mass, block_mass, angle, incline_length, gravity])?;
+        Ok(Self {
+            wedge_mass,
+            block_mass,
+            angle,
+            incline_length,
+            gravity,
+            coordinates: [Coordinate::length("x"), Coordinate::length("x'")],
+            bodies: [Body::point("wedge", wedge_mass), Body::point("block", block_mass)],
+        })
+    }
+
+    /// The wedge with the values in `params`.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), or a parameter missing from `params`.
+    pub fn from_params(params: &Params) -> Result<Self, Error> {
+        let [wedge_mass, block_mass, angle, incline_length, gravity] = params.values_of(PARAMS)?;
+        Self::new(wedge_mass, block_mass, angle, incline_length, gravity)
+    }
+
+    /// The constant `(ẍ, ẍ')` (SYSTEMS.md §7, "Closed forms"; the lecture's results):
+    /// `ẍ = −m g sinα cosα / (M + m sin²α)` (the wedge recoils towards −x),
+    /// `ẍ' = (M + m) g sinα / (M + m sin²α)`.
+    pub fn acceleration(&self) -> [f64; 2] {
+        let (wedge, block, g) = (self.wedge_mass, self.block_mass, self.gravity);
+        let (sin, cos) = self.angle.sin_cos();
+        let denominator = wedge + block * sin * sin;
+        [-block * g * sin * cos / denominator, (wedge + block) * g * sin / denominator]
+    }
+
+    /// `[ẍ, ẍ']`, the constant accelerations (independent of the state).
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let _: ([f64; 2], [f64; 2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        self.acceleration()
+    }
+
+    /// The normal force of the incline on the block, `N = M m g cosα / (M + m sin²α)` (N),
+    /// along the incline's outward normal `(sinα, cosα)` (SYSTEMS.md §7).
+    pub fn normal_force(&self) -> f64 {
+        let (wedge, block) = (self.wedge_mass, self.block_mass);
+        let (sin, cos) = self.angle.sin_cos();
+        wedge * block * self.gravity * cos / (wedge + block * sin * sin)
+    }
+
+    /// The conserved horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` (SYSTEMS.md §7,
+    /// "Conserved quantities": `x` is cyclic). It does not depend on `q`, which is taken for
+    /// symmetry with the other scenes' momenta.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn horizontal_momentum(&self, q: &[f64], qdot: &[f64]) -> f64 {
+        let _: [f64; 2] = fixed(q, "q");
+        let [wedge_velocity, slide_velocity] = fixed(qdot, "q̇");
+        (self.wedge_mass + self.block_mass) * wedge_velocity + self.block_mass * self.angle.cos() * slide_velocity
+    }
+}
+
+impl Mechanism for Wedge {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (x, x_prime) = (q[0], q[1]);
+        let (sin, cos) = self.angle.sin_cos();
+        // Wedge corner on the floor; block at x' down the slope.
+        world_from_body[0] = Pose::point(x, S::zero());
+        world_from_body[1] = Pose::point(x + x_prime * cos, (-x_prime + self.incline_length) * sin);
+    }
+
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}
+
+/// The [`Wedge`] as a [`Scene`] (`wedge`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WedgeScene;
+
+impl Scene for WedgeScene {
+    fn id(&self) -> &'static str {
+        "wedge"
+    }
+
+    fn title(&self) -> &'static str {
+        "Block on a movable frictionless wedge"
+    }
+
+    fn reference(&self) -> &'static str {
+        "SYSTEMS.md §7; lecture 27, example: block on a movable wedge"
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(Wedge::from_params(params)?.coordinates.to_vec())
+    }
+
+    /// `x = 0`, `x' = 0` (block at the top corner), at rest.
+    fn default_state(&self, _params: &Params) -> Result<State, Error> {
+        Ok(State::new(0.0, [0.0, 0.0], [0.0, 0.0]))
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        Ok(Box::new(Simulation::new(Model::new(Wedge::from_params(params)?)?)))
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        _t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = Wedge::from_params(params)?;
+        check_dimensions(2, q, qdot)?;
+        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    }
+
+    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        let scene = Wedge::from_params(params)?;
+        check_state(2, initial)?;
+        Ok(Some(uniformly_accelerated(initial, &scene.acceleration(), t)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::{
+        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+    };
+
+    fn states() -> Vec<State> {
+        vec![
+            State::new(0.0, [0.0, 0.0], [0.0, 0.0]),
+            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
+            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
+            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
+            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
+        ]
+    }
+
+    #[test]
+    fn engine_matches_closed_form() {
+        let mut params = WedgeScene.default_params();
+        assert_engine_matches_closed_form(&WedgeScene, &params, &states());
+        for (key, value) in [("α", 1.2), ("M", 0.2), ("m", 5.0), ("α", 0.05)] {
+            params.set(key, value).unwrap();
+            assert_engine_matches_closed_form(&WedgeScene, &params, &states());
+        }
+    }
+
+    #[test]
+    fn exact_solution_is_consistent() {
+        let params = WedgeScene.default_params();
+        for initial in [State::new(0.0, [0.0, 0.0], [0.0, 0.0]), State::new(1.0, [0.3, 0.5], [-0.1, 0.4])] {
+            assert_exact_solution_consistent(&WedgeScene, &params, &initial, &[0.5, 2.0]);
+        }
+    }
+
+    /// The engine's reaction force on the block is the normal force `N (sinα, cosα)`; the
+    /// engine's `p_x` is the closed-form horizontal momentum.
+    #[test]
+    fn normal_force_and_momentum_match_the_engine() {
+        let scene = Wedge::new(3.0, 1.0, 0.4, 2.0, 9.81).unwrap();
+        let mut system = Simulation::new(Model::new(scene.clone()).unwrap());
+        let (q, qdot) = ([0.2, 0.7], [-0.3, 0.9]);
+        let reactions = system.reaction_forces(0.0, &q, &qdot).unwrap().unwrap().to_vec();
+        let normal = scene.normal_force();
+        let (sin, cos) = scene.angle.sin_cos();
+        let tolerance = ENGINE_VS_CLOSED_FORM * normal;
+        assert_close("reaction on the block", &[normal * sin, normal * cos], &reactions[3..5], tolerance);
+        let momenta = system.momenta(0.0, &q, &qdot).unwrap();
+        assert_close("p_x", &[scene.horizontal_momentum(&q, &qdot)], &momenta[..1], 1e-14);
+    }
+
+    #[test]
+    fn limits_of_the_lecture_result() {
+        // M → ∞: ẍ' = g sinα; M → 0: ẍ' = g / sinα, ẍ = −g cotα.
+        let heavy = Wedge::new(1e15, 1.0, 0.5, 2.0, 9.81).unwrap();
+        assert_close("M → ∞", &[0.0, 9.81 * 0.5_f64.sin()], &heavy.acceleration(), 1e-12);
+        let light = Wedge::new(1e-15, 1.0, 0.5, 2.0, 9.81).unwrap();
+        let expected = [-9.81 / 0.5_f64.tan(), 9.81 / 0.5_f64.sin()];
+        assert_close("M → 0", &expected, &light.acceleration(), 1e-12);
+    }
+}
