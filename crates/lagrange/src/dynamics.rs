@@ -24,13 +24,34 @@ pub trait Dynamics: LagrangianFunction {
     ///
     /// # Errors
     /// As [`accelerations`](crate::accelerations).
-    fn accelerations(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) -> Result<(), Error>;
+    fn accelerations(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        qddot: &mut [f64],
+    ) -> Result<(), Error>;
 
     /// The energy function `h = q̇·∂L/∂q̇ − L`.
     ///
     /// # Errors
     /// On a malformed or non-finite state.
     fn energy(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error>;
+
+    /// Write the mass matrix `M = ∂²L/∂q̇²` (n × n, row-major) at `(t, q, q̇)` into `mass`
+    /// (for body models it does not depend on `q̇`).
+    ///
+    /// # Errors
+    /// On a malformed or non-finite state.
+    fn mass_matrix(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        mass: &mut [f64],
+    ) -> Result<(), Error>;
 
     /// Write the generalized momenta `p = ∂L/∂q̇` into `p`.
     ///
@@ -57,7 +78,14 @@ pub trait Dynamics: LagrangianFunction {
     ///
     /// # Errors
     /// As [`reaction_forces`](crate::reaction_forces).
-    fn reaction_forces(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64], reaction: &mut [f64]) -> Result<bool, Error> {
+    fn reaction_forces(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        reaction: &mut [f64],
+    ) -> Result<bool, Error> {
         let _ = (ws, t, q, qdot, reaction);
         Ok(false)
     }
@@ -70,13 +98,32 @@ impl<M: Mechanism> Dynamics for Model<M> {
         self.workspace()
     }
 
-    fn accelerations(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) -> Result<(), Error> {
+    fn accelerations(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        qddot: &mut [f64],
+    ) -> Result<(), Error> {
         qddot.copy_from_slice(eom::accelerations(self, ws, t, q, qdot)?);
         Ok(())
     }
 
     fn energy(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
         energy::energy(self, ws, t, q, qdot)
+    }
+
+    fn mass_matrix(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        _qdot: &[f64],
+        mass: &mut [f64],
+    ) -> Result<(), Error> {
+        mass.copy_from_slice(eom::mass_matrix(self, ws, t, q)?);
+        Ok(())
     }
 
     fn momenta(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64], p: &mut [f64]) -> Result<(), Error> {
@@ -100,7 +147,14 @@ impl<M: Mechanism> Dynamics for Model<M> {
         self.mechanism.bodies()
     }
 
-    fn reaction_forces(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64], reaction: &mut [f64]) -> Result<bool, Error> {
+    fn reaction_forces(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        reaction: &mut [f64],
+    ) -> Result<bool, Error> {
         reaction.copy_from_slice(crate::reaction_forces(self, ws, t, q, qdot)?);
         Ok(true)
     }
@@ -133,13 +187,32 @@ impl<F: LagrangianFunction> Dynamics for RawModel<F> {
         self.workspace()
     }
 
-    fn accelerations(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) -> Result<(), Error> {
+    fn accelerations(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        qddot: &mut [f64],
+    ) -> Result<(), Error> {
         qddot.copy_from_slice(RawModel::accelerations(self, ws, t, q, qdot)?);
         Ok(())
     }
 
     fn energy(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
         RawModel::energy(self, ws, t, q, qdot)
+    }
+
+    fn mass_matrix(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        mass: &mut [f64],
+    ) -> Result<(), Error> {
+        mass.copy_from_slice(RawModel::velocity_hessian(self, ws, t, q, qdot)?);
+        Ok(())
     }
 
     fn momenta(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64], p: &mut [f64]) -> Result<(), Error> {

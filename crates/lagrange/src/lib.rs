@@ -76,17 +76,17 @@ mod test_support;
 mod workspace;
 
 pub use dynamics::Dynamics;
-pub use system::{Simulation, System};
-pub use eom::{accelerations, mass_matrix};
 pub use eom::energy::{energy, kinetic_energy, lagrangian, momenta, potential_energy};
 pub use eom::raw::{RawModel, RawWorkspace};
 pub use eom::reactions::reaction_forces;
+pub use eom::{accelerations, mass_matrix};
 pub use error::{Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
 pub use model::{Body, Coordinate, CoordinateKind, Lagrangian, LagrangianFunction, Mechanism, Model};
 pub use pose::Pose;
 pub use scalar::Scalar;
 pub use state::State;
+pub use system::{Simulation, System};
 pub use workspace::Workspace;
 
 /// Re-exported dual-number types, for users who differentiate the engine's results.

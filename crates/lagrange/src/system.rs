@@ -25,6 +25,12 @@ pub trait System {
     /// On a malformed state.
     fn energy(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error>;
 
+    /// The mass matrix `M = ∂²L/∂q̇²` (n × n, row-major).
+    ///
+    /// # Errors
+    /// On a malformed state.
+    fn mass_matrix(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error>;
+
     /// Generalized momenta `p = ∂L/∂q̇`.
     ///
     /// # Errors
@@ -56,6 +62,8 @@ pub struct Simulation<D: Dynamics> {
     ws: D::Workspace,
     /// `q̈` or `p` (n).
     out: Vec<f64>,
+    /// `M` (n × n).
+    mass: Vec<f64>,
     /// Reaction forces (3B).
     reaction: Vec<f64>,
 }
@@ -65,8 +73,9 @@ impl<D: Dynamics> Simulation<D> {
     pub fn new(system: D) -> Self {
         let ws = system.new_workspace();
         let out = vec![0.0; system.dof()];
+        let mass = vec![0.0; system.dof() * system.dof()];
         let reaction = vec![0.0; 3 * system.bodies().len()];
-        Self { system, ws, out, reaction }
+        Self { system, ws, out, mass, reaction }
     }
 
     /// The wrapped system.
@@ -91,6 +100,11 @@ impl<D: Dynamics> System for Simulation<D> {
 
     fn energy(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
         self.system.energy(&mut self.ws, t, q, qdot)
+    }
+
+    fn mass_matrix(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error> {
+        self.system.mass_matrix(&mut self.ws, t, q, qdot, &mut self.mass)?;
+        Ok(&self.mass)
     }
 
     fn momenta(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error> {

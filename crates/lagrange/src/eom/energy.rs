@@ -4,7 +4,13 @@ use super::{check_state, kinematics};
 use crate::{Error, Mechanism, Model, Scalar, Workspace};
 
 /// Kinetic energy `T = Σ_b ½ m_b |ṗ_b|² + ½ I_b φ̇_b²` (one velocity pass).
-pub fn kinetic_energy<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
+pub fn kinetic_energy<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<S, Error> {
     check_state(model.n, t, q, Some(qdot))?;
     kinematics::velocity_pass(model, ws, t, q, qdot);
     Ok(kinetic_from_velocity(model, ws))
@@ -20,7 +26,12 @@ fn kinetic_from_velocity<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &Workspa
 }
 
 /// Potential energy `V + Σ_b m_b g y_b` (gravity included).
-pub fn potential_energy<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S]) -> Result<S, Error> {
+pub fn potential_energy<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+) -> Result<S, Error> {
     check_state(model.n, t, q, None)?;
     kinematics::position_pass(model, ws, t, q);
     let mut potential = S::zero();
@@ -37,7 +48,13 @@ pub fn potential_energy<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Work
 }
 
 /// The Lagrangian `L = T − V`.
-pub fn lagrangian<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
+pub fn lagrangian<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<S, Error> {
     Ok(kinetic_energy(model, ws, t, q, qdot)? - potential_energy(model, ws, t, q)?)
 }
 
@@ -58,8 +75,9 @@ pub fn momenta<'w, M: Mechanism, S: Scalar>(
         let (m, inertia) = (model.mass[b], model.inertia[b]);
         let (vx, vy, va) = (ws.velocity[3 * b] * m, ws.velocity[3 * b + 1] * m, ws.velocity[3 * b + 2] * inertia);
         for j in 0..n {
-            ws.momenta[j] +=
-                ws.jacobian[3 * b * n + j] * vx + ws.jacobian[(3 * b + 1) * n + j] * vy + ws.jacobian[(3 * b + 2) * n + j] * va;
+            ws.momenta[j] += ws.jacobian[3 * b * n + j] * vx
+                + ws.jacobian[(3 * b + 1) * n + j] * vy
+                + ws.jacobian[(3 * b + 2) * n + j] * va;
         }
     }
     Ok(&ws.momenta)
@@ -68,7 +86,13 @@ pub fn momenta<'w, M: Mechanism, S: Scalar>(
 /// The energy function `h = q̇·∂L/∂q̇ − L` (Jacobi's integral). For scleronomic mechanisms it is
 /// `T + V`; it is conserved whenever `∂L/∂t = 0` and `Q = 0`, and in general
 /// `dh/dt = Q·q̇ − ∂L/∂t`.
-pub fn energy<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
+pub fn energy<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<S, Error> {
     momenta(model, ws, t, q, qdot)?;
     let mut qdot_p = S::zero();
     for (v, p) in qdot.iter().zip(&ws.momenta) {

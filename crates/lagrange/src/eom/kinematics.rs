@@ -10,7 +10,13 @@ use num_dual::{Dual, Dual2};
 /// One first-order dual pass per coordinate `j` (seed `q_j`): the dual parts of the poses are
 /// column `j` of `J`, and the dual part of `V(q, poses(q), t)` is `∂V/∂q_j` (total derivative,
 /// through the poses). Scalar passes keep the user's `Copy` bound and allocate nothing for any `n`.
-pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], potential: bool) {
+pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+    potential: bool,
+) {
     let n = model.n;
     let potential = potential && model.has_potential;
     let t_dual = Dual::from_re(t);
@@ -33,11 +39,9 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut 
             }
         }
         // ∂V/∂q_j through the same seeded poses.
-        if potential {
-            if let Some(v) = model.mechanism.potential(&ws.q_dual, &ws.poses_dual, t_dual) {
-                ws.potential_gradient[j] = v.eps;
-                ws.potential = v.re;
-            }
+        if potential && let Some(v) = model.mechanism.potential(&ws.q_dual, &ws.poses_dual, t_dual) {
+            ws.potential_gradient[j] = v.eps;
+            ws.potential = v.re;
         }
         ws.q_dual[j].eps = S::zero();
     }
@@ -45,7 +49,13 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut 
 
 /// Fill `ws.velocity` (`ṗ = J q̇ + ∂p/∂t`) and `ws.convective` (`γ = d²/ds² p(q + s q̇, t + s)`):
 /// one second-order dual pass along the motion `(q̇, 1)`.
-pub(crate) fn velocity_pass<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], qdot: &[S]) {
+pub(crate) fn velocity_pass<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) {
     for ((d, &qi), &vi) in ws.q_dual2.iter_mut().zip(q).zip(qdot) {
         *d = Dual2::new(qi, vi, S::zero());
     }

@@ -116,7 +116,12 @@ pub(crate) fn check_state<S: Scalar>(n: usize, t: S, q: &[S], qdot: Option<&[S]>
 ///
 /// # Errors
 /// [`Error::DimensionMismatch`] or [`Error::NonFinite`] for a bad configuration.
-pub fn mass_matrix<'w, M: Mechanism, S: Scalar>(model: &Model<M>, ws: &'w mut Workspace<S>, t: S, q: &[S]) -> Result<&'w [S], Error> {
+pub fn mass_matrix<'w, M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &'w mut Workspace<S>,
+    t: S,
+    q: &[S],
+) -> Result<&'w [S], Error> {
     check_state(model.n, t, q, None)?;
     if let Some(constant) = &model.constant {
         for (m, c) in ws.mass_matrix.iter_mut().zip(&constant.mass_matrix) {

@@ -132,23 +132,18 @@ impl<F: LagrangianFunction> RawModel<F> {
     /// # Errors
     /// [`Error::DimensionMismatch`], [`Error::NonFinite`], or [`Error::SingularMassMatrix`]
     /// when `∂²L/∂q̇²` is singular or indefinite.
-    pub fn accelerations<'w>(&self, ws: &'w mut RawWorkspace<F>, t: f64, q: &[f64], qdot: &[f64]) -> Result<&'w [f64], Error> {
+    pub fn accelerations<'w>(
+        &self,
+        ws: &'w mut RawWorkspace<F>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<&'w [f64], Error> {
         let n = self.n;
         check_state(n, t, q, Some(qdot))?;
         Self::reset(ws, q, qdot);
         let t_plain = HyperDual64::from(t);
-        // ∂²L/∂q̇_i∂q̇_j: seed q̇_i (ε1) and q̇_j (ε2).
-        for i in 0..n {
-            for j in i..n {
-                ws.qdot[i].eps1 = 1.0;
-                ws.qdot[j].eps2 = 1.0;
-                let l = self.eval(ws, t_plain);
-                ws.hessian[i * n + j] = l.eps1eps2;
-                ws.hessian[j * n + i] = l.eps1eps2;
-                ws.qdot[i].eps1 = 0.0;
-                ws.qdot[j].eps2 = 0.0;
-            }
-        }
+        self.fill_velocity_hessian(ws, t_plain);
         // Σ_j ∂²L/∂q̇_i∂q_j q̇_j + ∂²L/∂q̇_i∂t: seed q̇_i (ε1) and the motion (q̇, 1) (ε2).
         for (d, v) in ws.q.iter_mut().zip(qdot) {
             d.eps2 = *v;
@@ -200,6 +195,40 @@ impl<F: LagrangianFunction> RawModel<F> {
         Ok(&ws.qddot)
     }
 
+    /// `∂²L/∂q̇_i∂q̇_j`: one pass per pair, seeding `q̇_i` (ε1) and `q̇_j` (ε2). Expects the
+    /// unseeded state in `ws.q`, `ws.qdot`.
+    fn fill_velocity_hessian(&self, ws: &mut RawWorkspace<F>, t: HyperDual64) {
+        let n = self.n;
+        for i in 0..n {
+            for j in i..n {
+                ws.qdot[i].eps1 = 1.0;
+                ws.qdot[j].eps2 = 1.0;
+                let l = self.eval(ws, t);
+                ws.hessian[i * n + j] = l.eps1eps2;
+                ws.hessian[j * n + i] = l.eps1eps2;
+                ws.qdot[i].eps1 = 0.0;
+                ws.qdot[j].eps2 = 0.0;
+            }
+        }
+    }
+
+    /// The generalized mass matrix `∂²L/∂q̇²` (n × n), borrowed from the workspace.
+    ///
+    /// # Errors
+    /// On a malformed or non-finite state.
+    pub fn velocity_hessian<'w>(
+        &self,
+        ws: &'w mut RawWorkspace<F>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<&'w [f64], Error> {
+        check_state(self.n, t, q, Some(qdot))?;
+        Self::reset(ws, q, qdot);
+        self.fill_velocity_hessian(ws, HyperDual64::from(t));
+        Ok(&ws.hessian)
+    }
+
     /// `L(q, q̇, t)`.
     pub fn lagrangian(&self, ws: &mut RawWorkspace<F>, t: f64, q: &[f64], qdot: &[f64]) -> f64 {
         Self::reset(ws, q, qdot);
@@ -207,7 +236,13 @@ impl<F: LagrangianFunction> RawModel<F> {
     }
 
     /// Generalized momenta `p = ∂L/∂q̇`, borrowed from the workspace.
-    pub fn momenta<'w>(&self, ws: &'w mut RawWorkspace<F>, t: f64, q: &[f64], qdot: &[f64]) -> Result<&'w [f64], Error> {
+    pub fn momenta<'w>(
+        &self,
+        ws: &'w mut RawWorkspace<F>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<&'w [f64], Error> {
         check_state(self.n, t, q, Some(qdot))?;
         Self::reset(ws, q, qdot);
         for i in 0..self.n {

@@ -1,7 +1,7 @@
 //! Dormand–Prince 5(4) with error control and dense output (Hairer, Nørsett & Wanner,
 //! *Solving Ordinary Differential Equations I*, §II.5 and §II.6; the `DOPRI5` code).
 
-use super::{check_tolerance, Tolerances};
+use super::{Tolerances, check_tolerance};
 use crate::{Dynamics, Error};
 
 // Butcher tableau (Dormand & Prince 1980).
@@ -138,7 +138,14 @@ impl Dopri5 {
     }
 
     /// `f(t, y) = (q̇, a(t, q, q̇))` into `out`.
-    fn rhs<D: Dynamics>(system: &D, ws: &mut D::Workspace, n: usize, t: f64, y: &[f64], out: &mut [f64]) -> Result<(), Error> {
+    fn rhs<D: Dynamics>(
+        system: &D,
+        ws: &mut D::Workspace,
+        n: usize,
+        t: f64,
+        y: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), Error> {
         let (q, v) = y.split_at(n);
         let (dq, dv) = out.split_at_mut(n);
         dq.copy_from_slice(v);
@@ -158,7 +165,15 @@ impl Dopri5 {
     ///
     /// # Errors
     /// Any error of the equations of motion.
-    pub fn start<D: Dynamics>(&mut self, system: &D, ws: &mut D::Workspace, t: f64, q: &[f64], qdot: &[f64], h_max: f64) -> Result<(), Error> {
+    pub fn start<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        h_max: f64,
+    ) -> Result<(), Error> {
         let n = self.n;
         self.t = t;
         self.t_old = t;
@@ -268,7 +283,8 @@ impl Dopri5 {
                     self.dense[1][i] = ydiff;
                     self.dense[2][i] = bspl;
                     self.dense[3][i] = ydiff - h * k7[i] - bspl;
-                    self.dense[4][i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+                    self.dense[4][i] =
+                        h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
                 }
                 self.err_old = err.max(1e-4);
                 if self.last_rejected {

@@ -1,6 +1,6 @@
 //! Running an integrator over an interval and recording `t, q, q̇` and the energy.
 
-use super::{check_step, Dopri5, Rk4, Tolerances, Variational};
+use super::{Dopri5, Rk4, Tolerances, Variational, check_step};
 use crate::{Dynamics, Error, State};
 
 /// Which integrator, with its step or tolerances.
@@ -115,7 +115,14 @@ impl Trajectory {
         }
     }
 
-    fn push<D: Dynamics>(&mut self, system: &D, ws: &mut D::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<(), Error> {
+    fn push<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<(), Error> {
         self.t.push(t);
         self.q.extend_from_slice(q);
         self.qdot.extend_from_slice(qdot);
@@ -133,14 +140,28 @@ const MAX_STEPS: usize = 500_000_000;
 /// [`Error::InvalidSetting`] for a bad horizon, step, tolerance or output grid;
 /// [`Error::Diverged`] when the state stops being finite; any error of the equations of motion
 /// or of the integrator.
-pub fn simulate<D: Dynamics>(system: &D, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error> {
+pub fn simulate<D: Dynamics>(
+    system: &D,
+    initial: &State,
+    t_end: f64,
+    method: Method,
+    output: &Output,
+) -> Result<Trajectory, Error> {
     let n = system.dof();
     if initial.q.len() != n || initial.qdot.len() != n {
-        return Err(Error::DimensionMismatch { what: "initial state", expected: n, got: initial.q.len().min(initial.qdot.len()) });
+        return Err(Error::DimensionMismatch {
+            what: "initial state",
+            expected: n,
+            got: initial.q.len().min(initial.qdot.len()),
+        });
     }
     let t0 = initial.t;
     if !(t_end.is_finite() && t_end >= t0) {
-        return Err(Error::InvalidSetting { what: "horizon", value: t_end, why: "must be finite and not before the start" });
+        return Err(Error::InvalidSetting {
+            what: "horizon",
+            value: t_end,
+            why: "must be finite and not before the start",
+        });
     }
     let times = output_times(t0, t_end, output)?;
     let mut ws = system.new_workspace();
@@ -272,11 +293,19 @@ fn output_times(t0: f64, t_end: f64, output: &Output) -> Result<Vec<f64>, Error>
         Output::Ends => Ok(if t_end > t0 { vec![t0, t_end] } else { vec![t0] }),
         Output::Every(every) => {
             if !(*every > 0.0 && every.is_finite()) {
-                return Err(Error::InvalidSetting { what: "output interval", value: *every, why: "must be positive and finite" });
+                return Err(Error::InvalidSetting {
+                    what: "output interval",
+                    value: *every,
+                    why: "must be positive and finite",
+                });
             }
             let count = ((t_end - t0) / every * (1.0 + 1e-12)).floor() as usize;
             if count > 100_000_000 {
-                return Err(Error::InvalidSetting { what: "output interval", value: *every, why: "gives more than 1e8 samples" });
+                return Err(Error::InvalidSetting {
+                    what: "output interval",
+                    value: *every,
+                    why: "gives more than 1e8 samples",
+                });
             }
             let mut times: Vec<f64> = (0..=count).map(|k| t0 + k as f64 * every).collect();
             if let Some(last) = times.last_mut() {
@@ -289,7 +318,8 @@ fn output_times(t0: f64, t_end: f64, output: &Output) -> Result<Vec<f64>, Error>
             Ok(times)
         }
         Output::Times(times) => {
-            if times.windows(2).any(|w| !(w[1] > w[0])) || times.iter().any(|t| !(*t >= t0 && *t <= t_end)) {
+            let increasing = times.windows(2).all(|w| w[1] > w[0]);
+            if !increasing || times.iter().any(|t| !(*t >= t0 && *t <= t_end)) {
                 return Err(Error::InvalidSetting {
                     what: "output times",
                     value: f64::NAN,

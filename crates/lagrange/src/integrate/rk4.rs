@@ -27,7 +27,13 @@ impl Rk4 {
     /// # Errors
     /// [`Error::InvalidSetting`] for a step that is not positive and finite; any error of the
     /// equations of motion.
-    pub fn step<D: Dynamics>(&mut self, system: &D, ws: &mut D::Workspace, state: &mut State, h: f64) -> Result<(), Error> {
+    pub fn step<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        state: &mut State,
+        h: f64,
+    ) -> Result<(), Error> {
         check_step(h)?;
         let n = state.dof();
         let t = state.t;
@@ -45,7 +51,8 @@ impl Rk4 {
         // Weights 1/6, 1/3, 1/3, 1/6.
         for i in 0..n {
             state.q[i] += h / 6.0 * (self.vel[0][i] + 2.0 * self.vel[1][i] + 2.0 * self.vel[2][i] + self.vel[3][i]);
-            state.qdot[i] += h / 6.0 * (self.accel[0][i] + 2.0 * self.accel[1][i] + 2.0 * self.accel[2][i] + self.accel[3][i]);
+            state.qdot[i] +=
+                h / 6.0 * (self.accel[0][i] + 2.0 * self.accel[1][i] + 2.0 * self.accel[2][i] + self.accel[3][i]);
         }
         state.t = t + h;
         Ok(())

@@ -65,7 +65,14 @@ fn adaptive_error_tracks_tolerance_and_dense_output_is_accurate() {
     let times: Vec<f64> = (0..=50).map(|k| k as f64 * 0.2).collect();
     let mut previous = f64::INFINITY;
     for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
-        let traj = simulate(&model, &initial, 10.0, Method::Adaptive { tol: Tolerances::uniform(tol) }, &Output::Times(times.clone())).unwrap();
+        let traj = simulate(
+            &model,
+            &initial,
+            10.0,
+            Method::Adaptive { tol: Tolerances::uniform(tol) },
+            &Output::Times(times.clone()),
+        )
+        .unwrap();
         let err = (0..traj.len()).map(|k| (traj.q(k)[0] - 0.1 * (omega * traj.t[k]).cos()).abs()).fold(0.0, f64::max);
         // Global error within a factor 100 of the tolerance (local control, ~16 periods of accumulation),
         // and decreasing with it.
@@ -95,7 +102,9 @@ fn raw_lagrangian_of_a_body_model_matches_the_body_path() {
 
 #[test]
 fn velocity_dependent_potential_gives_cyclotron_motion() {
-    let raw = RawModel::new(Charge { coordinates: [Coordinate::length("x"), Coordinate::length("y")], m: 2.0, e_b: 3.0 }).unwrap();
+    let raw =
+        RawModel::new(Charge { coordinates: [Coordinate::length("x"), Coordinate::length("y")], m: 2.0, e_b: 3.0 })
+            .unwrap();
     let mut ws = raw.workspace();
     let a = raw.accelerations(&mut ws, 0.0, &[0.3, -0.2], &[0.7, 1.1]).unwrap();
     let omega = 1.5;
@@ -106,8 +115,8 @@ fn velocity_dependent_potential_gives_cyclotron_motion() {
 fn damped_oscillator_is_not_energy_conserving_and_decays() {
     let model = Model::new(Spring::new(1.0, 4.0, 0.5)).unwrap();
     assert!(model.has_generalized_force() && !model.conserves_energy() && model.has_constant_mass_matrix());
-    let traj = simulate(&model, &State::new(0.0, [1.0], [0.0]), 10.0, Method::Rk4 { dt: 0.01 }, &Output::Every(1.0)).unwrap();
+    let traj =
+        simulate(&model, &State::new(0.0, [1.0], [0.0]), 10.0, Method::Rk4 { dt: 0.01 }, &Output::Every(1.0)).unwrap();
     // E(t) decays like exp(−c t / m) on average: after 10 s below 1 % of E0 = 2.
     assert!(traj.energy[traj.len() - 1] < 0.02 * traj.energy[0], "{:?}", traj.energy);
 }
-

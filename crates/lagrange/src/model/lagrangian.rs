@@ -80,10 +80,7 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
     }
 
     fn scratch<S: Scalar>(&self) -> BodyScratch<S> {
-        BodyScratch {
-            q: vec![Dual::from_re(S::zero()); self.n],
-            poses: vec![Pose::default(); self.bodies()],
-        }
+        BodyScratch { q: vec![Dual::from_re(S::zero()); self.n], poses: vec![Pose::default(); self.bodies()] }
     }
 
     fn lagrangian_with<S: Scalar>(&self, scratch: &mut BodyScratch<S>, t: S, q: &[S], qdot: &[S]) -> S {
@@ -104,10 +101,10 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
             }
         }
         // − V (its value is the real part of the dual evaluation).
-        if self.has_potential {
-            if let Some(v) = self.mechanism.potential(&scratch.q, &scratch.poses, t_dual) {
-                lagrangian -= v.re;
-            }
+        if self.has_potential
+            && let Some(v) = self.mechanism.potential(&scratch.q, &scratch.poses, t_dual)
+        {
+            lagrangian -= v.re;
         }
         lagrangian
     }

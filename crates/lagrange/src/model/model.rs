@@ -43,7 +43,8 @@ impl<M: Mechanism> Model<M> {
     /// Validate and prepare a mechanism.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a non-finite or negative mass, inertia or gravity, or a
+    /// [`Error::InvalidParameter`] for a non-finite or negative mass or inertia, non-finite
+    /// gravity (negative `g` is allowed: gravity along +y), or a
     /// mechanism without coordinates or bodies; [`Error::Inconsistent`] if a declared constant
     /// mass matrix is contradicted by the poses; [`Error::SingularMassMatrix`] if that constant
     /// matrix is singular.
@@ -78,12 +79,12 @@ impl<M: Mechanism> Model<M> {
         };
         let probes = ProbeStates::new(n);
         // Ask once which optional terms exist.
-        let (q, _, t) = probes.state(0);
+        let (q, qdot, t) = probes.state(0);
         let mut poses = vec![Pose::<f64>::default(); model.bodies()];
         model.mechanism.poses(q, t, &mut poses);
         model.has_potential = model.mechanism.potential(q, &poses, t).is_some();
         let mut force = vec![0.0; n];
-        model.has_force = model.mechanism.generalized_force(t, q, q, &mut force);
+        model.has_force = model.mechanism.generalized_force(t, q, qdot, &mut force);
         if model.mechanism.constant_mass_matrix() {
             model.constant = Some(constant_terms(&model, &probes)?);
         }

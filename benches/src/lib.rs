@@ -1,0 +1,1 @@
+//! Benchmarks only: see `eom.rs` (`cargo bench -p lagrange-benches`).

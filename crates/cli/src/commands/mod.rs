@@ -1,0 +1,6 @@
+//! One module per subcommand.
+
+pub mod accel;
+pub mod report;
+pub mod scenes;
+pub mod simulate;

@@ -1,0 +1,75 @@
+//! `lagrange scenes`: every scene with its coordinates and parameters.
+
+use serde::Serialize;
+
+/// Arguments of `lagrange scenes`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct ParamOut {
+    name: &'static str,
+    symbol: &'static str,
+    unit: &'static str,
+    default: f64,
+    description: &'static str,
+}
+
+#[derive(Serialize)]
+struct CoordinateOut {
+    name: String,
+    unit: &'static str,
+}
+
+#[derive(Serialize)]
+struct SceneOut {
+    id: &'static str,
+    title: &'static str,
+    reference: &'static str,
+    coordinates: Vec<CoordinateOut>,
+    parameters: Vec<ParamOut>,
+}
+
+/// Print the scene list.
+pub fn run(args: &Args) -> Result<(), String> {
+    let mut scenes = Vec::new();
+    for scene in lagrange_scenes::all() {
+        let params = scene.default_params();
+        let coordinates = scene.coordinates(&params).map_err(|e| e.to_string())?;
+        scenes.push(SceneOut {
+            id: scene.id(),
+            title: scene.title(),
+            reference: scene.reference(),
+            coordinates: coordinates.iter().map(|c| CoordinateOut { name: c.name.clone(), unit: c.unit() }).collect(),
+            parameters: scene
+                .params()
+                .iter()
+                .map(|p| ParamOut {
+                    name: p.name,
+                    symbol: p.symbol,
+                    unit: p.unit,
+                    default: p.default,
+                    description: p.description,
+                })
+                .collect(),
+        });
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&scenes).map_err(|e| e.to_string())?);
+        return Ok(());
+    }
+    for s in &scenes {
+        let coordinates: Vec<String> = s.coordinates.iter().map(|c| format!("{} [{}]", c.name, c.unit)).collect();
+        println!("{} — {} ({})", s.id, s.title, s.reference);
+        println!("  coordinates: {}", coordinates.join(", "));
+        for p in &s.parameters {
+            let unit = if p.unit.is_empty() { String::new() } else { format!(" {}", p.unit) };
+            println!("  {:<22} {:<4} = {}{unit}  — {}", p.name, p.symbol, p.default, p.description);
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,132 @@
+//! `lagrange simulate`: integrate a scene and write `t, q, q̇, energy` as CSV.
+
+use crate::args;
+use lagrange::{Method, Output, Tolerances, Trajectory};
+use std::io::Write;
+
+/// Which integrator.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integrator {
+    /// Classical RK4, fixed step `--dt`.
+    Rk4,
+    /// Dormand–Prince 5(4) with error control `--tol` and dense output.
+    Adaptive,
+    /// Variational midpoint (discrete Euler–Lagrange), fixed step `--dt`.
+    Variational,
+}
+
+/// Arguments of `lagrange simulate`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene id (see `lagrange scenes`).
+    scene: String,
+    /// Parameter override NAME=VALUE (name or symbol), repeatable.
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+    /// Initial coordinates, comma-separated (default: the scene's initial state).
+    #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
+    q: Option<String>,
+    /// Initial velocities, comma-separated (default: the scene's initial state).
+    #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
+    qdot: Option<String>,
+    /// End time (s).
+    #[arg(long, allow_negative_numbers = true)]
+    t_end: f64,
+    /// Integrator.
+    #[arg(long, value_enum, default_value_t = Integrator::Adaptive)]
+    integrator: Integrator,
+    /// Step of the fixed-step integrators (default 1e-3).
+    #[arg(long, allow_negative_numbers = true)]
+    dt: Option<f64>,
+    /// Tolerance (relative and absolute) of the adaptive integrator (default 1e-10).
+    #[arg(long, allow_negative_numbers = true)]
+    tol: Option<f64>,
+    /// Output interval (default: 200 samples; a multiple of --dt for fixed steps).
+    #[arg(long, allow_negative_numbers = true)]
+    every: Option<f64>,
+    /// CSV file to write (default: standard output).
+    #[arg(long)]
+    out: Option<std::path::PathBuf>,
+}
+
+/// The method and output grid the arguments ask for.
+fn method_and_output(args: &Args) -> Result<(Method, Output), String> {
+    if !(args.t_end.is_finite() && args.t_end > 0.0) {
+        return Err(format!("--t-end must be positive and finite, got {}", args.t_end));
+    }
+    let method = match args.integrator {
+        Integrator::Adaptive => {
+            if args.dt.is_some() {
+                return Err("--dt applies to the fixed-step integrators (rk4, variational); use --tol".into());
+            }
+            Method::Adaptive { tol: Tolerances::uniform(args.tol.unwrap_or(1e-10)) }
+        }
+        fixed => {
+            if args.tol.is_some() {
+                return Err("--tol applies to the adaptive integrator; use --dt".into());
+            }
+            let dt = args.dt.unwrap_or(1e-3);
+            if !(dt > 0.0 && dt.is_finite()) {
+                return Err(format!("--dt must be positive and finite, got {dt}"));
+            }
+            if fixed == Integrator::Rk4 { Method::Rk4 { dt } } else { Method::Variational { dt } }
+        }
+    };
+    let every = match (args.every, method) {
+        (Some(every), _) => every,
+        (None, Method::Rk4 { dt } | Method::Variational { dt }) => dt * (args.t_end / 200.0 / dt).round().max(1.0),
+        (None, Method::Adaptive { .. }) => args.t_end / 200.0,
+    };
+    if !(every > 0.0 && every.is_finite()) {
+        return Err(format!("--every must be positive and finite, got {every}"));
+    }
+    Ok((method, Output::Every(every)))
+}
+
+/// Write the trajectory as CSV.
+fn write_csv(out: &mut dyn Write, names: &[String], trajectory: &Trajectory) -> std::io::Result<()> {
+    let mut header = vec!["t".to_string()];
+    header.extend(names.iter().cloned());
+    header.extend(names.iter().map(|n| format!("{n}_dot")));
+    header.push("energy".into());
+    writeln!(out, "{}", header.join(","))?;
+    for k in 0..trajectory.len() {
+        let mut row = vec![trajectory.t[k].to_string()];
+        row.extend(trajectory.q(k).iter().map(f64::to_string));
+        row.extend(trajectory.qdot(k).iter().map(f64::to_string));
+        row.push(trajectory.energy[k].to_string());
+        writeln!(out, "{}", row.join(","))?;
+    }
+    Ok(())
+}
+
+/// Integrate and write.
+pub fn run(args: &Args) -> Result<(), String> {
+    let scene = args::scene(&args.scene)?;
+    let params = args::params(scene, &args.params)?;
+    let initial = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), None)?;
+    let (method, output) = method_and_output(args)?;
+    let system = scene.build(&params).map_err(|e| e.to_string())?;
+    let trajectory = system.simulate(&initial, initial.t + args.t_end, method, &output).map_err(|e| e.to_string())?;
+    let names: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
+    match &args.out {
+        Some(path) => {
+            let file = std::fs::File::create(path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            let mut writer = std::io::BufWriter::new(file);
+            write_csv(&mut writer, &names, &trajectory).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            eprintln!(
+                "{}: {} samples to {} ({} steps, {} rejected)",
+                scene.id(),
+                trajectory.len(),
+                path.display(),
+                trajectory.stats.steps,
+                trajectory.stats.rejected
+            );
+        }
+        None => {
+            let stdout = std::io::stdout();
+            write_csv(&mut stdout.lock(), &names, &trajectory).map_err(|e| e.to_string())?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,79 @@
+//! `lagrange`: the command line of the lagrange workspace.
+//!
+//! ```text
+//! lagrange scenes [--json]
+//! lagrange accel <scene> [--param NAME=VALUE]... --q a,b,.. --qdot a,b,.. [--t T] [--json]
+//! lagrange simulate <scene> [--param ..] [--q ..] [--qdot ..] --t-end T
+//!          [--integrator rk4|adaptive|variational] [--dt H | --tol E] [--every S] [--out FILE.csv]
+//! lagrange report [--scene ID]... [--t-end T] [--json]
+//! ```
+//!
+//! Every error is one line on standard error, naming what is wrong, with exit code 2.
+
+mod args;
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Exact Lagrangian mechanics of planar mechanisms, checked against closed forms.
+#[derive(Parser, Debug)]
+#[command(name = "lagrange", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// List every scene with its coordinates and parameters.
+    Scenes(commands::scenes::Args),
+    /// Generalized accelerations q̈ at one state, to full precision.
+    Accel(commands::accel::Args),
+    /// Integrate a scene and write t, q, q̇ and the energy as CSV.
+    Simulate(commands::simulate::Args),
+    /// Simulate the built-in scenes with every integrator and summarise energy and momentum
+    /// conservation and the error against closed-form solutions.
+    Report(commands::report::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                error.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                let _ = error.print();
+                return ExitCode::SUCCESS;
+            }
+            // One line: clap's message joined up to the usage block.
+            let rendered = error.render().to_string();
+            let message: Vec<&str> = rendered
+                .lines()
+                .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+                .map(str::trim)
+                .filter(|l| !l.is_empty())
+                .collect();
+            eprintln!("{}", message.join(" "));
+            return ExitCode::from(2);
+        }
+    };
+    let result = match cli.command {
+        Command::Scenes(args) => commands::scenes::run(&args),
+        Command::Accel(args) => commands::accel::run(&args),
+        Command::Simulate(args) => commands::simulate::run(&args),
+        Command::Report(args) => commands::report::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,145 @@
+//! The `lagrange` command as a user runs it: outputs, exit codes, one-line errors.
+
+use std::process::{Command, Output};
+
+fn lagrange(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lagrange")).args(args).output().expect("the binary runs")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// A failing command: non-zero exit, one line on stderr that mentions `needle`.
+fn assert_one_line_error(args: &[&str], needle: &str) {
+    let output = lagrange(args);
+    let err = stderr(&output);
+    assert!(!output.status.success(), "{args:?} succeeded");
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
+    assert!(err.contains(needle), "{args:?}: `{err}` does not mention `{needle}`");
+}
+
+#[test]
+fn scenes_lists_every_scene_with_coordinates_and_symbols() {
+    let output = lagrange(&["scenes", "--json"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let scenes: serde_json::Value = serde_json::from_str(&stdout(&output)).expect("valid JSON");
+    let ids: Vec<&str> = scenes.as_array().expect("a list").iter().map(|s| s["id"].as_str().expect("id")).collect();
+    for id in [
+        "cart_pendulum",
+        "harmonic_oscillator",
+        "kepler",
+        "isotropic_oscillator",
+        "atwood",
+        "double_atwood",
+        "double_double_atwood",
+        "wedge",
+        "double_pendulum",
+        "chain",
+    ] {
+        assert!(ids.contains(&id), "{id} missing from {ids:?}");
+    }
+    let wedge = scenes.as_array().unwrap().iter().find(|s| s["id"] == "wedge").unwrap();
+    let symbols: Vec<&str> =
+        wedge["parameters"].as_array().unwrap().iter().map(|p| p["symbol"].as_str().unwrap()).collect();
+    assert!(symbols.contains(&"α") && symbols.contains(&"M") && symbols.contains(&"g"), "{symbols:?}");
+    let double = scenes.as_array().unwrap().iter().find(|s| s["id"] == "double_atwood").unwrap();
+    let symbols: Vec<&str> =
+        double["parameters"].as_array().unwrap().iter().map(|p| p["symbol"].as_str().unwrap()).collect();
+    assert!(symbols.contains(&"l'") && symbols.contains(&"m1"), "{symbols:?}");
+    assert!(lagrange(&["scenes"]).status.success());
+}
+
+#[test]
+fn accel_prints_the_closed_form_value_to_full_precision() {
+    // Wedge, SYSTEMS.md §7: ẍ' = (M + m) g sin α / (M + m sin²α) with M = 3, m = 1, α = 0.5.
+    let output = lagrange(&["accel", "wedge", "--param", "α=0.5", "--q", "0,0", "--qdot", "0,0", "--json"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let out: serde_json::Value = serde_json::from_str(&stdout(&output)).expect("valid JSON");
+    let got = out["qddot"][1].as_f64().expect("a number");
+    let (big, m, g, a) = (3.0_f64, 1.0_f64, 9.81_f64, 0.5_f64);
+    let expected = (big + m) * g * a.sin() / (big + m * a.sin().powi(2));
+    assert!((got - expected).abs() <= 1e-14 * expected, "{got} vs {expected}");
+    // By name as well as by symbol, and in text form.
+    let text = lagrange(&["accel", "wedge", "--param", "angle=0.5", "--q", "0,0", "--qdot", "0,0"]);
+    assert!(stdout(&text).contains(&format!("{:?}", got)), "{}", stdout(&text));
+}
+
+#[test]
+fn simulate_writes_csv_with_time_coordinates_velocities_and_energy() {
+    let output = lagrange(&[
+        "simulate",
+        "cart_pendulum",
+        "--t-end",
+        "1",
+        "--integrator",
+        "rk4",
+        "--dt",
+        "0.001",
+        "--every",
+        "0.25",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t,X,θ,X_dot,θ_dot,energy"));
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().expect("number")).collect()).collect();
+    assert_eq!(rows.len(), 5);
+    assert_eq!(rows.iter().map(|r| r[0]).collect::<Vec<_>>(), vec![0.0, 0.25, 0.5, 0.75, 1.0]);
+    // RK4 at dt = 1e-3 conserves the energy to ~1e-12 relative over 1 s.
+    let e0 = rows[0][5];
+    assert!(rows.iter().all(|r| (r[5] - e0).abs() <= 1e-9 * e0.abs()), "{rows:?}");
+    let dir = std::env::temp_dir().join(format!("lagrange-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("run.csv");
+    let output = lagrange(&[
+        "simulate",
+        "kepler",
+        "--t-end",
+        "2",
+        "--integrator",
+        "variational",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(std::fs::read_to_string(&file).unwrap().starts_with("t,r,θ,r_dot,θ_dot,energy"));
+}
+
+#[test]
+fn wrong_scene_parameter_arity_or_value_is_a_one_line_error() {
+    assert_one_line_error(&["accel", "pendulum", "--q", "0", "--qdot", "0"], "unknown scene `pendulum`");
+    assert_one_line_error(&["accel", "wedge", "--param", "mass=2", "--q", "0,0", "--qdot", "0,0"], "mass");
+    assert_one_line_error(&["accel", "wedge", "--param", "m=-2", "--q", "0,0", "--qdot", "0,0"], "block_mass");
+    assert_one_line_error(&["accel", "wedge", "--param", "m=abc", "--q", "0,0", "--qdot", "0,0"], "abc");
+    assert_one_line_error(&["accel", "wedge", "--q", "0,0,0", "--qdot", "0,0"], "--q needs 2 values");
+    assert_one_line_error(&["accel", "wedge", "--q", "0,x", "--qdot", "0,0"], "`x` is not a number");
+    assert_one_line_error(&["simulate", "wedge", "--t-end", "1", "--integrator", "rk4", "--dt", "0"], "--dt");
+    assert_one_line_error(&["simulate", "wedge", "--t-end", "1", "--integrator", "rk4", "--tol", "1e-6"], "--tol");
+    assert_one_line_error(&["simulate", "wedge", "--t-end", "-1"], "--t-end");
+    assert_one_line_error(&["accel", "wedge"], "--q");
+    assert_one_line_error(&["frobnicate"], "frobnicate");
+}
+
+#[test]
+fn report_covers_every_scene_and_conserves_what_it_should() {
+    let output = lagrange(&["report", "--t-end", "2", "--json"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let reports: serde_json::Value = serde_json::from_str(&stdout(&output)).expect("valid JSON");
+    let reports = reports.as_array().expect("a list");
+    let scenes = lagrange(&["scenes", "--json"]);
+    let count = serde_json::from_str::<serde_json::Value>(&stdout(&scenes)).unwrap().as_array().unwrap().len();
+    assert_eq!(reports.len(), count);
+    let cart = reports.iter().find(|r| r["scene"] == "cart_pendulum").expect("cart pendulum");
+    assert_eq!(cart["cyclic"], serde_json::json!(["X"]));
+    for run in cart["runs"].as_array().unwrap() {
+        // Every method conserves the cart's horizontal momentum to ~1e-12 over 2 s
+        // (RK4 and the variational method exactly in exact arithmetic; the adaptive one to its tolerance).
+        let drift = run["momentum_drift"].as_f64().expect("cyclic X");
+        assert!(drift <= 1e-9, "{run}");
+    }
+}

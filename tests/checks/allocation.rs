@@ -1,0 +1,116 @@
+//! No heap allocation per step (Pinocchio's malloc tests): a counting global allocator around
+//! the equations of motion and one step of every integrator, for every scene.
+#![allow(unsafe_code)] // a global allocator is necessarily `unsafe impl`
+
+use lagrange::integrate::{Dopri5, Rk4, Variational};
+use lagrange::{Dynamics, Mechanism, Model, RawModel, State, Tolerances};
+use lagrange_scenes::{MechanismVisitor, all, visit_mechanism};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+thread_local! {
+    /// Allocations made by this thread (tests run in parallel threads).
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+struct Counting;
+
+fn count() {
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
+
+// SAFETY: forwards every call unchanged to the system allocator; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+fn allocations(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.with(Cell::get);
+    f();
+    ALLOCATIONS.with(Cell::get) - before
+}
+
+/// Every per-step entry point of `system`, after its buffers exist, allocates nothing.
+fn assert_no_allocation_per_step<D: Dynamics>(name: &str, system: &D, initial: &State) {
+    let n = system.dof();
+    let mut ws = system.new_workspace();
+    let mut qddot = vec![0.0; n];
+    let mut rk4 = Rk4::new(n);
+    let mut state = initial.clone();
+    let mut dopri = Dopri5::new(n, Tolerances::uniform(1e-8)).expect("valid");
+    dopri.start(system, &mut ws, initial.t, &initial.q, &initial.qdot, 1.0).expect("valid");
+    let mut variational = Variational::new(system);
+    variational.start(system, initial.t, &initial.q, &initial.qdot).expect("valid");
+    let mut qdot = vec![0.0; n];
+    // Warm-up: anything lazily initialised happens here, outside the count.
+    system.accelerations(&mut ws, initial.t, &initial.q, &initial.qdot, &mut qddot).expect("valid");
+    let counted = allocations(|| {
+        for _ in 0..10 {
+            system.accelerations(&mut ws, initial.t, &initial.q, &initial.qdot, &mut qddot).expect("valid");
+            rk4.step(system, &mut ws, &mut state, 1e-3).expect("valid");
+            dopri.step(system, &mut ws, 1e9).expect("valid");
+            variational.step(system, 1e-3).expect("valid");
+        }
+        variational.velocities(system, &mut qdot).expect("valid");
+    });
+    assert_eq!(counted, 0, "{name}: {counted} heap allocations in 10 steps");
+}
+
+struct NoAllocation<'a> {
+    id: &'a str,
+    initial: &'a State,
+}
+
+impl MechanismVisitor for NoAllocation<'_> {
+    type Output = ();
+
+    fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) {
+        let model = Model::new(mechanism.clone()).expect("valid");
+        assert_no_allocation_per_step(self.id, &model, self.initial);
+        let raw = RawModel::new(Model::new(mechanism).expect("valid")).expect("valid");
+        assert_no_allocation_per_step(&format!("{} (raw path)", self.id), &raw, self.initial);
+    }
+}
+
+#[test]
+fn no_heap_allocation_per_step_in_any_scene() {
+    let mut visited = 0;
+    for scene in all() {
+        let params = scene.default_params();
+        let initial = scene.default_state(&params).expect("valid");
+        if visit_mechanism(scene.id(), &params, NoAllocation { id: scene.id(), initial: &initial })
+            .expect("valid")
+            .is_some()
+        {
+            visited += 1;
+        }
+    }
+    assert_eq!(visited, all().len() - 1, "every body scene checked");
+    // The raw Lagrangian scene.
+    let scene = lagrange_scenes::find("charged_particle").expect("registered");
+    let params = scene.default_params();
+    let particle = lagrange_scenes::charged_particle::ChargedParticle::from_params(&params).expect("valid");
+    let raw = RawModel::new(particle).expect("valid");
+    assert_no_allocation_per_step("charged_particle", &raw, &scene.default_state(&params).expect("valid"));
+}

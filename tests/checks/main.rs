@@ -1,0 +1,11 @@
+//! Integration checks of the reduced-coordinate solver against closed forms, identities,
+//! finite differences and its own second (raw-Lagrangian) path. One module per kind of check.
+
+mod analytic;
+mod bad_input;
+mod constant_mass;
+mod derivatives;
+mod identities;
+mod integrators;
+mod raw_path;
+mod reactions;
