@@ -1,2 +1,113 @@
-//! placeholder
-fn main() {}
+//! EOM cost of the generic engine against the hand-coded closed form of the same scene, the
+//! raw-Lagrangian path, and one RK4 step, for every body scene.
+//!
+//! `cargo bench -p lagrange-benches --bench eom` measures, then prints a table of the ratios
+//! (engine / hand-coded) read back from criterion's estimates.
+
+use criterion::{BatchSize, Criterion};
+use lagrange::integrate::Rk4;
+use lagrange::{Dynamics, Mechanism, Model, RawModel, State};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Registers the benches of one typed scene.
+struct Register<'a> {
+    criterion: &'a mut Criterion,
+    id: &'static str,
+    state: State,
+}
+
+impl MechanismVisitor for Register<'_> {
+    type Output = ();
+
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
+        let model = Model::new(mechanism.clone()).expect("valid");
+        let raw = RawModel::new(Model::new(mechanism.clone()).expect("valid")).expect("valid");
+        let n = model.dof();
+        let s = self.state;
+        let mut group = self.criterion.benchmark_group(self.id);
+        // Setup (workspaces, buffers) outside the timed closures.
+        let mut ws = model.workspace::<f64>();
+        group.bench_function("engine", |b| {
+            b.iter(|| {
+                black_box(
+                    lagrange::accelerations(&model, &mut ws, black_box(s.t), black_box(&s.q), black_box(&s.qdot))
+                        .map(|a| a[0]),
+                )
+            })
+        });
+        let mut out = vec![0.0; n];
+        group.bench_function("closed_form", |b| {
+            b.iter(|| {
+                mechanism.closed_form_into(black_box(s.t), black_box(&s.q), black_box(&s.qdot), &mut out);
+                black_box(out[0])
+            })
+        });
+        let mut rws = raw.new_workspace();
+        group.bench_function("raw_path", |b| {
+            b.iter(|| {
+                black_box(
+                    raw.accelerations(&mut rws, black_box(s.t), black_box(&s.q), black_box(&s.qdot)).map(|a| a[0]),
+                )
+            })
+        });
+        let mut rk4 = Rk4::new(n);
+        group.bench_function("rk4_step", |b| {
+            b.iter_batched_ref(
+                || s.clone(),
+                |state| rk4.step(&model, &mut ws, state, black_box(1e-3)).map(|_| state.q[0]),
+                BatchSize::SmallInput,
+            )
+        });
+        group.finish();
+    }
+}
+
+/// Mean time (ns) of a finished benchmark, from criterion's `estimates.json`.
+fn mean_ns(root: &PathBuf, group: &str, bench: &str) -> Option<f64> {
+    let text = std::fs::read_to_string(root.join(group).join(bench).join("new").join("estimates.json")).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    json["mean"]["point_estimate"].as_f64()
+}
+
+/// Criterion writes to `$CARGO_TARGET_DIR/criterion`, else `target/criterion` of the workspace.
+fn criterion_root() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("target"));
+    target.join("criterion")
+}
+
+fn main() {
+    let mut criterion = Criterion::default()
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .sample_size(40)
+        .configure_from_args();
+    let mut ids = Vec::new();
+    for scene in all() {
+        let params = scene.default_params();
+        let state = scene.default_state(&params).expect("valid");
+        let register = Register { criterion: &mut criterion, id: scene.id(), state };
+        if visit_mechanism(scene.id(), &params, register).expect("valid").is_some() {
+            ids.push(scene.id());
+        }
+    }
+    criterion.final_summary();
+    // The table: engine / closed form, side by side from this run.
+    let root = criterion_root();
+    println!("\n| scene | n | engine q̈ | hand-coded q̈ | ratio | raw-Lagrangian q̈ | RK4 step |");
+    println!("|---|---|---|---|---|---|---|");
+    for id in ids {
+        let n = lagrange_scenes::find(id).and_then(|s| s.coordinates(&s.default_params()).ok()).map_or(0, |c| c.len());
+        let get = |bench| mean_ns(&root, id, bench);
+        match (get("engine"), get("closed_form"), get("raw_path"), get("rk4_step")) {
+            (Some(e), Some(c), Some(r), Some(k)) => {
+                println!("| {id} | {n} | {e:.1} ns | {c:.1} ns | {:.1}× | {r:.1} ns | {k:.1} ns |", e / c)
+            }
+            _ => println!("| {id} | {n} | (not measured in this run) | | | | |"),
+        }
+    }
+}

@@ -4,7 +4,7 @@
 
 use lagrange::integrate::{Dopri5, Rk4, Variational};
 use lagrange::{Dynamics, Mechanism, Model, RawModel, State, Tolerances};
-use lagrange_scenes::{MechanismVisitor, all, visit_mechanism};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -85,7 +85,7 @@ struct NoAllocation<'a> {
 impl MechanismVisitor for NoAllocation<'_> {
     type Output = ();
 
-    fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism.clone()).expect("valid");
         assert_no_allocation_per_step(self.id, &model, self.initial);
         let raw = RawModel::new(Model::new(mechanism).expect("valid")).expect("valid");

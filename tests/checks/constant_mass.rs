@@ -3,7 +3,7 @@
 //! and the same accelerations.
 
 use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, State};
-use lagrange_scenes::{MechanismVisitor, all, visit_mechanism};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use lagrange_tests::{max_abs, max_abs_diff, rng, sampling, tolerance};
 
 /// The same mechanism without the declaration: the engine assembles everything.
@@ -38,7 +38,7 @@ struct Check<'a> {
 impl MechanismVisitor for Check<'_> {
     type Output = bool;
 
-    fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) -> bool {
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> bool {
         if !mechanism.constant_mass_matrix() {
             return false;
         }

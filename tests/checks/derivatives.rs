@@ -2,7 +2,7 @@
 //! term `γ`, the potential gradient `∂V/∂q` and the momenta `∂L/∂q̇`.
 
 use lagrange::{Mechanism, Model, Pose, State};
-use lagrange_scenes::{MechanismVisitor, all, visit_mechanism};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use lagrange_tests::{max_abs, rng, sampling, tolerance};
 
 fn poses<M: Mechanism>(model: &Model<M>, t: f64, q: &[f64]) -> Vec<f64> {
@@ -29,7 +29,7 @@ struct FiniteDifferences<'a> {
 impl MechanismVisitor for FiniteDifferences<'_> {
     type Output = ();
 
-    fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
         let n = model.dof();
         let rows = 3 * model.bodies();

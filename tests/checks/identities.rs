@@ -3,7 +3,7 @@
 
 use lagrange::num_dual::Dual64;
 use lagrange::{Mechanism, Model, State};
-use lagrange_scenes::{MechanismVisitor, all, visit_mechanism};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use lagrange_tests::{rng, sampling, tolerance};
 
 struct Identities<'a> {
@@ -13,7 +13,7 @@ struct Identities<'a> {
 impl MechanismVisitor for Identities<'_> {
     type Output = ();
 
-    fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
         let n = model.dof();
         let mut ws = model.workspace::<f64>();

@@ -9,3 +9,4 @@ mod identities;
 mod integrators;
 mod raw_path;
 mod reactions;
+mod readme;

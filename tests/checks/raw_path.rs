@@ -3,7 +3,7 @@
 //! of the same equations must agree to round-off.
 
 use lagrange::{Dynamics, Mechanism, Model, RawModel, State};
-use lagrange_scenes::{MechanismVisitor, all, visit_mechanism};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use lagrange_tests::{condition_number, max_abs, max_abs_diff, rng, sampling, tolerance};
 
 struct RawVsBody<'a> {
@@ -13,7 +13,7 @@ struct RawVsBody<'a> {
 impl MechanismVisitor for RawVsBody<'_> {
     type Output = usize;
 
-    fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) -> usize {
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> usize {
         let body = Model::new(mechanism.clone()).expect("valid");
         let raw = RawModel::new(Model::new(mechanism).expect("valid")).expect("valid");
         let (mut ws, mut rws) = (body.new_workspace(), raw.new_workspace());

@@ -91,3 +91,8 @@ pub use workspace::Workspace;
 
 /// Re-exported dual-number types, for users who differentiate the engine's results.
 pub use num_dual;
+
+// The README's Rust blocks (the quickstart) run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeDoctests;

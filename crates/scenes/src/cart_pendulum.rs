@@ -129,7 +129,8 @@ impl Mechanism for CartPendulum {
         let (cart_x, theta) = (q[0], q[1]);
         // Cart on the rail; bob at the end of the rod.
         world_from_body[0] = Pose::point(cart_x, S::zero());
-        world_from_body[1] = Pose::point(cart_x + theta.sin() * self.rod_length, -theta.cos() * self.rod_length);
+        let (sin, cos) = theta.sin_cos();
+        world_from_body[1] = Pose::point(cart_x + sin * self.rod_length, -cos * self.rod_length);
     }
 }
 

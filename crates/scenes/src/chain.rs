@@ -127,7 +127,7 @@ impl Mechanism for Chain {
         let (mut pivot_x, mut pivot_y) = (S::zero(), S::zero());
         // Walk down the chain: each rod's centre half a length below its pivot, then the next pivot.
         for (pose, &theta) in world_from_body.iter_mut().zip(q) {
-            let (sin, cos) = (theta.sin(), theta.cos());
+            let (sin, cos) = theta.sin_cos();
             *pose = Pose::new(pivot_x + sin * half, pivot_y - cos * half, theta);
             pivot_x += sin * length;
             pivot_y -= cos * length;

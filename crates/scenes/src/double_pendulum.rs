@@ -131,9 +131,10 @@ impl Mechanism for DoublePendulum {
     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
         let (theta_1, theta_2) = (q[0], q[1]);
         // Bob 1 at the end of rod 1; bob 2 at the end of rod 2, hung from bob 1.
-        let (x1, y1) = (theta_1.sin() * self.length_1, -theta_1.cos() * self.length_1);
+        let ((sin_1, cos_1), (sin_2, cos_2)) = (theta_1.sin_cos(), theta_2.sin_cos());
+        let (x1, y1) = (sin_1 * self.length_1, -cos_1 * self.length_1);
         world_from_body[0] = Pose::point(x1, y1);
-        world_from_body[1] = Pose::point(x1 + theta_2.sin() * self.length_2, y1 - theta_2.cos() * self.length_2);
+        world_from_body[1] = Pose::point(x1 + sin_2 * self.length_2, y1 - cos_2 * self.length_2);
     }
 }
 

@@ -97,7 +97,8 @@ impl Mechanism for DrivenPendulum {
         let theta = q[0];
         // Support at (A sin ωt, 0); bob at the end of the rod.
         let support = (t * self.drive_frequency).sin() * self.amplitude;
-        world_from_body[0] = Pose::point(support + theta.sin() * self.length, -theta.cos() * self.length);
+        let (sin, cos) = theta.sin_cos();
+        world_from_body[0] = Pose::point(support + sin * self.length, -cos * self.length);
     }
 }
 

@@ -130,7 +130,8 @@ impl Mechanism for IsotropicOscillator {
 
     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
-        world_from_body[0] = Pose::point(r * theta.cos(), r * theta.sin());
+        let (sin, cos) = theta.sin_cos();
+        world_from_body[0] = Pose::point(r * cos, r * sin);
     }
 
     /// `V = ½ k |x|²`, through the particle's position so that the force is applied to it.

@@ -103,5 +103,5 @@ pub use kepler::{Kepler, KeplerScene, Orbit};
 pub use params::{Domain, ParamSpec, Params};
 pub use scene::{Scene, all, find, ids};
 pub use spring_pendulum::{SpringPendulum, SpringPendulumScene};
-pub use visit::{MechanismVisitor, visit_mechanism};
+pub use visit::{ClosedForm, MechanismVisitor, visit_mechanism};
 pub use wedge::{Wedge, WedgeScene};

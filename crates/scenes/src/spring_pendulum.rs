@@ -90,7 +90,8 @@ impl Mechanism for SpringPendulum {
 
     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
-        world_from_body[0] = Pose::point(r * theta.sin(), -r * theta.cos());
+        let (sin, cos) = theta.sin_cos();
+        world_from_body[0] = Pose::point(r * sin, -r * cos);
     }
 
     /// `V = ½ k (|x| − L0)²`, through the bob's position so that the spring force is applied to it.

@@ -8,6 +8,47 @@ use crate::{
 };
 use lagrange::{Error, Mechanism};
 
+/// A typed scene's hand-coded closed-form accelerations, without allocation (for benchmarks
+/// and tests that compare the generic engine with them through a [`MechanismVisitor`]).
+pub trait ClosedForm {
+    /// Write the closed-form `q̈(t, q, q̇)` into `qddot`.
+    ///
+    /// # Panics
+    /// If a slice does not have the scene's number of coordinates.
+    fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]);
+}
+
+macro_rules! closed_form_without_time {
+    ($($scene:ty),*) => {$(
+        impl ClosedForm for $scene {
+            fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+                qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+            }
+        }
+    )*};
+}
+
+closed_form_without_time!(
+    Atwood,
+    CartPendulum,
+    Chain,
+    ChargedParticle,
+    DoubleAtwood,
+    DoubleDoubleAtwood,
+    DoublePendulum,
+    HarmonicOscillator,
+    IsotropicOscillator,
+    Kepler,
+    SpringPendulum,
+    Wedge
+);
+
+impl ClosedForm for DrivenPendulum {
+    fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(t, q, qdot));
+    }
+}
+
 /// Generic code to run on a scene's typed mechanism (the visitor pattern: a generic method
 /// cannot be called through `dyn`, so the scene calls it with its concrete type).
 pub trait MechanismVisitor {
@@ -15,7 +56,7 @@ pub trait MechanismVisitor {
     type Output;
 
     /// Run on the mechanism, by value.
-    fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) -> Self::Output;
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> Self::Output;
 }
 
 /// Build the typed mechanism of the scene `id` from `params` and run `visitor` on it.
@@ -67,7 +108,7 @@ mod tests {
     impl MechanismVisitor for Dof {
         type Output = (usize, bool);
 
-        fn visit<M: Mechanism + Clone + 'static>(self, mechanism: M) -> (usize, bool) {
+        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> (usize, bool) {
             (mechanism.coordinates().len(), Model::new(mechanism).is_ok())
         }
     }
