@@ -9,7 +9,7 @@ use lagrange::integrate::Rk4;
 use lagrange::{Dynamics, Mechanism, Model, RawModel, State};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::hint::black_box;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Registers the benches of one typed scene.
@@ -66,7 +66,7 @@ impl MechanismVisitor for Register<'_> {
 }
 
 /// Mean time (ns) of a finished benchmark, from criterion's `estimates.json`.
-fn mean_ns(root: &PathBuf, group: &str, bench: &str) -> Option<f64> {
+fn mean_ns(root: &Path, group: &str, bench: &str) -> Option<f64> {
     let text = std::fs::read_to_string(root.join(group).join(bench).join("new").join("estimates.json")).ok()?;
     let json: serde_json::Value = serde_json::from_str(&text).ok()?;
     json["mean"]["point_estimate"].as_f64()
