@@ -137,8 +137,9 @@ fn report_covers_every_scene_and_conserves_what_it_should() {
     let cart = reports.iter().find(|r| r["scene"] == "cart_pendulum").expect("cart pendulum");
     assert_eq!(cart["cyclic"], serde_json::json!(["X"]));
     for run in cart["runs"].as_array().unwrap() {
-        // Every method conserves the cart's horizontal momentum to ~1e-12 over 2 s
-        // (RK4 and the variational method exactly in exact arithmetic; the adaptive one to its tolerance).
+        // p_X = (M+m)Ẋ + m r θ̇ cos θ is conserved by the variational method to round-off (discrete
+        // Noether), by RK4 (dt = 1e-3) and the adaptive method (tol 1e-10) to their truncation
+        // errors, measured ≲ 1e-12 and ≲ 1e-9 over 2 s: 1e-9 bounds all three.
         let drift = run["momentum_drift"].as_f64().expect("cyclic X");
         assert!(drift <= 1e-9, "{run}");
     }

@@ -1,31 +1,39 @@
 //! Right-hand side `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q`, with `F_b = (0, −m_b g, 0)`.
 
+use super::size::Size;
 use crate::{Mechanism, Model, Scalar, Workspace};
 
 /// Assemble `ws.rhs`. Reads `ws.jacobian` and `ws.convective` (general models) or the constant
 /// terms (constant `M`), and `ws.potential_gradient` when the model has a potential.
-pub(crate) fn assemble<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S], qdot: &[S]) {
-    let n = model.n;
+pub(crate) fn assemble<M: Mechanism, S: Scalar, N: Size>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    size: N,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) {
+    let n = size.get();
     if model.constant.is_some() {
         // Constant M: γ = 0 and the generalized gravity is precomputed.
         ws.rhs.copy_from_slice(&ws.constant_gravity);
     } else {
         // Gravity minus the inertial (convective) forces, projected body by body.
-        ws.rhs.fill(S::zero());
+        let rhs = &mut ws.rhs[..n];
+        rhs.fill(S::zero());
         let g = model.gravity;
-        let bodies = ws.jacobian.chunks_exact(3 * n).zip(ws.convective.chunks_exact(3));
-        for ((block, gamma), (&m, &inertia)) in bodies.zip(model.mass.iter().zip(&model.inertia)) {
-            let (jx, rest) = block.split_at(n);
-            let (jy, ja) = rest.split_at(n);
+        for (b, (&m, &inertia)) in model.mass.iter().zip(&model.inertia).enumerate() {
+            let rows = &ws.jacobian[3 * b * n..3 * (b + 1) * n];
+            let gamma = &ws.convective[3 * b..3 * b + 3];
             let wx = gamma[0] * (-m);
             let wy = gamma[1] * (-m) - m * g;
-            for ((r, &x), &y) in ws.rhs.iter_mut().zip(jx).zip(jy) {
-                *r += x * wx + y * wy;
+            for j in 0..n {
+                rhs[j] += rows[j] * wx + rows[n + j] * wy;
             }
             if inertia != 0.0 {
                 let wa = gamma[2] * (-inertia);
-                for (r, &a) in ws.rhs.iter_mut().zip(ja) {
-                    *r += a * wa;
+                for j in 0..n {
+                    rhs[j] += rows[2 * n + j] * wa;
                 }
             }
         }

@@ -1,28 +1,30 @@
 //! Mass matrix `M = Σ_b J_bᵀ D_b J_b`, `D_b = diag(m_b, m_b, I_b)`.
 
+use super::size::Size;
 use crate::{Mechanism, Model, Scalar, Workspace};
 
 /// Assemble `ws.mass_matrix` from `ws.jacobian` (upper triangle, mirrored).
-pub(crate) fn assemble<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>) {
-    let n = model.n;
-    let mm = &mut ws.mass_matrix;
+pub(crate) fn assemble<M: Mechanism, S: Scalar, N: Size>(model: &Model<M>, ws: &mut Workspace<S>, size: N) {
+    let n = size.get();
+    let (mm, jac) = (&mut ws.mass_matrix[..n * n], &ws.jacobian[..]);
     mm.fill(S::zero());
-    for ((block, &m), &inertia) in ws.jacobian.chunks_exact(3 * n).zip(&model.mass).zip(&model.inertia) {
-        let (jx, rest) = block.split_at(n);
-        let (jy, ja) = rest.split_at(n);
-        for (i, row) in mm.chunks_exact_mut(n).enumerate() {
-            // Translational part m (Jxᵀ Jx + Jyᵀ Jy), upper triangle.
-            if m != 0.0 {
-                let (xi, yi) = (jx[i] * m, jy[i] * m);
-                for ((entry, &xj), &yj) in row[i..].iter_mut().zip(&jx[i..]).zip(&jy[i..]) {
-                    *entry += xi * xj + yi * yj;
+    for (b, (&m, &inertia)) in model.mass.iter().zip(&model.inertia).enumerate() {
+        let rows = &jac[3 * b * n..3 * (b + 1) * n];
+        // Translational part m (Jxᵀ Jx + Jyᵀ Jy), upper triangle.
+        if m != 0.0 {
+            for i in 0..n {
+                let (xi, yi) = (rows[i] * m, rows[n + i] * m);
+                for j in i..n {
+                    mm[i * n + j] += xi * rows[j] + yi * rows[n + j];
                 }
             }
-            // Rotational part I Jφᵀ Jφ.
-            if inertia != 0.0 {
-                let ai = ja[i] * inertia;
-                for (entry, &aj) in row[i..].iter_mut().zip(&ja[i..]) {
-                    *entry += ai * aj;
+        }
+        // Rotational part I Jφᵀ Jφ.
+        if inertia != 0.0 {
+            for i in 0..n {
+                let ai = rows[2 * n + i] * inertia;
+                for j in i..n {
+                    mm[i * n + j] += ai * rows[2 * n + j];
                 }
             }
         }

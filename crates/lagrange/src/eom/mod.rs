@@ -9,6 +9,7 @@ pub(crate) mod kinematics;
 pub(crate) mod mass_matrix;
 pub(crate) mod raw;
 pub(crate) mod reactions;
+pub(crate) mod size;
 pub mod solve;
 
 use crate::error::Stage;
@@ -32,24 +33,36 @@ pub fn accelerations<'w, M: Mechanism, S: Scalar>(
     q: &[S],
     qdot: &[S],
 ) -> Result<&'w [S], Error> {
-    let n = model.n;
-    check_state(n, t, q, Some(qdot))?;
+    check_state(model.n, t, q, Some(qdot))?;
+    size::with_size!(model.n, n => solve_sized(model, ws, n, t, q, qdot))?;
+    Ok(&ws.qddot)
+}
+
+/// The stages of [`accelerations`], compiled for the number of coordinates.
+fn solve_sized<M: Mechanism, S: Scalar, N: size::Size>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    size: N,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<(), Error> {
     if model.constant.is_some() {
         // Constant M: potential gradient, right-hand side, stored factor.
         if model.has_potential {
             kinematics::jacobian_pass(model, ws, t, q, true);
         }
-        bias::assemble(model, ws, t, q, qdot);
+        bias::assemble(model, ws, size, t, q, qdot);
         ws.qddot.copy_from_slice(&ws.rhs);
-        solve::ldlt_solve(n, &ws.constant_factor, &mut ws.qddot);
+        solve::ldlt_solve_sized(size, &ws.constant_factor, &mut ws.qddot);
     } else {
         // Position and velocity stages.
         kinematics::jacobian_pass(model, ws, t, q, true);
         kinematics::velocity_pass(model, ws, t, q, qdot);
         // Mass matrix and its factor.
-        mass_matrix::assemble(model, ws);
+        mass_matrix::assemble(model, ws, size);
         ws.factor.copy_from_slice(&ws.mass_matrix);
-        if let Err((j, pivot)) = solve::ldlt_factor(n, &mut ws.factor) {
+        if let Err((j, pivot)) = solve::ldlt_factor_sized(size, &mut ws.factor) {
             if !all_finite(&ws.mass_matrix) {
                 return Err(non_finite(Stage::Kinematics, t, q));
             }
@@ -61,14 +74,14 @@ pub fn accelerations<'w, M: Mechanism, S: Scalar>(
             });
         }
         // Right-hand side and solve.
-        bias::assemble(model, ws, t, q, qdot);
+        bias::assemble(model, ws, size, t, q, qdot);
         ws.qddot.copy_from_slice(&ws.rhs);
-        solve::ldlt_solve(n, &ws.factor, &mut ws.qddot);
+        solve::ldlt_solve_sized(size, &ws.factor, &mut ws.qddot);
     }
     if !all_finite(&ws.qddot) {
         return Err(diagnose(model, ws, t, q));
     }
-    Ok(&ws.qddot)
+    Ok(())
 }
 
 /// Find the first stage that produced a non-finite value (only after the result was one).
@@ -129,7 +142,7 @@ pub fn mass_matrix<'w, M: Mechanism, S: Scalar>(
         }
     } else {
         kinematics::jacobian_pass(model, ws, t, q, false);
-        mass_matrix::assemble(model, ws);
+        mass_matrix::assemble(model, ws, size::Dynamic(model.n));
     }
     if !all_finite(&ws.mass_matrix) {
         return Err(non_finite(Stage::Kinematics, t, q));

@@ -3,6 +3,7 @@
 //! Generic over the scalar (so that accelerations can be differentiated), which is why the
 //! engine does not call nalgebra's decompositions (they require `RealField`).
 
+use super::size::{Size, with_size};
 use crate::Scalar;
 
 /// Relative pivot below which a symmetric positive definite factorization is declared
@@ -21,6 +22,14 @@ pub const PIVOT_RTOL: f64 = 1e-12;
 /// (singular or indefinite matrix).
 pub fn ldlt_factor<S: Scalar>(n: usize, a: &mut [S]) -> Result<(), (usize, f64)> {
     debug_assert_eq!(a.len(), n * n);
+    with_size!(n, size => ldlt_factor_sized(size, a))
+}
+
+/// [`ldlt_factor`] compiled for a size.
+#[inline]
+pub(crate) fn ldlt_factor_sized<S: Scalar, N: Size>(size: N, a: &mut [S]) -> Result<(), (usize, f64)> {
+    let n = size.get();
+    let a = &mut a[..n * n];
     for j in 0..n {
         // D_j = A_jj − Σ_k L_jk² D_k.
         let diagonal = a[j * n + j];
@@ -48,6 +57,14 @@ pub fn ldlt_factor<S: Scalar>(n: usize, a: &mut [S]) -> Result<(), (usize, f64)>
 
 /// Solve `L D Lᵀ x = b` in place (`b` becomes `x`) with a factor from [`ldlt_factor`].
 pub fn ldlt_solve<S: Scalar>(n: usize, factor: &[S], b: &mut [S]) {
+    with_size!(n, size => ldlt_solve_sized(size, factor, b))
+}
+
+/// [`ldlt_solve`] compiled for a size.
+#[inline]
+pub(crate) fn ldlt_solve_sized<S: Scalar, N: Size>(size: N, factor: &[S], b: &mut [S]) {
+    let n = size.get();
+    let (factor, b) = (&factor[..n * n], &mut b[..n]);
     // Forward substitution L y = b.
     for i in 0..n {
         let mut s = b[i];

@@ -209,7 +209,7 @@ fn constant_terms<M: Mechanism>(model: &Model<M>, probes: &ProbeStates) -> Resul
         });
     }
     kinematics::jacobian_pass(model, &mut ws, t, q, false);
-    mass_matrix::assemble(model, &mut ws);
+    mass_matrix::assemble(model, &mut ws, crate::eom::size::Dynamic(n));
     let mut factor = ws.mass_matrix.clone();
     solve::ldlt_factor(n, &mut factor).map_err(|(j, pivot)| Error::SingularMassMatrix {
         t,
