@@ -6,17 +6,28 @@ use crate::params::{GRAVITY, check_all};
 use crate::{Domain, ParamSpec, Params, Scene};
 use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
 
-/// Parameters: cart mass `M`, bob mass `m`, rod length `r`, gravity `g`.
+/// Parameters: cart mass `M`, bob mass `m`, rod length `r`, gravity `g`, bob inertia `I_b`.
 pub const PARAMS: &[ParamSpec] = &[
     ParamSpec::new("cart_mass", "M", "kg", 2.0, Domain::Positive, "mass of the cart"),
     ParamSpec::new("bob_mass", "m", "kg", 1.0, Domain::Positive, "mass of the pendulum bob"),
     ParamSpec::new("rod_length", "r", "m", 1.0, Domain::Positive, "length of the massless rod"),
     GRAVITY,
+    ParamSpec::new(
+        "bob_inertia",
+        "I_b",
+        "kg m²",
+        0.0,
+        Domain::NonNegative,
+        "moment of inertia of the bob about its centre (0: point bob; > 0: a compound bob fixed to the rod)",
+    ),
 ];
 
 /// A cart of mass `M` at `(X, 0)` on a horizontal rail, and a bob of mass `m` on a massless rod
 /// of length `r` at `(X + r sinθ, −r cosθ)`; `q = (X, θ)`, `θ` from the downward vertical,
-/// counter-clockwise (SYSTEMS.md §1).
+/// counter-clockwise (SYSTEMS.md §1). The bob may have a moment of inertia `I_b` about its
+/// centre (a compound bob fixed to the rod, turning with it: its angle is `θ`); the lecture's
+/// point bob is `I_b = 0`. Rigid-body engines whose revolute joints cannot hold a point bob
+/// are compared against this model with `I_b > 0`.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params), which validate the
 /// parameters and build the body list; the fields are public for reading (changing one
@@ -31,25 +42,42 @@ pub struct CartPendulum {
     pub rod_length: f64,
     /// Gravitational acceleration `g` (m/s²).
     pub gravity: f64,
+    /// Moment of inertia of the bob about its centre `I_b` (kg m²); 0 for a point bob.
+    pub bob_inertia: f64,
     coordinates: [Coordinate; 2],
     bodies: [Body; 2],
 }
 
 impl CartPendulum {
-    /// A cart pendulum with cart mass `M`, bob mass `m`, rod length `r` and gravity `g`.
+    /// A cart pendulum with cart mass `M`, a point bob of mass `m`, rod length `r` and gravity `g`.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]):
     /// masses and the rod length must be positive and finite, `g` non-negative.
     pub fn new(cart_mass: f64, bob_mass: f64, rod_length: f64, gravity: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[cart_mass, bob_mass, rod_length, gravity])?;
+        Self::with_bob_inertia(cart_mass, bob_mass, rod_length, gravity, 0.0)
+    }
+
+    /// As [`new`](Self::new), with a compound bob of inertia `I_b` about its centre.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); `I_b` must be finite and non-negative.
+    pub fn with_bob_inertia(
+        cart_mass: f64,
+        bob_mass: f64,
+        rod_length: f64,
+        gravity: f64,
+        bob_inertia: f64,
+    ) -> Result<Self, Error> {
+        check_all(PARAMS, &[cart_mass, bob_mass, rod_length, gravity, bob_inertia])?;
         Ok(Self {
             cart_mass,
             bob_mass,
             rod_length,
             gravity,
+            bob_inertia,
             coordinates: [Coordinate::length("X"), Coordinate::angle("θ")],
-            bodies: [Body::point("cart", cart_mass), Body::point("bob", bob_mass)],
+            bodies: [Body::point("cart", cart_mass), Body::rigid("bob", bob_mass, bob_inertia)],
         })
     }
 
@@ -58,29 +86,40 @@ impl CartPendulum {
     /// # Errors
     /// As [`new`](Self::new), or a parameter missing from `params`.
     pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [cart_mass, bob_mass, rod_length, gravity] = params.values_of(PARAMS)?;
-        Self::new(cart_mass, bob_mass, rod_length, gravity)
+        let [cart_mass, bob_mass, rod_length, gravity, bob_inertia] = params.values_of(PARAMS)?;
+        Self::with_bob_inertia(cart_mass, bob_mass, rod_length, gravity, bob_inertia)
     }
 
     /// `(Ẍ, θ̈)` in closed form (SYSTEMS.md §1, "Closed form (exact, any amplitude)"):
     /// `Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ)`,
     /// `θ̈ = −((M + m) g sinθ + m r θ̇² sinθ cosθ) / (r (M + m sin²θ))`.
+    /// With a compound bob (`I_b > 0`) Lagrange's equations become
+    /// `(M + m) Ẍ + m r cosθ θ̈ = m r θ̇² sinθ` and `m r cosθ Ẍ + (m r² + I_b) θ̈ = −m g r sinθ`,
+    /// solved by Cramer's rule with determinant `(M + m)(m r² + I_b) − m² r² cos²θ`; at
+    /// `I_b = 0` this is the lecture's form (used verbatim there).
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
     pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
         let [_, theta] = fixed(q, "q");
         let [_, theta_dot] = fixed(qdot, "q̇");
-        let (cart, bob, r, g) = (self.cart_mass, self.bob_mass, self.rod_length, self.gravity);
+        let (cart, bob, r, g, inertia) =
+            (self.cart_mass, self.bob_mass, self.rod_length, self.gravity, self.bob_inertia);
         let (sin, cos) = theta.sin_cos();
-        let denominator = cart + bob * sin * sin;
-        let cart_acceleration = bob * sin * (r * theta_dot * theta_dot + g * cos) / denominator;
-        let angular_acceleration =
-            -((cart + bob) * g * sin + bob * r * theta_dot * theta_dot * sin * cos) / (r * denominator);
-        [cart_acceleration, angular_acceleration]
+        if inertia == 0.0 {
+            let denominator = cart + bob * sin * sin;
+            let cart_acceleration = bob * sin * (r * theta_dot * theta_dot + g * cos) / denominator;
+            let angular_acceleration =
+                -((cart + bob) * g * sin + bob * r * theta_dot * theta_dot * sin * cos) / (r * denominator);
+            return [cart_acceleration, angular_acceleration];
+        }
+        let (a11, a12, a22) = (cart + bob, bob * r * cos, bob * r * r + inertia);
+        let (f1, f2) = (bob * r * theta_dot * theta_dot * sin, -bob * g * r * sin);
+        let determinant = a11 * a22 - a12 * a12;
+        [(f1 * a22 - a12 * f2) / determinant, (a11 * f2 - a12 * f1) / determinant]
     }
 
-    /// The conserved horizontal momentum `p_X = (M + m) Ẋ + m r θ̇ cosθ` (SYSTEMS.md §1,
+    /// The conserved horizontal momentum `p_X = (M + m) Ẋ + m r θ̇ cosθ` (SYSTEMS.md §1; unchanged by `I_b`;
     /// "Conserved quantities": `X` is cyclic).
     ///
     /// # Panics
@@ -92,12 +131,21 @@ impl CartPendulum {
     }
 
     /// The non-zero normal-mode frequency about `θ = 0`, `ω = √(g (M + m) / (M r))` (SYSTEMS.md §1,
-    /// "Small oscillations"; the other mode, free translation, has `ω = 0`).
+    /// "Small oscillations"; the other mode, free translation, has `ω = 0`). With a compound bob,
+    /// `det(K − ω² M₀) = 0` with `M₀ = [[M + m, m r], [m r, m r² + I_b]]`, `K = diag(0, m g r)`
+    /// gives `ω² = m g r (M + m) / ((M + m)(m r² + I_b) − m² r²)`, which is the same at `I_b = 0`.
     pub fn small_oscillation_frequency(&self) -> f64 {
-        (self.gravity * (self.cart_mass + self.bob_mass) / (self.cart_mass * self.rod_length)).sqrt()
+        let (cart, bob, r, g, inertia) =
+            (self.cart_mass, self.bob_mass, self.rod_length, self.gravity, self.bob_inertia);
+        if inertia == 0.0 {
+            return (g * (cart + bob) / (cart * r)).sqrt();
+        }
+        (bob * g * r * (cart + bob) / ((cart + bob) * (bob * r * r + inertia) - bob * bob * r * r)).sqrt()
     }
 
-    /// The rod tension `T = m (g cosθ + r θ̇² − Ẍ sinθ)` (N), with `Ẍ` from the closed form: the
+    /// The rod tension `T = m (g cosθ + r θ̇² − Ẍ sinθ)` (N), with `Ẍ` from the closed form (for
+    /// the compound bob, `I_b > 0`, this is the force along the rod; the pin also carries a
+    /// transverse force `I_b θ̈ / r`): the
     /// rod pulls the bob towards the pivot, along `(−sinθ, cosθ)`, with this magnitude
     /// (Newton's law for the bob projected on the rod, from SYSTEMS.md §1's bob acceleration).
     ///
@@ -130,7 +178,8 @@ impl Mechanism for CartPendulum {
         // Cart on the rail; bob at the end of the rod.
         world_from_body[0] = Pose::point(cart_x, S::zero());
         let (sin, cos) = theta.sin_cos();
-        world_from_body[1] = Pose::point(cart_x + sin * self.rod_length, -cos * self.rod_length);
+        // A compound bob turns with the rod (its angle is irrelevant for a point bob).
+        world_from_body[1] = Pose::new(cart_x + sin * self.rod_length, -cos * self.rod_length, theta);
     }
 }
 

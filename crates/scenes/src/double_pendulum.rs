@@ -5,18 +5,37 @@ use crate::params::{GRAVITY, check_all};
 use crate::{Domain, ParamSpec, Params, Scene};
 use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
 
-/// Parameters: masses `m1`, `m2`, rod lengths `l1`, `l2`, `g`.
+/// Parameters: masses `m1`, `m2`, rod lengths `l1`, `l2`, `g`, bob inertias `I1`, `I2`.
 pub const PARAMS: &[ParamSpec] = &[
     ParamSpec::new("mass_1", "m1", "kg", 1.0, Domain::Positive, "mass of the upper bob"),
     ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass of the lower bob"),
     ParamSpec::new("length_1", "l1", "m", 1.0, Domain::Positive, "length of the upper rod"),
     ParamSpec::new("length_2", "l2", "m", 1.0, Domain::Positive, "length of the lower rod"),
     GRAVITY,
+    ParamSpec::new(
+        "inertia_1",
+        "I1",
+        "kg m²",
+        0.0,
+        Domain::NonNegative,
+        "moment of inertia of bob 1 about its centre (0: point bob)",
+    ),
+    ParamSpec::new(
+        "inertia_2",
+        "I2",
+        "kg m²",
+        0.0,
+        Domain::NonNegative,
+        "moment of inertia of bob 2 about its centre (0: point bob)",
+    ),
 ];
 
 /// Bob 1 (mass `m1`) at `(l1 sinθ₁, −l1 cosθ₁)` on a massless rod from the origin, bob 2 (mass
 /// `m2`) at bob 1 + `(l2 sinθ₂, −l2 cosθ₂)`; `q = (θ₁, θ₂)`, absolute angles from the downward
-/// vertical, counter-clockwise.
+/// vertical, counter-clockwise. Each bob may have a moment of inertia about its centre (a
+/// compound bob fixed to its rod, turning with it); the point bobs of the usual double pendulum
+/// have `I1 = I2 = 0`. Rigid-body engines whose revolute joints cannot hold point bobs are
+/// compared against this model with inertias.
 ///
 /// `T = ½ (m1 + m2) l1² θ̇₁² + ½ m2 l2² θ̇₂² + m2 l1 l2 θ̇₁ θ̇₂ cos(θ₁ − θ₂)`,
 /// `V = −(m1 + m2) g l1 cosθ₁ − m2 g l2 cosθ₂` (derived here from the Cartesian maps, as the
@@ -36,6 +55,8 @@ pub struct DoublePendulum {
     pub length_2: f64,
     /// Gravitational acceleration `g` (m/s²).
     pub gravity: f64,
+    /// Moments of inertia of the bobs about their centres `I1`, `I2` (kg m²); 0 for point bobs.
+    pub inertia: [f64; 2],
     coordinates: [Coordinate; 2],
     bodies: [Body; 2],
 }
@@ -46,15 +67,31 @@ impl DoublePendulum {
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
     pub fn new(mass_1: f64, mass_2: f64, length_1: f64, length_2: f64, gravity: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass_1, mass_2, length_1, length_2, gravity])?;
+        Self::with_inertia(mass_1, mass_2, length_1, length_2, gravity, [0.0, 0.0])
+    }
+
+    /// As [`new`](Self::new), with compound bobs of inertias `[I1, I2]` about their centres.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); the inertias must be finite and non-negative.
+    pub fn with_inertia(
+        mass_1: f64,
+        mass_2: f64,
+        length_1: f64,
+        length_2: f64,
+        gravity: f64,
+        inertia: [f64; 2],
+    ) -> Result<Self, Error> {
+        check_all(PARAMS, &[mass_1, mass_2, length_1, length_2, gravity, inertia[0], inertia[1]])?;
         Ok(Self {
             mass_1,
             mass_2,
             length_1,
             length_2,
             gravity,
+            inertia,
             coordinates: [Coordinate::angle("θ1"), Coordinate::angle("θ2")],
-            bodies: [Body::point("bob 1", mass_1), Body::point("bob 2", mass_2)],
+            bodies: [Body::rigid("bob 1", mass_1, inertia[0]), Body::rigid("bob 2", mass_2, inertia[1])],
         })
     }
 
@@ -63,8 +100,8 @@ impl DoublePendulum {
     /// # Errors
     /// As [`new`](Self::new), or a parameter missing from `params`.
     pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass_1, mass_2, length_1, length_2, gravity] = params.values_of(PARAMS)?;
-        Self::new(mass_1, mass_2, length_1, length_2, gravity)
+        let [mass_1, mass_2, length_1, length_2, gravity, inertia_1, inertia_2] = params.values_of(PARAMS)?;
+        Self::with_inertia(mass_1, mass_2, length_1, length_2, gravity, [inertia_1, inertia_2])
     }
 
     /// `(θ̈₁, θ̈₂)` in closed form. Lagrange's equations (divided by `l1` and `m2 l2`), with
@@ -79,10 +116,23 @@ impl DoublePendulum {
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
+    ///
+    /// With compound bobs (`I1`, `I2` > 0) the equations are
+    /// `((m1 + m2) l1² + I1) θ̈₁ + m2 l1 l2 c θ̈₂ = −m2 l1 l2 s θ̇₂² − (m1 + m2) g l1 sinθ₁`,
+    /// `m2 l1 l2 c θ̈₁ + (m2 l2² + I2) θ̈₂ = m2 l1 l2 s θ̇₁² − m2 g l2 sinθ₂`, solved by Cramer's rule.
     pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
         let [theta_1, theta_2] = fixed(q, "q");
         let [omega_1, omega_2] = fixed(qdot, "q̇");
         let (m1, m2, l1, l2, g) = (self.mass_1, self.mass_2, self.length_1, self.length_2, self.gravity);
+        if self.inertia != [0.0, 0.0] {
+            let (s, c) = (theta_1 - theta_2).sin_cos();
+            let a11 = (m1 + m2) * l1 * l1 + self.inertia[0];
+            let (a12, a22) = (m2 * l1 * l2 * c, m2 * l2 * l2 + self.inertia[1]);
+            let f1 = -m2 * l1 * l2 * s * omega_2 * omega_2 - (m1 + m2) * g * l1 * theta_1.sin();
+            let f2 = m2 * l1 * l2 * s * omega_1 * omega_1 - m2 * g * l2 * theta_2.sin();
+            let determinant = a11 * a22 - a12 * a12;
+            return [(f1 * a22 - a12 * f2) / determinant, (a11 * f2 - a12 * f1) / determinant];
+        }
         let (s, c) = (theta_1 - theta_2).sin_cos();
         let (sin_1, sin_2) = (theta_1.sin(), theta_2.sin());
         let (w1_sq, w2_sq) = (omega_1 * omega_1, omega_2 * omega_2);
@@ -102,8 +152,21 @@ impl DoublePendulum {
     /// `ω² = g / (2 m1 l1 l2) [(m1 + m2)(l1 + l2) ∓ √((m1 + m2)² (l1 + l2)² − 4 m1 (m1 + m2) l1 l2)]`
     /// (derived here; Taylor §11.4 gives the equal-mass, equal-length case `ω² = (2 ∓ √2) g/l`).
     /// The slow root is computed as `(m1 + m2) g² / (m1 l1 l2 ω_fast²)` to avoid cancellation.
+    ///
+    /// With compound bobs: `det(K − ω² M) = 0` with `M = [[(m1 + m2) l1² + I1, m2 l1 l2],
+    /// [m2 l1 l2, m2 l2² + I2]]`, i.e. `det M ω⁴ − (K₁₁ M₂₂ + K₂₂ M₁₁) ω² + K₁₁ K₂₂ = 0`.
     pub fn small_oscillation_frequencies(&self) -> (f64, f64) {
         let (m1, m2, l1, l2, g) = (self.mass_1, self.mass_2, self.length_1, self.length_2, self.gravity);
+        if self.inertia != [0.0, 0.0] {
+            let (a11, a12, a22) = ((m1 + m2) * l1 * l1 + self.inertia[0], m2 * l1 * l2, m2 * l2 * l2 + self.inertia[1]);
+            let (k1, k2) = ((m1 + m2) * g * l1, m2 * g * l2);
+            let (a, b, c) = (a11 * a22 - a12 * a12, k1 * a22 + k2 * a11, k1 * k2);
+            let fast_sq = (b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
+            if fast_sq == 0.0 {
+                return (0.0, 0.0);
+            }
+            return ((c / (a * fast_sq)).sqrt(), fast_sq.sqrt());
+        }
         let (total, lengths) = (m1 + m2, l1 + l2);
         let root = (total * total * lengths * lengths - 4.0 * m1 * total * l1 * l2).sqrt();
         let fast_sq = g / (2.0 * m1 * l1 * l2) * (total * lengths + root);
@@ -133,8 +196,9 @@ impl Mechanism for DoublePendulum {
         // Bob 1 at the end of rod 1; bob 2 at the end of rod 2, hung from bob 1.
         let ((sin_1, cos_1), (sin_2, cos_2)) = (theta_1.sin_cos(), theta_2.sin_cos());
         let (x1, y1) = (sin_1 * self.length_1, -cos_1 * self.length_1);
-        world_from_body[0] = Pose::point(x1, y1);
-        world_from_body[1] = Pose::point(x1 + sin_2 * self.length_2, y1 - cos_2 * self.length_2);
+        // Compound bobs turn with their rods (the angles are irrelevant for point bobs).
+        world_from_body[0] = Pose::new(x1, y1, theta_1);
+        world_from_body[1] = Pose::new(x1 + sin_2 * self.length_2, y1 - cos_2 * self.length_2, theta_2);
     }
 }
 
