@@ -211,6 +211,22 @@ impl Dopri5 {
         Ok(())
     }
 
+    /// Continue from a modified state `(q, q̇)` at the current time (after a projection onto
+    /// constraints, say): keeps the step-size controller's state, re-evaluates `f` (the
+    /// first-same-as-last stage is no longer valid).
+    ///
+    /// # Errors
+    /// Any error of the equations of motion.
+    pub fn restart<D: Dynamics>(&mut self, system: &D, ws: &mut D::Workspace, q: &[f64], qdot: &[f64]) -> Result<(), Error> {
+        let n = self.n;
+        self.y[..n].copy_from_slice(q);
+        self.y[n..].copy_from_slice(qdot);
+        let [k1, ..] = &mut self.k;
+        Self::rhs(system, ws, n, self.t, &self.y, k1)?;
+        self.stats.evaluations += 1;
+        Ok(())
+    }
+
     /// Take one accepted step, never past `t_limit` (retrying rejected steps internally).
     /// Afterwards [`interpolate`](Self::interpolate) covers `[t_old, t]`.
     ///

@@ -1,0 +1,53 @@
+//! # lagrange-maximal — the same scenes in maximal coordinates
+//!
+//! The reduced-coordinate engine ([`lagrange`]) is checked here against two independent
+//! formulations that keep every body's full planar pose `z_b = (x_b, y_b, φ_b)`:
+//!
+//! * [`cartesian`]: the lecture's starting point — Cartesian coordinates plus holonomic
+//!   constraints `Φ(z, t) = 0`, solved with Lagrange multipliers,
+//!   `M z̈ + Φ_zᵀ λ = F`, `Φ_z z̈ = −(Φ_z ż)_z ż − 2 Φ_zt ż − Φ_tt`, integrated with projection
+//!   onto `Φ = 0` and `Φ̇ = 0`; the multipliers give the constraint forces;
+//! * [`rapier`]: the rapier physics engine (rapier2d-f64 and rapier2d), with impulse joints
+//!   and with multibody joints.
+//!
+//! Both start from the reduced model's body states ([`maps::body_states`]) and are read back
+//! into generalized coordinates by scene-specific inverse maps ([`maps::generalized`]).
+//! [`build`] makes any engine's simulation of any scene, or says why it cannot.
+
+pub mod cartesian;
+mod engine;
+pub mod maps;
+pub mod rapier;
+
+pub use engine::{BodyState, BuildError, Built, Engine, MaximalSimulation, Settings};
+
+use lagrange::State;
+use lagrange_scenes::Params;
+
+/// Build `scene` with `params` in `engine`, starting from the reduced `initial` state.
+///
+/// # Errors
+/// [`BuildError::Unbuildable`] with the reason when the engine cannot express the scene
+/// exactly; [`BuildError::Invalid`] for invalid parameters, settings or state.
+pub fn build(engine: Engine, scene: &str, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
+    check_settings(engine, settings)?;
+    match engine {
+        Engine::Cartesian => cartesian::build(scene, params, initial, settings),
+        rapier_engine => rapier::build(rapier_engine, scene, params, initial, settings),
+    }
+}
+
+fn check_settings(engine: Engine, settings: &Settings) -> Result<(), lagrange::Error> {
+    let invalid = |what, value, why| Err(lagrange::Error::InvalidSetting { what, value, why });
+    if engine.is_rapier() {
+        if !(settings.dt > 0.0 && settings.dt.is_finite()) {
+            return invalid("step", settings.dt, "must be positive and finite");
+        }
+        if settings.substeps == 0 {
+            return invalid("substeps", 0.0, "must be at least 1");
+        }
+    } else if !(settings.tolerance > 0.0 && settings.tolerance.is_finite()) {
+        return invalid("tolerance", settings.tolerance, "must be positive and finite");
+    }
+    Ok(())
+}

@@ -1,0 +1,215 @@
+//! Between generalized and maximal coordinates: the initial body states of a scene (from its
+//! reduced model's poses), the scene-specific inverse maps `q = g(z)` used to read any maximal
+//! engine back into generalized coordinates, the bodies' energy, and the forces of the scene's
+//! potential on its bodies.
+
+use crate::BodyState;
+use lagrange::num_dual::Dual64;
+use lagrange::{Body, Error, Mechanism, Pose, Scalar, State};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, visit_mechanism};
+use std::f64::consts::PI;
+
+/// The bodies of a scene (masses and inertias, in the reduced model's order).
+///
+/// # Errors
+/// Invalid parameters or an unknown scene.
+pub fn bodies(scene: &str, params: &Params) -> Result<Vec<Body>, Error> {
+    struct Bodies;
+    impl MechanismVisitor for Bodies {
+        type Output = Vec<Body>;
+        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, m: M) -> Vec<Body> {
+            m.bodies().to_vec()
+        }
+    }
+    Ok(match visit_mechanism(scene, params, Bodies)? {
+        Some(bodies) => bodies,
+        None => vec![Body::point("particle", params.get("mass"))],
+    })
+}
+
+/// Gravity `g` of a scene (0 where it has none).
+pub fn gravity(params: &Params) -> f64 {
+    if params.specs().iter().any(|s| s.name == "gravity") { params.get("gravity") } else { 0.0 }
+}
+
+/// The body states of the scene's reduced model at `state`: poses `p_b(q, t)` and velocities
+/// `ṗ_b = J_b q̇ + ∂p_b/∂t` (one dual pass along `(q̇, 1)`) — the initial condition of every
+/// maximal build.
+///
+/// # Errors
+/// Invalid parameters, an unknown scene, or a state of the wrong size.
+pub fn body_states(scene: &str, params: &Params, state: &State) -> Result<Vec<BodyState>, Error> {
+    struct States<'a>(&'a State);
+    impl MechanismVisitor for States<'_> {
+        type Output = Result<Vec<BodyState>, Error>;
+        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, m: M) -> Self::Output {
+            let s = self.0;
+            let n = m.coordinates().len();
+            if s.q.len() != n || s.qdot.len() != n {
+                return Err(Error::DimensionMismatch { what: "state", expected: n, got: s.q.len() });
+            }
+            let q: Vec<Dual64> = s.q.iter().zip(&s.qdot).map(|(q, v)| Dual64::new(*q, *v)).collect();
+            let mut poses = vec![Pose::<Dual64>::default(); m.bodies().len()];
+            m.poses(&q, Dual64::new(s.t, 1.0), &mut poses);
+            Ok(poses
+                .iter()
+                .map(|p| BodyState { pose: [p.x.re, p.y.re, p.angle.re], velocity: [p.x.eps, p.y.eps, p.angle.eps] })
+                .collect())
+        }
+    }
+    match visit_mechanism(scene, params, States(state))? {
+        Some(states) => states,
+        // The charged particle: its coordinates are already Cartesian.
+        None => Ok(vec![BodyState { pose: [state.q[0], state.q[1], 0.0], velocity: [state.qdot[0], state.qdot[1], 0.0] }]),
+    }
+}
+
+/// `q = g(z)`: the generalized coordinates of a scene from its body poses, by hand for each
+/// scene (independent of the reduced model's poses).
+fn inverse<S: Scalar>(scene: &str, params: &Params, t: S, z: &[[S; 3]]) -> Result<Vec<S>, Error> {
+    let p = |name: &str| params.get(name);
+    let angle_from_down = |dx: S, dy: S| dx.atan2(-dy);
+    Ok(match scene {
+        // cart, bob: X = x_cart, θ = angle of the rod from the downward vertical.
+        "cart_pendulum" => vec![z[0][0], angle_from_down(z[1][0] - z[0][0], z[1][1] - z[0][1])],
+        "harmonic_oscillator" => vec![z[0][0]],
+        // Plane polar coordinates of the particle.
+        "kepler" | "isotropic_oscillator" => {
+            vec![(z[0][0] * z[0][0] + z[0][1] * z[0][1]).sqrt(), z[0][1].atan2(z[0][0])]
+        }
+        // Depth of m1 below the axle.
+        "atwood" => vec![-z[0][1]],
+        // Bodies m1, m2, m3, movable pulley P: x = depth of m1, x' = depth of m2 below P.
+        "double_atwood" => vec![-z[0][1], z[3][1] - z[1][1]],
+        // Bodies A, B, m2, m3, m4, m5: x = depth of A, x' = m2 below B, x'' = m4 below A.
+        "double_double_atwood" => vec![-z[0][1], z[1][1] - z[2][1], z[0][1] - z[4][1]],
+        // Wedge at (x, 0); x' = distance of the block from the top corner along the slope
+        // direction (cos α, −sin α), the corner being at (x, L sin α).
+        "wedge" => {
+            let (sin, cos) = p("angle").sin_cos();
+            let length = p("incline_length");
+            vec![z[0][0], (z[1][0] - z[0][0]) * cos - (z[1][1] - length * sin) * sin]
+        }
+        "double_pendulum" => {
+            vec![angle_from_down(z[0][0], z[0][1]), angle_from_down(z[1][0] - z[0][0], z[1][1] - z[0][1])]
+        }
+        // Each link's orientation is its angle from the downward vertical.
+        "chain" => z.iter().map(|link| link[2]).collect(),
+        "spring_pendulum" => vec![(z[0][0] * z[0][0] + z[0][1] * z[0][1]).sqrt(), angle_from_down(z[0][0], z[0][1])],
+        // Support at (A sin ωt, 0).
+        "driven_pendulum" => {
+            let support = (t * p("drive_frequency")).sin() * p("amplitude");
+            vec![angle_from_down(z[0][0] - support, z[0][1])]
+        }
+        "charged_particle" => vec![z[0][0], z[0][1]],
+        other => {
+            return Err(Error::InvalidParameter {
+                name: "scene".into(),
+                value: f64::NAN,
+                why: format!("no inverse map for scene `{other}`"),
+            });
+        }
+    })
+}
+
+/// `(q, q̇)` of a scene from body states: `q = g(z)`, `q̇ = (∂g/∂z) ż + ∂g/∂t` (one dual pass).
+/// Angles are unwrapped to the branch nearest `reference` (the previous read-back, or the
+/// initial state).
+///
+/// # Errors
+/// Invalid parameters or an unknown scene.
+pub fn generalized(
+    scene: &str,
+    params: &Params,
+    t: f64,
+    bodies: &[BodyState],
+    reference: &[f64],
+) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    let z: Vec<[Dual64; 3]> = bodies
+        .iter()
+        .map(|b| std::array::from_fn(|c| Dual64::new(b.pose[c], b.velocity[c])))
+        .collect();
+    let q = inverse(scene, params, Dual64::new(t, 1.0), &z)?;
+    let coordinates = lagrange_scenes::find(scene).map(|s| s.coordinates(params)).transpose()?.unwrap_or_default();
+    let mut values: Vec<f64> = q.iter().map(|v| v.re).collect();
+    for (i, c) in coordinates.iter().enumerate() {
+        if c.kind == lagrange::CoordinateKind::Angle && i < reference.len() {
+            values[i] += 2.0 * PI * ((reference[i] - values[i]) / (2.0 * PI)).round();
+        }
+    }
+    Ok((values, q.iter().map(|v| v.eps).collect()))
+}
+
+/// Energy of body states: `Σ ½ m |v|² + ½ I ω² + Σ m g y + V(q, poses, t)`, with `q` from the
+/// inverse map for the potential's coordinate terms.
+///
+/// # Errors
+/// Invalid parameters or an unknown scene.
+pub fn energy(scene: &str, params: &Params, t: f64, states: &[BodyState]) -> Result<f64, Error> {
+    let bodies = bodies(scene, params)?;
+    let g = gravity(params);
+    let mut energy = 0.0;
+    for (b, s) in bodies.iter().zip(states) {
+        let v = s.velocity;
+        energy += 0.5 * b.mass * (v[0] * v[0] + v[1] * v[1]) + 0.5 * b.inertia * v[2] * v[2] + b.mass * g * s.pose[1];
+    }
+    if scene == "charged_particle" {
+        // The magnetic force does no work: the energy is kinetic.
+        return Ok(energy);
+    }
+    let (value, _) = potential(scene, params, t, states, None)?;
+    Ok(energy + value)
+}
+
+/// The scene's potential `V` at body states and, with `gradient`, `∂V/∂p_b` (3B): minus the
+/// potential's force and torque on each body, to apply in engines that integrate bodies.
+///
+/// # Errors
+/// Invalid parameters or an unknown scene.
+pub fn potential(
+    scene: &str,
+    params: &Params,
+    t: f64,
+    states: &[BodyState],
+    gradient: Option<&mut [f64]>,
+) -> Result<(f64, bool), Error> {
+    struct Potential<'a> {
+        q: Vec<f64>,
+        t: f64,
+        states: &'a [BodyState],
+        gradient: Option<&'a mut [f64]>,
+    }
+    impl MechanismVisitor for Potential<'_> {
+        type Output = (f64, bool);
+        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, m: M) -> (f64, bool) {
+            let q: Vec<Dual64> = self.q.iter().map(|v| Dual64::from(*v)).collect();
+            let mut poses: Vec<Pose<Dual64>> = self
+                .states
+                .iter()
+                .map(|s| Pose::new(Dual64::from(s.pose[0]), Dual64::from(s.pose[1]), Dual64::from(s.pose[2])))
+                .collect();
+            let t = Dual64::from(self.t);
+            let Some(value) = m.potential(&q, &poses, t) else { return (0.0, false) };
+            if let Some(gradient) = self.gradient {
+                for (r, g) in gradient.iter_mut().enumerate() {
+                    let (b, c) = (r / 3, r % 3);
+                    set_eps(&mut poses[b], c, 1.0);
+                    *g = m.potential(&q, &poses, t).map_or(0.0, |v| v.eps);
+                    set_eps(&mut poses[b], c, 0.0);
+                }
+            }
+            (value.re, true)
+        }
+    }
+    let reference = vec![0.0; states.len() * 3];
+    let (q, _) = generalized(scene, params, t, states, &reference)?;
+    Ok(visit_mechanism(scene, params, Potential { q, t, states, gradient })?.unwrap_or((0.0, false)))
+}
+
+fn set_eps(pose: &mut Pose<Dual64>, component: usize, eps: f64) {
+    match component {
+        0 => pose.x.eps = eps,
+        1 => pose.y.eps = eps,
+        _ => pose.angle.eps = eps,
+    }
+}
