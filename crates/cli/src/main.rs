@@ -5,6 +5,8 @@
 //! lagrange accel <scene> [--param NAME=VALUE]... --q a,b,.. --qdot a,b,.. [--t T] [--json]
 //! lagrange simulate <scene> [--param ..] [--q ..] [--qdot ..] --t-end T
 //!          [--integrator rk4|adaptive|variational] [--dt H | --tol E] [--every S] [--out FILE.csv]
+//! lagrange compare <scene> [--param ..] [--engine cartesian|rapier-impulse|rapier-multibody|
+//!          rapier-impulse-f32|rapier-multibody-f32|all] [--dt H] [--substeps K] [--t-end T] [--json]
 //! lagrange report [--scene ID]... [--t-end T] [--json]
 //! ```
 //!
@@ -32,6 +34,9 @@ enum Command {
     Accel(commands::accel::Args),
     /// Integrate a scene and write t, q, q̇ and the energy as CSV.
     Simulate(commands::simulate::Args),
+    /// Run the reduced solver and the maximal-coordinate engines (Cartesian with multipliers,
+    /// rapier impulse and multibody joints in f64 and f32) side by side.
+    Compare(commands::compare::Args),
     /// Simulate the built-in scenes with every integrator and summarise energy and momentum
     /// conservation and the error against closed-form solutions.
     Report(commands::report::Args),
@@ -67,6 +72,7 @@ fn main() -> ExitCode {
         Command::Scenes(args) => commands::scenes::run(&args),
         Command::Accel(args) => commands::accel::run(&args),
         Command::Simulate(args) => commands::simulate::run(&args),
+        Command::Compare(args) => commands::compare::run(&args),
         Command::Report(args) => commands::report::run(&args),
     };
     match result {

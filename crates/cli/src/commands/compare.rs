@@ -1,0 +1,161 @@
+//! `lagrange compare`: the reduced solver and the maximal-coordinate engines side by side.
+
+use crate::args;
+use lagrange_maximal::compare::{Comparison, compare};
+use lagrange_maximal::{BuildError, Engine, Settings};
+use serde::Serialize;
+
+/// Arguments of `lagrange compare`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene id (see `lagrange scenes`).
+    scene: String,
+    /// Parameter override NAME=VALUE (name or symbol), repeatable.
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+    /// Initial coordinates (default: the scene's initial state).
+    #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
+    q: Option<String>,
+    /// Initial velocities (default: the scene's initial state).
+    #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
+    qdot: Option<String>,
+    /// Engine: cartesian, rapier-impulse, rapier-multibody, rapier-impulse-f32,
+    /// rapier-multibody-f32, or all.
+    #[arg(long, default_value = "all")]
+    engine: String,
+    /// rapier step (s).
+    #[arg(long, default_value_t = 1.0 / 240.0, allow_negative_numbers = true)]
+    dt: f64,
+    /// rapier substeps per step.
+    #[arg(long, default_value_t = 4)]
+    substeps: usize,
+    /// Tolerance of the Cartesian engine's integrator.
+    #[arg(long, default_value_t = 1e-12, allow_negative_numbers = true)]
+    tol: f64,
+    /// Simulated time (s).
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    t_end: f64,
+    /// Machine-readable output.
+    #[arg(long)]
+    json: bool,
+}
+
+/// One engine's row.
+#[derive(Serialize)]
+struct Row {
+    engine: &'static str,
+    /// Present when the engine cannot build the scene.
+    unbuildable: Option<String>,
+    deviations: Vec<String>,
+    max_error: Option<f64>,
+    final_error: Option<f64>,
+    energy_drift: Option<f64>,
+    reference_energy_drift: Option<f64>,
+    momentum_drift: Option<f64>,
+    constraint_violation: Option<f64>,
+    force_error: Option<f64>,
+    steps: Option<usize>,
+    microseconds_per_step: Option<f64>,
+}
+
+impl Row {
+    fn from(engine: Engine, result: Result<Comparison, BuildError>) -> Result<Row, String> {
+        let empty = |reason: Option<String>| Row {
+            engine: engine.name(),
+            unbuildable: reason,
+            deviations: Vec::new(),
+            max_error: None,
+            final_error: None,
+            energy_drift: None,
+            reference_energy_drift: None,
+            momentum_drift: None,
+            constraint_violation: None,
+            force_error: None,
+            steps: None,
+            microseconds_per_step: None,
+        };
+        match result {
+            Err(BuildError::Unbuildable { reason, .. }) => Ok(empty(Some(reason))),
+            Err(BuildError::Invalid(e)) => Err(format!("{engine}: {e}")),
+            Ok(c) => Ok(Row {
+                deviations: c.deviations,
+                max_error: Some(c.max_error),
+                final_error: Some(c.final_error),
+                energy_drift: c.energy_drift,
+                reference_energy_drift: c.reference_energy_drift,
+                momentum_drift: c.momentum_drift,
+                constraint_violation: c.constraint_violation,
+                force_error: c.force_error,
+                steps: Some(c.steps),
+                microseconds_per_step: Some(c.seconds_per_step * 1e6),
+                ..empty(None)
+            }),
+        }
+    }
+}
+
+fn cell(value: Option<f64>) -> String {
+    value.map_or_else(|| "—".to_string(), |v| format!("{v:.2e}"))
+}
+
+/// Run the comparison.
+pub fn run(args: &Args) -> Result<(), String> {
+    let scene = args::scene(&args.scene)?;
+    let params = args::params(scene, &args.params)?;
+    let initial = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), None)?;
+    let engines: Vec<Engine> = if args.engine == "all" {
+        Engine::ALL.to_vec()
+    } else {
+        vec![Engine::from_name(&args.engine).ok_or_else(|| {
+            let names: Vec<&str> = Engine::ALL.iter().map(|e| e.name()).collect();
+            format!("unknown engine `{}`; expected one of {}, all", args.engine, names.join(", "))
+        })?]
+    };
+    if !(args.t_end.is_finite() && args.t_end > 0.0) {
+        return Err(format!("--t-end must be positive and finite, got {}", args.t_end));
+    }
+    let settings = Settings { dt: args.dt, substeps: args.substeps, tolerance: args.tol };
+    let every = args.t_end / 100.0;
+    let mut rows = Vec::new();
+    for engine in engines {
+        rows.push(Row::from(engine, compare(engine, scene, &params, &initial, &settings, args.t_end, every))?);
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?);
+        return Ok(());
+    }
+    println!(
+        "{} over {} s (rapier dt = {:.3e}, {} substeps; Cartesian tol = {:e}); errors against the reduced solution at tol 1e-13",
+        scene.id(),
+        args.t_end,
+        args.dt,
+        args.substeps,
+        args.tol
+    );
+    println!(
+        "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
+        "engine", "max err", "final err", "energy", "(ours)", "momentum", "violation", "force err", "µs/step"
+    );
+    for row in &rows {
+        if let Some(reason) = &row.unbuildable {
+            println!("{:<21} not buildable: {reason}", row.engine);
+            continue;
+        }
+        println!(
+            "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9.2}",
+            row.engine,
+            cell(row.max_error),
+            cell(row.final_error),
+            cell(row.energy_drift),
+            cell(row.reference_energy_drift),
+            cell(row.momentum_drift),
+            cell(row.constraint_violation),
+            cell(row.force_error),
+            row.microseconds_per_step.unwrap_or(0.0)
+        );
+        for deviation in &row.deviations {
+            println!("{:<21}   deviation: {deviation}", "");
+        }
+    }
+    Ok(())
+}
