@@ -1,15 +1,55 @@
-//! Cartesian coordinates with holonomic constraints and Lagrange multipliers.
-//! (Being written: see `build`.)
+//! Cartesian coordinates with holonomic constraints and Lagrange multipliers — the lecture's
+//! starting point, as an independent check of the reduced solver.
+//!
+//! The state is every body's full pose `z = (x_b, y_b, φ_b)` (3B coordinates, bodies in the
+//! reduced model's order) and its velocity `ż`. Each scene's joints, ropes, rails and inclines
+//! are written by hand as holonomic constraints `Φ(z, t) = 0` (m equations; see
+//! `constraints.rs`), generic over the scalar, and the equations of motion are
+//!
+//! ```text
+//! M z̈ + Φ_zᵀ λ = F,        Φ_z z̈ = −γ_Φ,        γ_Φ = d²/ds² Φ(z + s ż, t + s) = (Φ_z ż)_z ż + 2 Φ_zt ż + Φ_tt,
+//! ```
+//!
+//! with `M = diag(m_b, m_b, I_b)` (zero entries allowed: massless pulleys and the orientation
+//! of point masses are fixed by constraints), `F` = gravity `(0, −m_b g, 0)` + the scene
+//! potential's forces `−∂V/∂p_b` ([`maps::potential`]) + the scene's
+//! non-conservative forces in Cartesian form (the oscillator's damping `−c ẋ`, the charged
+//! particle's Lorentz force `e B (ẏ, −ẋ)`). `Φ_z` comes from one first-order dual pass per
+//! coordinate of `z`, `γ_Φ` from one second-order dual pass along `(ż, 1)`; the KKT system
+//! `[[M, Φ_zᵀ], [Φ_z, 0]] (z̈, λ) = (F, −γ_Φ)` is solved by nalgebra's dense LU. Nothing of the
+//! reduced solver's equations of motion is used: the reduced model enters only through the
+//! initial body states ([`maps::body_states`]), the masses and
+//! inertias ([`maps::bodies`]) and the scene potential.
+//!
+//! `(z, ż)` is integrated by the solver's [`Dopri5`](lagrange::integrate::Dopri5) at the
+//! requested tolerance, stepping exactly to each requested time; after every accepted step the
+//! state is projected onto `Φ = 0` (Gauss–Newton, `z ← z − Φ_zᵀ (Φ_z Φ_zᵀ)⁻¹ Φ`) and
+//! `Φ̇ = 0` (`ż ← ż − Φ_zᵀ (Φ_z Φ_zᵀ)⁻¹ (Φ_z ż + Φ_t)`), and the integrator restarts there. The
+//! constraint forces are `−Φ_zᵀ λ`, comparable to [`lagrange::reaction_forces`].
 
-use crate::{BuildError, Built, Engine, Settings};
+mod constraints;
+mod simulation;
+mod system;
+#[cfg(test)]
+mod tests;
+
+use crate::{BuildError, Built, Settings, maps};
 use lagrange::State;
 use lagrange_scenes::Params;
+use simulation::CartesianSimulation;
+use system::CartesianSystem;
 
-/// Build the Cartesian + multiplier simulation of `scene`.
+/// Build the Cartesian + multiplier simulation of `scene` with `params`, starting from the
+/// body states of the reduced `initial` state, integrating at `settings.tolerance`. The
+/// simulated parameters are the requested ones (no deviations are needed).
 ///
 /// # Errors
-/// As [`crate::build`].
+/// As [`crate::build`]: [`BuildError::Invalid`] for invalid parameters, an unknown scene, a
+/// state of the wrong size, a bad tolerance, or a singular KKT matrix at the start;
+/// [`BuildError::Unbuildable`] for a scene whose constraints are not written here.
 pub fn build(scene: &str, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
-    let _ = (params, initial, settings);
-    Err(BuildError::Unbuildable { engine: Engine::Cartesian, scene: scene.into(), reason: "not implemented yet".into() })
+    let system = CartesianSystem::new(scene, params)?;
+    let states = maps::body_states(scene, params, initial)?;
+    let simulation = CartesianSimulation::new(system, &states, initial.t, settings.tolerance)?;
+    Ok(Built { simulation: Box::new(simulation), params: params.clone(), deviations: Vec::new() })
 }

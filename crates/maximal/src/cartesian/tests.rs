@@ -1,0 +1,462 @@
+//! The Cartesian + multiplier formulation against the reduced solver, scene by scene: body
+//! accelerations, trajectories, constraint forces and energy; then the error paths.
+//!
+//! Tolerances, each with its origin:
+//! * [`ACCELERATION_RTOL`]: `z̈` and the reduced `p̈_b = J_b q̈ + γ_b` are two exact formulas
+//!   for the same accelerations, so they differ by round-off only: the KKT solve loses
+//!   `cond(KKT)·ε ≲ 1e3 · 2e-16` at these well-conditioned states; 1e-10 leaves a wide margin
+//!   while any wrong or missing term (a sign in `γ_Φ`, a missing force) changes `z̈` at O(1).
+//! * [`TRAJECTORY_TOL`]: both runs integrate at [`TOLERANCE`] = 1e-12 per step; over 2 s and
+//!   O(10³) steps the global errors of either run stay ≲ 1e-10 for these non-chaotic horizons
+//!   (measured: see the printed reports), so 1e-8 bounds their difference with margin.
+//! * [`VIOLATION_TOL`]: the projection leaves `max|Φ| ≤ 1e-14 · scale` after every step; 1e-10
+//!   is the largest violation it accepts when Gauss–Newton stalls at round-off.
+//! * [`FORCE_RTOL`]: at the same state the constraint forces are again two exact formulas
+//!   (round-off only); 1e-8 relative to the largest force (floored at 1 N) as the brief asks.
+//! * [`ENERGY_RTOL`]: with local errors ≤ 1e-12 the energy drifts by O(steps · 1e-12) relative
+//!   to the energy's own magnitude (floored at 1 J); 1e-10 allows ~100 steps' worth of error
+//!   accumulating coherently.
+
+use super::constraints::Constraint;
+use super::simulation::CartesianSimulation;
+use super::system::CartesianSystem;
+use crate::{BodyState, BuildError, Engine, MaximalSimulation, Settings, maps};
+use lagrange::integrate::Tolerances;
+use lagrange::num_dual::Dual2_64;
+use lagrange::{Dynamics, Error, Mechanism, Method, Output, Pose, State};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, Scene, visit_mechanism};
+
+/// `z̈` against the reduced body accelerations, relative to the largest (floored at 1 m/s²).
+const ACCELERATION_RTOL: f64 = 1e-10;
+/// Integrator tolerance of both the Cartesian and the reduced run.
+const TOLERANCE: f64 = 1e-12;
+/// Length of the compared runs (s).
+const HORIZON: f64 = 2.0;
+/// Read-back `(q, q̇)` against the reduced solution after [`HORIZON`] (m, rad, m/s, rad/s).
+const TRAJECTORY_TOL: f64 = 1e-8;
+/// Constraint violation after [`HORIZON`] (m, rad).
+const VIOLATION_TOL: f64 = 1e-10;
+/// Constraint forces against the reduced reaction forces, relative to the largest (floored at 1 N).
+const FORCE_RTOL: f64 = 1e-8;
+/// Energy change over [`HORIZON`], relative to `max(|E₀|, 1 J)`.
+const ENERGY_RTOL: f64 = 1e-10;
+
+/// Largest absolute entry.
+fn max_abs(values: &[f64]) -> f64 {
+    values.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
+}
+
+/// Largest absolute difference.
+fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len(), "lengths differ: {a:?} vs {b:?}");
+    a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// Assert `max|got − expected| ≤ tolerance`, printing both and the residual.
+fn assert_close(what: &str, expected: &[f64], got: &[f64], tolerance: f64) -> f64 {
+    let worst = max_difference(expected, got);
+    assert!(
+        worst <= tolerance,
+        "{what}:\n  expected {expected:?}\n  got      {got:?}\n  max residual {worst:e} > tolerance {tolerance:e}"
+    );
+    worst
+}
+
+/// The scene and its parameters with `overrides` set.
+fn scene_and_params(id: &str, overrides: &[(&str, f64)]) -> (&'static dyn Scene, Params) {
+    let scene = lagrange_scenes::find(id).unwrap_or_else(|| panic!("unknown scene {id}"));
+    let mut params = scene.default_params();
+    for &(key, value) in overrides {
+        params.set(key, value).unwrap();
+    }
+    (scene, params)
+}
+
+/// A Cartesian simulation of `id` started from the reduced `state`.
+fn cartesian(id: &str, params: &Params, state: &State) -> CartesianSimulation {
+    let system = CartesianSystem::new(id, params).unwrap();
+    let states = maps::body_states(id, params, state).unwrap();
+    CartesianSimulation::new(system, &states, state.t, TOLERANCE).unwrap()
+}
+
+/// The reduced model's body accelerations `p̈_b = J_b q̈ + γ_b` (3B), computed independently of
+/// the reduced engine's own assembly: one second-order dual pass of the scene's poses along
+/// `q(s) = q + s q̇ + ½ s² q̈`, `t + s`.
+struct BodyAccelerations<'a> {
+    state: &'a State,
+    qddot: &'a [f64],
+}
+
+impl MechanismVisitor for BodyAccelerations<'_> {
+    type Output = Vec<f64>;
+
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> Vec<f64> {
+        let s = self.state;
+        let q: Vec<Dual2_64> =
+            s.q.iter().zip(&s.qdot).zip(self.qddot).map(|((&q, &v), &a)| Dual2_64::new(q, v, a)).collect();
+        let mut poses = vec![Pose::<Dual2_64>::default(); mechanism.bodies().len()];
+        mechanism.poses(&q, Dual2_64::new(s.t, 1.0, 0.0), &mut poses);
+        poses.iter().flat_map(|p| [p.x.v2, p.y.v2, p.angle.v2]).collect()
+    }
+}
+
+fn reduced_body_accelerations(id: &str, params: &Params, state: &State, qddot: &[f64]) -> Vec<f64> {
+    match visit_mechanism(id, params, BodyAccelerations { state, qddot }).unwrap() {
+        Some(accelerations) => accelerations,
+        // The charged particle: its coordinates are the particle's position.
+        None => vec![qddot[0], qddot[1], 0.0],
+    }
+}
+
+/// The non-conservative forces the reduced reaction forces keep (they act along coordinates,
+/// not through poses) but the Cartesian formulation applies: the oscillator's damping
+/// `−c ẋ` on body 0 (its coordinate is the body's `x`). Added to the Cartesian constraint
+/// forces before comparing.
+fn reduced_keeps(id: &str, params: &Params, zdot: &[f64]) -> Vec<f64> {
+    let mut kept = vec![0.0; zdot.len()];
+    if id == "harmonic_oscillator" {
+        kept[0] = -params.get("damping") * zdot[0];
+    }
+    kept
+}
+
+/// What one scene's comparison measured.
+#[derive(Debug, Default)]
+struct Report {
+    acceleration: f64,
+    force_start: f64,
+    trajectory_q: f64,
+    trajectory_qdot: f64,
+    violation: f64,
+    force_end: f64,
+    energy: Option<f64>,
+    steps: usize,
+}
+
+/// Accelerations and constraint forces of the Cartesian system at `state` against the reduced
+/// engine's; returns the two relative errors.
+fn compare_at(id: &str, params: &Params, state: &State) -> (f64, f64) {
+    let scene = lagrange_scenes::find(id).unwrap();
+    let mut reduced = scene.build(params).unwrap();
+    let mut simulation = cartesian(id, params, state);
+    simulation.evaluate().unwrap();
+    // (1) z̈ against J_b q̈ + γ_b.
+    let qddot = reduced.accelerations(state.t, &state.q, &state.qdot).unwrap().to_vec();
+    let expected = reduced_body_accelerations(id, params, state, &qddot);
+    let scale = max_abs(&expected).max(1.0);
+    let what = format!("{id}: z̈ vs reduced body accelerations at {state:?}");
+    let acceleration = assert_close(&what, &expected, &simulation.ws.zddot, ACCELERATION_RTOL * scale) / scale;
+    // (3) −Φ_zᵀλ against the reduced reaction forces.
+    let n = simulation.system.n();
+    let mut forces = vec![0.0; n];
+    simulation.system.constraint_forces(&simulation.ws, &mut forces);
+    let kept = reduced_keeps(id, params, &simulation.zdot);
+    let got: Vec<f64> = forces.iter().zip(&kept).map(|(f, k)| f + k).collect();
+    let expected =
+        reduced.reaction_forces(state.t, &state.q, &state.qdot).unwrap().map_or(vec![0.0; n], <[f64]>::to_vec);
+    let scale = max_abs(&expected).max(1.0);
+    let what = format!("{id}: constraint forces vs reduced reaction forces at {state:?}");
+    let force = assert_close(&what, &expected, &got, FORCE_RTOL * scale) / scale;
+    (acceleration, force)
+}
+
+/// The four comparisons of the brief for one scene with `overrides`.
+fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
+    let (scene, params) = scene_and_params(id, overrides);
+    let initial = scene.default_state(&params).unwrap();
+    let mut report = Report::default();
+    // (1), (3) at the start, and at a moving state later in time (exercises γ_Φ, Φ_t, Φ_tt).
+    let (acceleration, force) = compare_at(id, &params, &initial);
+    let moving = State::new(
+        0.7,
+        initial.q.iter().map(|q| q + 0.1).collect::<Vec<_>>(),
+        initial.qdot.iter().map(|v| v + 0.3).collect::<Vec<_>>(),
+    );
+    let (acceleration_moving, force_moving) = compare_at(id, &params, &moving);
+    report.acceleration = acceleration.max(acceleration_moving);
+    report.force_start = force.max(force_moving);
+
+    // (2) after HORIZON at tolerance 1e-12, against the reduced solution.
+    let settings = Settings { tolerance: TOLERANCE, ..Settings::default() };
+    let built = super::build(id, &params, &initial, &settings).unwrap();
+    assert_eq!((built.params.clone(), built.deviations.len()), (params.clone(), 0), "{id}: no deviations");
+    let mut simulation = built.simulation;
+    assert_eq!(simulation.engine(), Engine::Cartesian);
+    simulation.advance_to(HORIZON).unwrap();
+    assert_eq!(simulation.t(), HORIZON, "{id}: advance_to reaches the time exactly");
+    let bodies = simulation.bodies();
+    let (q, qdot) = maps::generalized(id, &params, HORIZON, &bodies, &initial.q).unwrap();
+    let reduced = scene.build(&params).unwrap();
+    let method = Method::Adaptive { tol: Tolerances::uniform(TOLERANCE) };
+    let trajectory = reduced.simulate(&initial, HORIZON, method, &Output::Ends).unwrap();
+    let end = trajectory.last_state().unwrap();
+    report.trajectory_q = assert_close(&format!("{id}: q after {HORIZON} s"), &end.q, &q, TRAJECTORY_TOL);
+    report.trajectory_qdot = assert_close(&format!("{id}: q̇ after {HORIZON} s"), &end.qdot, &qdot, TRAJECTORY_TOL);
+    report.violation = simulation.constraint_violation().unwrap();
+    assert!(report.violation <= VIOLATION_TOL, "{id}: constraint violation {:e}", report.violation);
+    report.steps = simulation.steps();
+
+    // (3) at the end: the reduced reaction forces at the read-back state.
+    let forces = simulation.constraint_forces().unwrap();
+    let zdot: Vec<f64> = bodies.iter().flat_map(|b| b.velocity).collect();
+    let kept = reduced_keeps(id, &params, &zdot);
+    let got: Vec<f64> = forces.iter().zip(&kept).map(|(f, k)| f + k).collect();
+    let mut reduced = scene.build(&params).unwrap();
+    let expected = reduced.reaction_forces(HORIZON, &q, &qdot).unwrap().map_or(vec![0.0; got.len()], <[f64]>::to_vec);
+    let scale = max_abs(&expected).max(1.0);
+    let what = format!("{id}: constraint forces after {HORIZON} s");
+    report.force_end = assert_close(&what, &expected, &got, FORCE_RTOL * scale) / scale;
+
+    // (4) energy, where the scene conserves it (both formulations must agree on that).
+    let system = CartesianSystem::new(id, &params).unwrap();
+    assert_eq!(system.conserves_energy(), reduced.conserves_energy(), "{id}: energy conservation");
+    if system.conserves_energy() {
+        let mut ws = system.workspace();
+        let start = maps::body_states(id, &params, &initial).unwrap();
+        let (z0, zdot0) = flatten(&start);
+        let e0 = system.energy(&mut ws, initial.t, &z0, &zdot0).unwrap();
+        let (z1, zdot1) = flatten(&bodies);
+        let e1 = system.energy(&mut ws, HORIZON, &z1, &zdot1).unwrap();
+        let drift = (e1 - e0).abs() / e0.abs().max(1.0);
+        assert!(drift <= ENERGY_RTOL, "{id}: energy {e0} → {e1}, relative change {drift:e}");
+        report.energy = Some(drift);
+    }
+    eprintln!("cartesian {id} {overrides:?}: {report:?}");
+    report
+}
+
+/// `(z, ż)` of body states.
+fn flatten(states: &[BodyState]) -> (Vec<f64>, Vec<f64>) {
+    (states.iter().flat_map(|b| b.pose).collect(), states.iter().flat_map(|b| b.velocity).collect())
+}
+
+/// One test per scene (and variant), and the list of covered scenes.
+macro_rules! scene_tests {
+    ($($name:ident: $scene:literal $(, $key:literal = $value:expr)*;)*) => {
+        $(
+            #[test]
+            fn $name() {
+                check($scene, &[$(($key, $value)),*]);
+            }
+        )*
+        /// Every scene id some test above compares.
+        const COVERED: &[&str] = &[$($scene),*];
+    };
+}
+
+scene_tests! {
+    cart_pendulum: "cart_pendulum";
+    cart_pendulum_compound_bob: "cart_pendulum", "bob_inertia" = 0.2;
+    harmonic_oscillator: "harmonic_oscillator";
+    harmonic_oscillator_damped: "harmonic_oscillator", "damping" = 0.5;
+    kepler: "kepler";
+    isotropic_oscillator: "isotropic_oscillator";
+    atwood: "atwood";
+    atwood_massless_pulley: "atwood", "pulley_inertia" = 0.0;
+    double_atwood: "double_atwood";
+    double_atwood_massive_pulley: "double_atwood", "lower_pulley_mass" = 0.4;
+    double_double_atwood: "double_double_atwood";
+    double_double_atwood_massive_pulleys: "double_double_atwood", "pulley_a_mass" = 0.3, "pulley_b_mass" = 0.6;
+    wedge: "wedge";
+    double_pendulum: "double_pendulum";
+    double_pendulum_compound_bobs: "double_pendulum", "inertia_1" = 0.1, "inertia_2" = 0.05;
+    chain: "chain";
+    chain_of_three: "chain", "links" = 3.0;
+    spring_pendulum: "spring_pendulum";
+    driven_pendulum: "driven_pendulum";
+    charged_particle: "charged_particle";
+}
+
+#[test]
+fn every_scene_is_compared() {
+    for id in lagrange_scenes::ids() {
+        assert!(COVERED.contains(&id), "{id} has no Cartesian comparison test");
+    }
+}
+
+/// The constraint forces are the closed-form forces the lecture's systems name: the Atwood
+/// rope tensions (SYSTEMS.md §4), the wedge's normal force (§7), the cart pendulum's rod
+/// tension (§1), at generic states.
+#[test]
+fn constraint_forces_are_the_closed_form_tensions_and_normal_force() {
+    let tolerance = |scale: f64| FORCE_RTOL * scale.max(1.0);
+    // Atwood: the rope pulls m1 and m2 up with T1 and T2.
+    let (_, params) = scene_and_params("atwood", &[]);
+    let state = State::new(0.0, [1.3], [0.4]);
+    let mut simulation = cartesian("atwood", &params, &state);
+    let forces = simulation.constraint_forces().unwrap();
+    let (t1, t2) = lagrange_scenes::Atwood::from_params(&params).unwrap().tensions(&state.q, &state.qdot);
+    assert_close("Atwood tensions", &[t1, t2], &[forces[1], forces[4]], tolerance(t1.max(t2)));
+    // Wedge: the incline pushes the block along its normal (sin α, cos α) with N.
+    let (_, params) = scene_and_params("wedge", &[]);
+    let state = State::new(0.0, [0.2, 0.5], [-0.1, 0.6]);
+    let mut simulation = cartesian("wedge", &params, &state);
+    let forces = simulation.constraint_forces().unwrap();
+    let normal = lagrange_scenes::Wedge::from_params(&params).unwrap().normal_force();
+    let (sin, cos) = params.get("angle").sin_cos();
+    assert_close("wedge normal force", &[normal * sin, normal * cos, 0.0], &forces[3..6], tolerance(normal));
+    // Cart pendulum: the rod pulls the bob towards the cart along (−sin θ, cos θ) with T.
+    let (_, params) = scene_and_params("cart_pendulum", &[]);
+    let state = State::new(0.0, [0.3, -0.7], [0.4, 1.3]);
+    let mut simulation = cartesian("cart_pendulum", &params, &state);
+    let forces = simulation.constraint_forces().unwrap();
+    let tension = lagrange_scenes::CartPendulum::from_params(&params).unwrap().rod_tension(&state.q, &state.qdot);
+    let (sin, cos) = state.q[1].sin_cos();
+    assert_close("cart rod tension", &[-tension * sin, tension * cos, 0.0], &forces[3..6], tolerance(tension));
+}
+
+/// `advance_to` reaches every requested time exactly, in any sequence; going back in time
+/// or to a non-finite time is an error, and a repeated time does nothing.
+#[test]
+fn advance_to_reaches_each_requested_time_exactly() {
+    let (scene, params) = scene_and_params("double_pendulum", &[]);
+    let initial = scene.default_state(&params).unwrap();
+    let settings = Settings { tolerance: 1e-10, ..Settings::default() };
+    let mut simulation =
+        crate::build(Engine::Cartesian, "double_pendulum", &params, &initial, &settings).unwrap().simulation;
+    for t in [0.1, 0.25, 0.25, 1.0 / 3.0] {
+        simulation.advance_to(t).unwrap();
+        assert_eq!(simulation.t(), t);
+    }
+    let steps = simulation.steps();
+    assert!(steps > 0);
+    simulation.advance_to(1.0 / 3.0).unwrap();
+    assert_eq!(simulation.steps(), steps, "a repeated time takes no step");
+    for bad in [0.2, f64::NAN, f64::INFINITY] {
+        let error = simulation.advance_to(bad).unwrap_err();
+        assert!(matches!(error, Error::InvalidSetting { what: "time", .. }), "{bad}: {error}");
+    }
+    assert!(simulation.constraint_violation().unwrap() <= VIOLATION_TOL);
+}
+
+#[test]
+fn invalid_inputs_are_errors_not_panics() {
+    let (scene, params) = scene_and_params("cart_pendulum", &[]);
+    let initial = scene.default_state(&params).unwrap();
+    let settings = Settings::default();
+    let invalid = |result: Result<crate::Built, BuildError>| match result {
+        Err(BuildError::Invalid(error)) => error,
+        Err(other) => panic!("expected an invalid-input error, got {other}"),
+        Ok(_) => panic!("expected an error"),
+    };
+    let unknown = invalid(super::build("pendulum", &params, &initial, &settings));
+    assert!(matches!(unknown, Error::InvalidParameter { ref name, .. } if name == "scene"), "{unknown}");
+    let foreign = lagrange_scenes::find("charged_particle").unwrap().default_params();
+    let error = invalid(super::build("cart_pendulum", &foreign, &initial, &settings));
+    assert!(matches!(error, Error::InvalidParameter { .. }), "{error}");
+    let short = State::new(0.0, [0.0], [0.0]);
+    let error = invalid(super::build("cart_pendulum", &params, &short, &settings));
+    assert!(matches!(error, Error::DimensionMismatch { .. }), "{error}");
+    for tolerance in [0.0, -1.0, f64::NAN] {
+        let error = invalid(super::build("cart_pendulum", &params, &initial, &Settings { tolerance, ..settings }));
+        assert!(matches!(error, Error::InvalidSetting { what: "tolerance", .. }), "{error}");
+    }
+    let nan = State::new(0.0, [f64::NAN, 0.5], [0.0, 0.0]);
+    let error = invalid(super::build("cart_pendulum", &params, &nan, &settings));
+    assert!(matches!(error, Error::NonFinite { .. }), "{error}");
+}
+
+/// Body states that violate a constraint (here: the bob moved off the rod) are rejected at the
+/// start, naming the constraint.
+#[test]
+fn initial_states_off_the_constraints_are_rejected() {
+    let (scene, params) = scene_and_params("cart_pendulum", &[]);
+    let mut states = maps::body_states("cart_pendulum", &params, &scene.default_state(&params).unwrap()).unwrap();
+    states[1].pose[0] += 1e-6;
+    let system = CartesianSystem::new("cart_pendulum", &params).unwrap();
+    let error = CartesianSimulation::new(system, &states, 0.0, TOLERANCE).err().unwrap();
+    assert!(matches!(error, Error::Inconsistent { ref what } if what.contains("rod pin")), "{error}");
+}
+
+/// A massless pulley whose rope may slip has nothing fixing its angle; a constraint written
+/// twice makes `Φ_z` rank-deficient: both are singular KKT matrices, reported as
+/// `SingularMassMatrix` naming the coordinate or the constraint, never a panic or NaN.
+#[test]
+fn singular_kkt_matrices_are_errors_naming_the_culprit() {
+    let (scene, params) = scene_and_params("atwood", &[("pulley_inertia", 0.0)]);
+    let initial = scene.default_state(&params).unwrap();
+    let states = maps::body_states("atwood", &params, &initial).unwrap();
+    let system = CartesianSystem::new("atwood", &params).unwrap();
+    let no_slip = |c: &Constraint| c.name.contains("slip");
+    // Without the no-slip condition.
+    let slipping: Vec<Constraint> = system.constraints.iter().filter(|c| !no_slip(c)).cloned().collect();
+    let slipping = system.clone().with_constraints(slipping);
+    let (z, zdot) = flatten(&states);
+    let mut ws = slipping.workspace();
+    let error = slipping.evaluate(&mut ws, 0.0, &z, &zdot).unwrap_err();
+    assert!(
+        matches!(error, Error::SingularMassMatrix { ref coordinate, .. } if coordinate.contains("φ[pulley]")),
+        "{error}"
+    );
+    let error = CartesianSimulation::new(slipping, &states, 0.0, TOLERANCE).err().unwrap();
+    assert!(matches!(error, Error::SingularMassMatrix { .. }), "{error}");
+    // With the rope constraint written twice.
+    let mut doubled = system.constraints.clone();
+    let rope = doubled.iter().find(|c| c.name.contains("rope over")).unwrap().clone();
+    doubled.push(Constraint { name: "rope again".into(), joint: rope.joint });
+    let doubled = system.with_constraints(doubled);
+    let mut ws = doubled.workspace();
+    let error = doubled.evaluate(&mut ws, 0.0, &z, &zdot).unwrap_err();
+    assert!(
+        matches!(error, Error::SingularMassMatrix { ref coordinate, .. } if coordinate.contains("rope")),
+        "{error}"
+    );
+}
+
+/// The projection takes a state perturbed off both manifolds back onto `Φ = 0` to
+/// `1e-14 · scale` and onto `Φ̇ = 0` to round-off.
+#[test]
+fn projection_restores_positions_and_velocities() {
+    for (id, overrides) in [("chain", &[][..]), ("driven_pendulum", &[][..]), ("wedge", &[][..])] {
+        let (scene, params) = scene_and_params(id, overrides);
+        let state = scene.default_state(&params).unwrap();
+        let system = CartesianSystem::new(id, &params).unwrap();
+        let (mut z, mut zdot) = flatten(&maps::body_states(id, &params, &state).unwrap());
+        for (k, (p, v)) in z.iter_mut().zip(zdot.iter_mut()).enumerate() {
+            *p += 1e-7 * (k as f64 + 1.0).sin();
+            *v += 1e-5 * (k as f64 + 2.0).cos();
+        }
+        let t = 0.3;
+        let mut ws = system.workspace();
+        system.project(&mut ws, t, &mut z, &mut zdot).unwrap();
+        let scale = max_abs(&z).max(1.0);
+        assert!(system.violation(t, &z) <= 1e-14 * scale, "{id}: Φ = {:e}", system.violation(t, &z));
+        system.constraint_rate(&mut ws, t, &z, &zdot);
+        assert!(max_abs(&ws.rate) <= 1e-14 * scale, "{id}: Φ̇ = {:?}", ws.rate);
+    }
+}
+
+/// The `Dynamics` interface: `3B` named coordinates, `M = diag(m_b, m_b, I_b)`, momenta `M ż`,
+/// and the energy equals the maps' independent `Σ ½ m v² + ½ I ω² + m g y + V`.
+#[test]
+fn dynamics_interface_matches_the_bodies() {
+    for scene in lagrange_scenes::all() {
+        let id = scene.id();
+        let params = scene.default_params();
+        let state = scene.default_state(&params).unwrap();
+        let system = CartesianSystem::new(id, &params).unwrap();
+        let bodies = maps::bodies(id, &params).unwrap();
+        let n = 3 * bodies.len();
+        assert_eq!((system.dof(), system.bodies().len()), (n, bodies.len()), "{id}");
+        let states = maps::body_states(id, &params, &state).unwrap();
+        let (z, zdot) = flatten(&states);
+        let mut ws = system.new_workspace();
+        let mut mass = vec![f64::NAN; n * n];
+        system.mass_matrix(&mut ws, 0.0, &z, &zdot, &mut mass).unwrap();
+        let mut momenta = vec![0.0; n];
+        system.momenta(&mut ws, 0.0, &z, &zdot, &mut momenta).unwrap();
+        for (b, body) in bodies.iter().enumerate() {
+            for c in 0..3 {
+                let j = 3 * b + c;
+                let m = if c == 2 { body.inertia } else { body.mass };
+                assert_eq!(mass[j * n + j], m, "{id}: M[{j}][{j}]");
+                assert_eq!(momenta[j], m * zdot[j], "{id}: p[{j}]");
+            }
+        }
+        let energy = system.energy(&mut ws, state.t, &z, &zdot).unwrap();
+        let expected = maps::energy(id, &params, state.t, &states).unwrap();
+        assert!((energy - expected).abs() <= 1e-14 * expected.abs().max(1.0), "{id}: energy {energy} vs {expected}");
+        let mut reaction = vec![0.0; n];
+        assert!(system.reaction_forces(&mut ws, state.t, &z, &zdot, &mut reaction).unwrap());
+    }
+}
