@@ -1,15 +1,84 @@
-//! rapier builds of the scenes (impulse and multibody joints, f64 and f32).
-//! (Being written: see `build`.)
+//! rapier builds of the scenes: impulse joints and multibody joints, in f64 (rapier2d-f64) and
+//! f32 (rapier2d).
+//!
+//! Each scene is first written as a precision-independent plan (`plan.rs`: bodies with explicit mass
+//! properties and no colliders, joints with their anchors, multibody couplings, per-step
+//! forces; `scenes.rs`, following RAPIER-NOTES §3), then built by `world.rs`, one source
+//! compiled twice (`double`: f64, `single`: f32). What is built:
+//!
+//! | scene | impulse joints | multibody joints |
+//! |---|---|---|
+//! | `cart_pendulum` | prismatic ground→cart (x), revolute cart→bob; compound bob (`I_b = 1e-2 m r²` if 0) | prismatic + revolute, point bob exact |
+//! | `harmonic_oscillator` | prismatic (x) + per-step spring and damping forces | the same joint as a multibody |
+//! | `kepler`, `isotropic_oscillator` | free body + per-step central force | revolute → massless arm → prismatic along the arm + per-step force |
+//! | `spring_pendulum` | free body + per-step spring force | revolute → massless arm → prismatic along the arm + per-step spring force |
+//! | `charged_particle` | free body + per-step Lorentz force | prismatic (x) → massless slider → prismatic (y) + per-step Lorentz force |
+//! | `atwood` | unbuildable (no pulley or gear joint) | vertical prismatics, couplings `x₂ = l − πa − x₁`, pulley revolute `φ = x₁/a` (left out when `I = 0`) |
+//! | `double_atwood` | unbuildable | prismatics, movable pulley carrying `m2`, `m3`; couplings for both ropes; massive pulley (0.5 kg if 0) |
+//! | `double_double_atwood` | unbuildable | the same with two massive movable pulleys |
+//! | `wedge` | prismatic ground→wedge (x), prismatic wedge→block along `(cosα, −sinα)` | the same joints |
+//! | `double_pendulum` | revolute chain, compound bobs (`I = 1e-2 m l²` if 0) | revolute chain, point bobs exact |
+//! | `chain` | revolute chain of rods hinged at their ends | the same joints |
+//! | `driven_pendulum` | kinematic support moved to `(A sin ωt, 0)` each step, rope to the point bob (exact while the rod is in tension) | unbuildable (a prescribed motion is left out of multibody dynamics) |
+//!
+//! Every build: gravity `(0, −g)`, bodies never sleep, multibody joint damping zeroed,
+//! stabilization sweeps off, speed caps off (see `world.rs`'s integration parameters).
 
-use crate::{BuildError, Built, Engine, Settings};
+mod double;
+mod plan;
+mod scenes;
+mod single;
+#[cfg(test)]
+mod tests;
+
+use crate::{BuildError, Built, Engine, MaximalSimulation, Settings};
 use lagrange::State;
 use lagrange_scenes::Params;
+use plan::JointMode;
 
-/// Build the rapier simulation of `scene` in `engine` (one of the four rapier engines).
+/// Build the rapier simulation of `scene` in `engine` (one of the four rapier engines),
+/// starting from the reduced `initial` state. `Built::params` carries the deviations rapier
+/// needs (compound bobs for impulse revolute joints, massive movable pulleys for multibody
+/// couplings), each explained in `Built::deviations`.
 ///
 /// # Errors
-/// As [`crate::build`].
-pub fn build(engine: Engine, scene: &str, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
-    let _ = (params, initial, settings);
-    Err(BuildError::Unbuildable { engine, scene: scene.into(), reason: "not implemented yet".into() })
+/// As [`crate::build`]: [`BuildError::Unbuildable`] with the reason (the Atwood machines with
+/// impulse joints, the driven pendulum with multibody joints, the Cartesian engine);
+/// [`BuildError::Invalid`] for an unknown scene, invalid parameters, a state of the wrong size
+/// or invalid settings.
+pub fn build(
+    engine: Engine,
+    scene: &str,
+    params: &Params,
+    initial: &State,
+    settings: &Settings,
+) -> Result<Built, BuildError> {
+    let mode = match engine {
+        Engine::RapierImpulse | Engine::RapierImpulseF32 => JointMode::Impulse,
+        Engine::RapierMultibody | Engine::RapierMultibodyF32 => JointMode::Multibody,
+        Engine::Cartesian => {
+            let reason = "the Cartesian engine is not a rapier build".into();
+            return Err(BuildError::Unbuildable { engine, scene: scene.into(), reason });
+        }
+    };
+    if !(settings.dt > 0.0 && settings.dt.is_finite()) {
+        return Err(lagrange::Error::InvalidSetting {
+            what: "step",
+            value: settings.dt,
+            why: "must be positive and finite",
+        }
+        .into());
+    }
+    if settings.substeps == 0 {
+        return Err(lagrange::Error::InvalidSetting { what: "substeps", value: 0.0, why: "must be at least 1" }.into());
+    }
+    let plan = scenes::plan(engine, mode, scene, params, initial)?;
+    let (params, deviations) = (plan.params.clone(), plan.deviations.clone());
+    let simulation: Box<dyn MaximalSimulation> = match engine {
+        Engine::RapierImpulse | Engine::RapierMultibody => {
+            Box::new(double::world::RapierSimulation::new(engine, plan, settings)?)
+        }
+        _ => Box::new(single::world::RapierSimulation::new(engine, plan, settings)?),
+    };
+    Ok(Built { simulation, params, deviations })
 }

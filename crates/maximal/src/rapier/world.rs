@@ -1,0 +1,420 @@
+//! A [`Plan`] running in rapier. This one source is compiled twice: as `double::world` against
+//! rapier2d-f64 and as `single::world` against rapier2d (f32); the parent module supplies
+//! `rapier` (the crate) and the conversions `real` (f64 → `Real`) and `wide` (`Real` → f64),
+//! used only where values cross the rapier API.
+
+use super::rapier::math::{Pose, Real, Vector};
+use super::rapier::prelude::{
+    GenericJoint, IntegrationParameters, MassProperties, Multibody, MultibodyDofCoupling, MultibodyIndex, PhysicsWorld,
+    PrismaticJointBuilder, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle, RopeJointBuilder,
+};
+use super::{real, wide};
+use crate::rapier::plan::{JointKind, JointMode, JointSpec, Motion, Plan, wrap};
+use crate::{BodyState, Engine, MaximalSimulation, Settings, maps};
+use lagrange::Error;
+
+/// PGS sweeps per substep for multibodies with couplings: the couplings of one multibody are
+/// coupled through its mass matrix, and Gauss–Seidel needs several sweeps to solve them to
+/// round-off (RAPIER-NOTES §2.4: 64 sweeps give 1e-12 accelerations for the double Atwood).
+const COUPLING_PGS_ITERATIONS: usize = 128;
+
+/// A scene running in rapier: the world, the handles of the plan's bodies and, for
+/// multibodies, their link ids.
+pub(crate) struct RapierSimulation {
+    engine: Engine,
+    plan: Plan,
+    world: PhysicsWorld,
+    /// The rapier handle of each plan body.
+    handles: Vec<RigidBodyHandle>,
+    /// Multibody mode: the multibody, each plan body's link id, and each joint's child link id.
+    multibody: Option<MultibodyLinks>,
+    /// The step `dt` (s).
+    dt: f64,
+    /// Steps taken.
+    steps: usize,
+    /// Each plan body's angle after the last step, unwrapped along the motion.
+    angles: Vec<f64>,
+    /// Impulse mode: what the last step started from, for the constraint forces.
+    last_step: Option<LastStep>,
+}
+
+/// Where the plan's bodies and joints are in the multibody.
+struct MultibodyLinks {
+    index: MultibodyIndex,
+    /// Link id of each plan body.
+    body_links: Vec<usize>,
+    /// Link id of each joint's child (its coordinate's owner).
+    joint_links: Vec<usize>,
+}
+
+/// The start of the last step: every plan body's state, and `∂V/∂p_b` applied during it
+/// (3B, reduced order; empty when the scene has no per-step forces).
+struct LastStep {
+    start: Vec<BodyState>,
+    gradient: Vec<f64>,
+}
+
+impl RapierSimulation {
+    /// The world of `plan` at its initial state.
+    ///
+    /// # Errors
+    /// [`Error::Inconsistent`] if rapier refuses a multibody joint (a plan that is not a tree).
+    pub(crate) fn new(engine: Engine, plan: Plan, settings: &Settings) -> Result<Self, Error> {
+        let mut world = PhysicsWorld::new();
+        world.gravity = Vector::new(0.0, -real(plan.gravity));
+        world.integration_parameters = integration_parameters(&plan, settings);
+        let handles: Vec<RigidBodyHandle> = plan.bodies.iter().map(|b| world.insert_body(body_builder(b))).collect();
+        let multibody = match plan.mode {
+            JointMode::Impulse => {
+                for joint in &plan.joints {
+                    world.insert_impulse_joint(handles[joint.parent], handles[joint.child], generic_joint(joint));
+                }
+                None
+            }
+            JointMode::Multibody => Some(assemble_multibody(&mut world, &plan, &handles)?),
+        };
+        let angles = plan.bodies.iter().map(|b| b.initial.pose[2]).collect();
+        Ok(Self { engine, plan, world, handles, multibody, dt: settings.dt, steps: 0, angles, last_step: None })
+    }
+
+    /// The state of plan body `b` now: pose (angle unwrapped) and velocity of its centre.
+    /// Multibody links are read from the link pose and the body jacobian times the generalized
+    /// velocities, not from the rigid body's velocity, which lags one substep (RAPIER-NOTES §1.2).
+    fn state(&self, b: usize) -> BodyState {
+        let (x, y, angle, velocity) = match (&self.multibody, self.plan.bodies[b].motion) {
+            (Some(links), Motion::Dynamic) => {
+                let mb = self.multibody_ref(links.index);
+                let link_id = links.body_links[b];
+                let pose = mb.link(link_id).map_or(Pose::IDENTITY, |link| *link.local_to_world());
+                let twist = mb.body_jacobian(link_id) * mb.generalized_velocity();
+                let velocity = [wide(twist[0]), wide(twist[1]), wide(twist[2])];
+                (pose.translation.x, pose.translation.y, pose.rotation.angle(), velocity)
+            }
+            _ => {
+                let rb = &self.world.bodies[self.handles[b]];
+                let (pose, v) = (rb.position(), rb.linvel());
+                (
+                    pose.translation.x,
+                    pose.translation.y,
+                    pose.rotation.angle(),
+                    [wide(v.x), wide(v.y), wide(rb.angvel())],
+                )
+            }
+        };
+        let previous = self.angles[b];
+        BodyState { pose: [wide(x), wide(y), previous + wrap(wide(angle) - previous)], velocity }
+    }
+
+    fn multibody_ref(&self, index: MultibodyIndex) -> &Multibody {
+        // The multibody exists from construction on: nothing removes it.
+        self.world.multibody_joints.get_multibody(index).expect("the plan's multibody exists")
+    }
+
+    /// The reduced model's body states from every plan body's state (`plan_states`), with the
+    /// left-out pulleys reported from their rope.
+    fn reduced_states(&self, plan_states: &[BodyState]) -> Vec<BodyState> {
+        let mut reduced = vec![BodyState::default(); self.plan.reduced_bodies];
+        for (spec, state) in self.plan.bodies.iter().zip(plan_states) {
+            if let Some(r) = spec.reduced {
+                reduced[r] = *state;
+            }
+        }
+        for pulley in &self.plan.rope_pulleys {
+            // φ = x₁/a with x₁ = −y₁ the depth of the rope's end, at rest at the origin.
+            let source = &plan_states[pulley.source];
+            reduced[pulley.reduced] = BodyState {
+                pose: [0.0, 0.0, -source.pose[1] / pulley.radius],
+                velocity: [0.0, 0.0, -source.velocity[1] / pulley.radius],
+            };
+        }
+        reduced
+    }
+
+    fn plan_states(&self) -> Vec<BodyState> {
+        (0..self.plan.bodies.len()).map(|b| self.state(b)).collect()
+    }
+
+    /// Replace every reduced body's user force and torque by the scene's per-step forces at the
+    /// start of the step; returns `∂V/∂p_b` (3B; zeros without a potential).
+    fn apply_step_forces(&mut self, t: f64, plan_states: &[BodyState]) -> Result<Vec<f64>, Error> {
+        let forces = self.plan.forces;
+        let reduced = self.reduced_states(plan_states);
+        let mut gradient = vec![0.0; 3 * reduced.len()];
+        if forces.potential {
+            maps::potential(&self.plan.scene, &self.plan.params, t, &reduced, Some(&mut gradient))?;
+        }
+        for (spec, &handle) in self.plan.bodies.iter().zip(&self.handles) {
+            let Some(r) = spec.reduced else { continue };
+            let v = reduced[r].velocity;
+            let mut force = [-gradient[3 * r], -gradient[3 * r + 1]];
+            if r == 0 {
+                // Damping −c ẋ on the oscillator, Lorentz e B (ẏ, −ẋ) on the charged particle.
+                force[0] += -forces.damping * v[0] + forces.lorentz * v[1];
+                force[1] += -forces.lorentz * v[0];
+            }
+            if let Some(rb) = self.world.bodies.get_mut(handle) {
+                rb.reset_forces(false);
+                rb.reset_torques(false);
+                rb.add_force(Vector::new(real(force[0]), real(force[1])), false);
+                rb.add_torque(real(-gradient[3 * r + 2]), false);
+            }
+        }
+        Ok(gradient)
+    }
+
+    /// One rapier step of `dt`.
+    fn step(&mut self) -> Result<(), Error> {
+        let t = self.t();
+        let start = self.plan_states();
+        let gradient = if self.plan.forces.any() { self.apply_step_forces(t, &start)? } else { Vec::new() };
+        // Move the kinematic support to where it is at the end of the step.
+        for (spec, &handle) in self.plan.bodies.iter().zip(&self.handles) {
+            if let Motion::Support { amplitude, frequency } = spec.motion
+                && let Some(rb) = self.world.bodies.get_mut(handle)
+            {
+                let x = amplitude * (frequency * (t + self.dt)).sin();
+                rb.set_next_kinematic_translation(Vector::new(real(x), 0.0));
+            }
+        }
+        self.world.step();
+        self.steps += 1;
+        for b in 0..self.plan.bodies.len() {
+            let state = self.state(b);
+            if !state.pose.iter().chain(&state.velocity).all(|v| v.is_finite()) {
+                return Err(Error::Diverged {
+                    t: self.t(),
+                    step: self.steps,
+                    quantity: format!("rapier body {b} state {state:?}"),
+                });
+            }
+            self.angles[b] = state.pose[2];
+        }
+        if self.plan.mode == JointMode::Impulse {
+            self.last_step = Some(LastStep { start, gradient });
+        }
+        Ok(())
+    }
+
+    /// Multibody coupling residual `|q_to − coeff q_from − offset|`, largest over the couplings.
+    fn coupling_residual(&self, links: &MultibodyLinks) -> f64 {
+        let mb = self.multibody_ref(links.index);
+        let coordinate = |j: usize| {
+            let link = links.joint_links[j];
+            mb.link(link).map_or(f64::NAN, |l| wide(l.joint().coords()[free_axis(&self.plan.joints[j])]))
+        };
+        self.plan
+            .couplings
+            .iter()
+            .map(|c| (coordinate(c.to) - c.coeff * coordinate(c.from) - c.offset).abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+impl MaximalSimulation for RapierSimulation {
+    fn engine(&self) -> Engine {
+        self.engine
+    }
+
+    fn t(&self) -> f64 {
+        self.plan.t0 + self.steps as f64 * self.dt
+    }
+
+    /// Whole steps of `dt` up to the step nearest `t`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] for a non-finite `t` or one before the current time;
+    /// [`Error::Diverged`] if a body state becomes non-finite.
+    fn advance_to(&mut self, t: f64) -> Result<(), Error> {
+        let target = ((t - self.plan.t0) / self.dt).round();
+        if !target.is_finite() {
+            return Err(Error::InvalidSetting { what: "time", value: t, why: "must be finite" });
+        }
+        if target < self.steps as f64 {
+            return Err(Error::InvalidSetting { what: "time", value: t, why: "lies before the current time" });
+        }
+        // `target` is a non-negative whole number here.
+        let target = target as usize;
+        while self.steps < target {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// Every reduced body's pose and velocity (centre of mass); a massless Atwood pulley that
+    /// rapier leaves out turns with its rope. For point bodies (no inertia) the angle is the
+    /// rapier body's, which the reduced model ignores.
+    fn bodies(&self) -> Vec<BodyState> {
+        self.reduced_states(&self.plan_states())
+    }
+
+    /// Impulse joints: the largest anchor separation (revolute), offset from the slide line or
+    /// relative rotation (prismatic), or departure from the rope length (rope); `None` for a
+    /// free body. Multibodies: the largest coupling residual, `None` without couplings (the
+    /// joints hold by construction).
+    fn constraint_violation(&self) -> Option<f64> {
+        match &self.multibody {
+            Some(links) => (!self.plan.couplings.is_empty()).then(|| self.coupling_residual(links)),
+            None => {
+                let violation = |j: &JointSpec| j.violation(&self.state(j.parent), &self.state(j.child));
+                (!self.plan.joints.is_empty()).then(|| self.plan.joints.iter().map(violation).fold(0.0, f64::max))
+            }
+        }
+    }
+
+    /// Impulse joints, after at least one step: `R_b = (Δ(m_b v_b), Δ(I_b ω_b))/dt − F_b^gravity
+    /// + ∂V/∂p_b` over the last step, as `lagrange::reaction_forces` defines it. This is the sum
+    /// of the joint impulses rapier applied to the body during the step divided by `dt` (plus
+    /// the non-potential applied forces, damping and Lorentz, which the reduced model also
+    /// leaves in its reactions). It is read from the momentum balance because
+    /// `ImpulseJoint::impulses` keeps only the last substep's impulses, in rows that the solver
+    /// has Gram–Schmidt-orthogonalised (`JointConstraintHelper::finalize_constraints`).
+    /// Multibodies: `None` (rapier does not expose their joint forces).
+    fn constraint_forces(&mut self) -> Option<Vec<f64>> {
+        if self.multibody.is_some() {
+            return None;
+        }
+        let last = self.last_step.as_ref()?;
+        let mut forces = vec![0.0; 3 * self.plan.reduced_bodies];
+        for (b, spec) in self.plan.bodies.iter().enumerate() {
+            let Some(r) = spec.reduced else { continue };
+            let (before, now) = (last.start[b].velocity, self.state(b).velocity);
+            let gradient = |c: usize| last.gradient.get(3 * r + c).copied().unwrap_or(0.0);
+            forces[3 * r] = spec.mass * (now[0] - before[0]) / self.dt + gradient(0);
+            forces[3 * r + 1] = spec.mass * ((now[1] - before[1]) / self.dt + self.plan.gravity) + gradient(1);
+            forces[3 * r + 2] = spec.inertia * (now[2] - before[2]) / self.dt + gradient(2);
+        }
+        Some(forces)
+    }
+
+    fn steps(&self) -> usize {
+        self.steps
+    }
+}
+
+/// Every integration parameter the comparison depends on, explicitly (RAPIER-NOTES §1.6, §4):
+/// `substeps` substeps per step (1 for scenes driven by per-step forces, which are constant over
+/// a step: more would make the map non-symplectic, §1.5); one PGS sweep for impulse joints
+/// (more only tighten the joint error, §2.1), enough for coupled multibodies; no stabilization
+/// sweeps (they make the impulse scheme dissipative, §2.1); no speed or correction caps; no joint
+/// warm-start; no CCD (there are no colliders).
+fn integration_parameters(plan: &Plan, settings: &Settings) -> IntegrationParameters {
+    IntegrationParameters {
+        dt: real(settings.dt),
+        num_solver_iterations: if plan.forces.any() { 1 } else { settings.substeps },
+        num_internal_pgs_iterations: if plan.couplings.is_empty() { 1 } else { COUPLING_PGS_ITERATIONS },
+        num_internal_stabilization_iterations: 0,
+        warmstart_joints: false,
+        length_unit: 1.0,
+        normalized_max_linear_velocity: Real::MAX,
+        normalized_max_corrective_velocity: Real::MAX,
+        max_ccd_substeps: 0,
+        ..IntegrationParameters::default()
+    }
+}
+
+/// A rigid body at the plan body's initial pose: the fixed ground, the kinematic support, or a
+/// dynamic body with explicit mass properties (no colliders), never sleeping and not clamped
+/// in its angular speed.
+fn body_builder(body: &crate::rapier::plan::BodySpec) -> RigidBodyBuilder {
+    let [x, y, angle] = body.initial.pose;
+    let pose = Pose::new(Vector::new(real(x), real(y)), real(angle));
+    let builder = match body.motion {
+        Motion::Ground => RigidBodyBuilder::fixed(),
+        Motion::Support { .. } => RigidBodyBuilder::kinematic_position_based(),
+        Motion::Dynamic => {
+            let [vx, vy, omega] = body.initial.velocity;
+            RigidBodyBuilder::dynamic()
+                .additional_mass_properties(MassProperties::new(Vector::ZERO, real(body.mass), real(body.inertia)))
+                .linvel(Vector::new(real(vx), real(vy)))
+                .angvel(real(omega))
+                .allow_fast_rotation(true)
+        }
+    };
+    builder.pose(pose).can_sleep(false)
+}
+
+/// The rapier joint of a plan joint (frames at the anchors; a prismatic joint's frames turned so
+/// that their x axis is the slide axis in both bodies).
+fn generic_joint(joint: &JointSpec) -> GenericJoint {
+    let point = |p: [f64; 2]| Vector::new(real(p[0]), real(p[1]));
+    let (anchor1, anchor2) = (point(joint.anchor_parent), point(joint.anchor_child));
+    match joint.kind {
+        JointKind::Revolute => RevoluteJointBuilder::new().local_anchor1(anchor1).local_anchor2(anchor2).into(),
+        JointKind::Prismatic { axis } => {
+            PrismaticJointBuilder::new(point(axis)).local_anchor1(anchor1).local_anchor2(anchor2).into()
+        }
+        JointKind::Rope { length } => {
+            RopeJointBuilder::new(real(length)).local_anchor1(anchor1).local_anchor2(anchor2).into()
+        }
+    }
+}
+
+/// The joint's free axis in rapier's spatial coordinates (0 = along the prismatic axis,
+/// 2 = angle).
+fn free_axis(joint: &JointSpec) -> usize {
+    match joint.kind {
+        JointKind::Prismatic { .. } => 0,
+        JointKind::Revolute | JointKind::Rope { .. } => 2,
+    }
+}
+
+/// Insert the plan's joints as one multibody rooted at the ground and bring it to the initial
+/// state (RAPIER-NOTES §3): fix the root, zero the default joint damping (§1.4), displace every
+/// joint coordinate from 0 to its initial value, set the generalized velocities, then add the
+/// couplings with the link ids read after all inserts.
+fn assemble_multibody(
+    world: &mut PhysicsWorld,
+    plan: &Plan,
+    handles: &[RigidBodyHandle],
+) -> Result<MultibodyLinks, Error> {
+    let inconsistent = |what: &str| Error::Inconsistent { what: format!("rapier multibody of {}: {what}", plan.scene) };
+    for joint in &plan.joints {
+        if matches!(joint.kind, JointKind::Rope { .. }) {
+            return Err(inconsistent("a rope is not a multibody joint"));
+        }
+        world
+            .insert_multibody_joint(handles[joint.parent], handles[joint.child], generic_joint(joint))
+            .ok_or_else(|| inconsistent("the joints do not form a tree"))?;
+    }
+    let link_of = |handle: RigidBodyHandle| world.multibody_joints.rigid_body_link(handle).copied();
+    let root = plan.joints.first().and_then(|j| link_of(handles[j.parent])).ok_or_else(|| inconsistent("no joint"))?;
+    let mut body_links = Vec::with_capacity(handles.len());
+    for (spec, &handle) in plan.bodies.iter().zip(handles) {
+        match link_of(handle) {
+            Some(link) if link.multibody == root.multibody => body_links.push(link.id),
+            _ if spec.motion == Motion::Dynamic => return Err(inconsistent("a body outside the multibody")),
+            _ => body_links.push(0),
+        }
+    }
+    let joint_links: Vec<usize> = plan.joints.iter().map(|j| body_links[j.child]).collect();
+    let mb = world.multibody_joints.get_multibody_mut(root.multibody).ok_or_else(|| inconsistent("no multibody"))?;
+    mb.forward_kinematics(&world.bodies, true);
+    mb.damping_mut().fill(0.0);
+    let mut displacement = vec![0.0; mb.ndofs()];
+    let mut velocity = vec![0.0; mb.ndofs()];
+    for (joint, &link_id) in plan.joints.iter().zip(&joint_links) {
+        let link = mb.link(link_id).ok_or_else(|| inconsistent("a joint without a link"))?;
+        let (q, qdot) = joint.coordinate(&plan.bodies[joint.parent].initial, &plan.bodies[joint.child].initial);
+        displacement[link.assembly_id()] = real(q);
+        velocity[link.assembly_id()] = real(qdot);
+    }
+    mb.apply_displacements(&displacement);
+    mb.forward_kinematics(&world.bodies, false);
+    mb.update_rigid_bodies(&mut world.bodies, true);
+    mb.generalized_velocity_mut().copy_from_slice(&velocity);
+    for coupling in &plan.couplings {
+        mb.add_dof_coupling(MultibodyDofCoupling {
+            link1: joint_links[coupling.from],
+            dof1: 0,
+            axis1: free_axis(&plan.joints[coupling.from]),
+            link2: joint_links[coupling.to],
+            dof2: 0,
+            axis2: free_axis(&plan.joints[coupling.to]),
+            coeff: real(coupling.coeff),
+            offset: real(coupling.offset),
+        });
+    }
+    // Poses and jacobians of the displaced state.
+    mb.forward_kinematics(&world.bodies, false);
+    Ok(MultibodyLinks { index: root.multibody, body_links, joint_links })
+}
