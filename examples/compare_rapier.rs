@@ -6,8 +6,16 @@
 use lagrange_maximal::compare::compare;
 use lagrange_maximal::{BuildError, Engine, Settings};
 
-const LECTURE: [&str; 8] =
-    ["cart_pendulum", "harmonic_oscillator", "kepler", "isotropic_oscillator", "atwood", "double_atwood", "double_double_atwood", "wedge"];
+const LECTURE: [&str; 8] = [
+    "cart_pendulum",
+    "harmonic_oscillator",
+    "kepler",
+    "isotropic_oscillator",
+    "atwood",
+    "double_atwood",
+    "double_double_atwood",
+    "wedge",
+];
 
 fn main() -> Result<(), BuildError> {
     let settings = Settings::default();
@@ -21,7 +29,13 @@ fn main() -> Result<(), BuildError> {
             match compare(engine, scene, &params, &initial, &settings, 10.0, 0.1) {
                 Ok(c) => {
                     let energy = c.energy_drift.map_or("—".into(), |e| format!("{e:.1e}"));
-                    println!("{id:<22} {:<21} {:>10.1e} {:>10}  {}", engine.name(), c.max_error, energy, c.deviations.join("; "));
+                    println!(
+                        "{id:<22} {:<21} {:>10.1e} {:>10}  {}",
+                        engine.name(),
+                        c.max_error,
+                        energy,
+                        c.deviations.join("; ")
+                    );
                 }
                 Err(BuildError::Unbuildable { reason, .. }) => {
                     println!("{id:<22} {:<21} {:>10} {:>10}  not buildable: {reason}", engine.name(), "—", "—")

@@ -34,8 +34,13 @@ fn the_first_two_commands_are_the_main_job_and_the_tests() {
 fn every_path_and_package_named_exists() {
     let readme = readme();
     let manifest = |dir: &str| std::fs::read_to_string(root().join(dir).join("Cargo.toml")).unwrap_or_default();
-    let packages: Vec<String> = ["crates/lagrange", "crates/scenes", "crates/cli", "tests", "benches", "examples"]
-        .iter()
+    // The workspace members, from the root manifest's `members = [...]` list.
+    let root_manifest = std::fs::read_to_string(root().join("Cargo.toml")).expect("root manifest");
+    let members = root_manifest.split("members = [").nth(1).and_then(|m| m.split(']').next()).expect("a members list");
+    let packages: Vec<String> = members
+        .split(',')
+        .map(|m| m.trim().trim_matches('"'))
+        .filter(|m| !m.is_empty())
         .filter_map(|d| manifest(d).lines().find(|l| l.starts_with("name = ")).map(|l| l[8..l.len() - 1].to_string()))
         .collect();
     for word in readme.split(['`', ' ', '(', ')', ',', '|', '\n']) {

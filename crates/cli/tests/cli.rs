@@ -144,3 +144,24 @@ fn report_covers_every_scene_and_conserves_what_it_should() {
         assert!(drift <= 1e-9, "{run}");
     }
 }
+
+#[test]
+fn compare_reports_every_engine_or_why_it_cannot_build_the_scene() {
+    let output = lagrange(&["compare", "atwood", "--t-end", "1", "--json"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let rows: serde_json::Value = serde_json::from_str(&stdout(&output)).expect("valid JSON");
+    let rows = rows.as_array().expect("a list");
+    assert_eq!(rows.len(), 5, "{rows:?}");
+    for row in rows {
+        let unbuildable = row["unbuildable"].as_str();
+        let error = row["max_error"].as_f64();
+        assert!(unbuildable.is_some() != error.is_some(), "{row}");
+    }
+    // The Cartesian formulation agrees with the reduced solver to its tolerance; the impulse
+    // joints cannot express a pulley and say so.
+    let cartesian = rows.iter().find(|r| r["engine"] == "cartesian").expect("cartesian row");
+    assert!(cartesian["max_error"].as_f64().expect("built") <= 1e-8, "{cartesian}");
+    let impulse = rows.iter().find(|r| r["engine"] == "rapier-impulse").expect("impulse row");
+    assert!(impulse["unbuildable"].as_str().is_some_and(|r| r.contains("pulley")), "{impulse}");
+    assert_one_line_error(&["compare", "atwood", "--engine", "bullet"], "unknown engine `bullet`");
+}

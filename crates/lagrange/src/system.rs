@@ -49,6 +49,10 @@ pub trait System {
     /// Whether `h` is a constant of the motion.
     fn conserves_energy(&self) -> bool;
 
+    /// Whether non-conservative generalized forces `Q` act (they cannot be attributed to one
+    /// body, so [`reaction_forces`](Self::reaction_forces) then includes them).
+    fn has_generalized_force(&self) -> bool;
+
     /// Integrate from `initial` to `t_end`; see [`simulate`](crate::simulate).
     ///
     /// # Errors
@@ -126,6 +130,10 @@ impl<D: Dynamics> System for Simulation<D> {
 
     fn conserves_energy(&self) -> bool {
         self.system.conserves_energy()
+    }
+
+    fn has_generalized_force(&self) -> bool {
+        self.system.has_generalized_force()
     }
 
     fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error> {

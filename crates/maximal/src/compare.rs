@@ -35,8 +35,11 @@ pub struct Comparison {
     pub momentum_drift: Option<f64>,
     /// Largest constraint violation over the samples, where the engine measures one.
     pub constraint_violation: Option<f64>,
-    /// Largest relative error of the engine's constraint forces against the reduced solver's
-    /// reaction forces at the engine's own state, where the engine exposes them.
+    /// Largest error of the engine's constraint forces against the reduced solver's reaction
+    /// forces at the engine's own state, relative to the largest force on a body (reaction,
+    /// weight or potential force), where the engine exposes them and the scene
+    /// has no generalized forces `Q` (the reduced reactions then include `Q`, which acts along
+    /// a coordinate and belongs to no single body).
     pub force_error: Option<f64>,
     /// Steps the engine took.
     pub steps: usize,
@@ -80,12 +83,15 @@ pub fn compare(
         &Output::Times(times.clone()),
     )?;
     let conserves = reduced.conserves_energy();
-    let cyclic: Vec<usize> = reduced.cyclic_coordinates().iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| j).collect();
+    let cyclic: Vec<usize> =
+        reduced.cyclic_coordinates().iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| j).collect();
     let p0 = reduced.momenta(initial.t, &initial.q, &initial.qdot)?.to_vec();
     let e0 = maps::energy(id, params, initial.t, &simulation.bodies())?;
     let mut errors = Vec::with_capacity(times.len());
     let (mut energy_drift, mut momentum_drift, mut violation, mut force_error): (f64, f64, Option<f64>, Option<f64>) =
         (0.0, 0.0, None, None);
+    let masses: Vec<f64> = maps::bodies(id, params)?.iter().map(|b| b.mass).collect();
+    let g = maps::gravity(params);
     let mut q_previous = initial.q.clone();
     let mut wall = 0.0;
     for (k, &t) in times.iter().enumerate() {
@@ -106,10 +112,17 @@ pub fn compare(
         if let Some(v) = simulation.constraint_violation() {
             violation = Some(violation.unwrap_or(0.0).max(v));
         }
-        if let Some(forces) = simulation.constraint_forces() {
+        let comparable = !reduced.has_generalized_force();
+        if let Some(forces) = simulation.constraint_forces().filter(|_| comparable) {
             let expected = reduced.reaction_forces(t, &q, &qdot)?.map(<[f64]>::to_vec).unwrap_or_default();
             if expected.len() == forces.len() {
-                let scale = max_abs(&expected).max(f64::MIN_POSITIVE);
+                // Relative to the forces acting on the bodies (reactions, weights, potential
+                // forces): a reaction that vanishes (a free particle) is compared with the
+                // forces that move it, not with its own round-off.
+                let mut potential_force = vec![0.0; forces.len()];
+                maps::potential(id, params, t, &bodies, Some(&mut potential_force))?;
+                let weight = masses.iter().fold(0.0_f64, |m, mass| m.max(mass * g));
+                let scale = max_abs(&expected).max(max_abs(&potential_force)).max(weight).max(f64::MIN_POSITIVE);
                 let residual = forces.iter().zip(&expected).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
                 force_error = Some(force_error.unwrap_or(0.0).max(residual / scale));
             }

@@ -21,8 +21,13 @@ pub enum Engine {
 
 impl Engine {
     /// Every engine, in report order.
-    pub const ALL: [Engine; 5] =
-        [Engine::Cartesian, Engine::RapierImpulse, Engine::RapierMultibody, Engine::RapierImpulseF32, Engine::RapierMultibodyF32];
+    pub const ALL: [Engine; 5] = [
+        Engine::Cartesian,
+        Engine::RapierImpulse,
+        Engine::RapierMultibody,
+        Engine::RapierImpulseF32,
+        Engine::RapierMultibodyF32,
+    ];
 
     /// The name used on the command line and in reports.
     pub fn name(self) -> &'static str {

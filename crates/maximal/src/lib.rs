@@ -30,7 +30,13 @@ use lagrange_scenes::Params;
 /// # Errors
 /// [`BuildError::Unbuildable`] with the reason when the engine cannot express the scene
 /// exactly; [`BuildError::Invalid`] for invalid parameters, settings or state.
-pub fn build(engine: Engine, scene: &str, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
+pub fn build(
+    engine: Engine,
+    scene: &str,
+    params: &Params,
+    initial: &State,
+    settings: &Settings,
+) -> Result<Built, BuildError> {
     check_settings(engine, settings)?;
     match engine {
         Engine::Cartesian => cartesian::build(scene, params, initial, settings),

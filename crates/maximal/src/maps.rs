@@ -60,7 +60,9 @@ pub fn body_states(scene: &str, params: &Params, state: &State) -> Result<Vec<Bo
     match visit_mechanism(scene, params, States(state))? {
         Some(states) => states,
         // The charged particle: its coordinates are already Cartesian.
-        None => Ok(vec![BodyState { pose: [state.q[0], state.q[1], 0.0], velocity: [state.qdot[0], state.qdot[1], 0.0] }]),
+        None => {
+            Ok(vec![BodyState { pose: [state.q[0], state.q[1], 0.0], velocity: [state.qdot[0], state.qdot[1], 0.0] }])
+        }
     }
 }
 
@@ -125,10 +127,8 @@ pub fn generalized(
     bodies: &[BodyState],
     reference: &[f64],
 ) -> Result<(Vec<f64>, Vec<f64>), Error> {
-    let z: Vec<[Dual64; 3]> = bodies
-        .iter()
-        .map(|b| std::array::from_fn(|c| Dual64::new(b.pose[c], b.velocity[c])))
-        .collect();
+    let z: Vec<[Dual64; 3]> =
+        bodies.iter().map(|b| std::array::from_fn(|c| Dual64::new(b.pose[c], b.velocity[c]))).collect();
     let q = inverse(scene, params, Dual64::new(t, 1.0), &z)?;
     let coordinates = lagrange_scenes::find(scene).map(|s| s.coordinates(params)).transpose()?.unwrap_or_default();
     let mut values: Vec<f64> = q.iter().map(|v| v.re).collect();

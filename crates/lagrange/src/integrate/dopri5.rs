@@ -217,7 +217,13 @@ impl Dopri5 {
     ///
     /// # Errors
     /// Any error of the equations of motion.
-    pub fn restart<D: Dynamics>(&mut self, system: &D, ws: &mut D::Workspace, q: &[f64], qdot: &[f64]) -> Result<(), Error> {
+    pub fn restart<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<(), Error> {
         let n = self.n;
         self.y[..n].copy_from_slice(q);
         self.y[n..].copy_from_slice(qdot);
