@@ -53,6 +53,15 @@
 //! # Ok::<(), lagrange::Error>(())
 //! ```
 //!
+//! # Kinematic trees: `O(n)` forward dynamics
+//!
+//! A mechanism whose bodies hang from each other by revolute and prismatic joints, one
+//! coordinate each, can say so ([`Mechanism::tree`] returning a [`Tree`]; a [`Tree`] is also a
+//! mechanism by itself). [`Model::new`] checks the tree against the mechanism's poses, and
+//! [`accelerations`] then runs Featherstone's articulated-body algorithm — three `O(n)` passes
+//! in planar spatial algebra — instead of assembling and factoring `M`; everything else uses the
+//! pose passes as before. [`Model::new_generic`] ignores the tree, for validation.
+//!
 //! # Layout
 //!
 //! Model, state, workspace and algorithms are kept apart (as in Pinocchio and MuJoCo):
@@ -73,6 +82,7 @@ mod state;
 mod system;
 #[cfg(test)]
 mod test_support;
+pub mod tree;
 mod workspace;
 
 pub use dynamics::Dynamics;
@@ -87,6 +97,7 @@ pub use pose::Pose;
 pub use scalar::Scalar;
 pub use state::State;
 pub use system::{Simulation, System};
+pub use tree::Tree;
 pub use workspace::Workspace;
 
 /// Re-exported dual-number types, for users who differentiate the engine's results.

@@ -101,3 +101,84 @@ impl Lagrangian for Charge {
         (v[0] * v[0] + v[1] * v[1]) * (0.5 * self.m) + (q[0] * v[1] - q[1] * v[0]) * (0.5 * self.e_b)
     }
 }
+
+/// splitmix64: a fixed, portable sequence of uniform numbers in `[0, 1)` for seeded tests.
+pub(crate) struct SplitMix(pub u64);
+
+impl SplitMix {
+    pub(crate) fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in `[a, b)`.
+    pub(crate) fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.uniform()
+    }
+}
+
+/// A hanging chain of uniform rods with their own masses and lengths, absolute angles from the
+/// downward vertical, poses written by hand (as the scenes do), declaring its [`Tree`].
+#[derive(Clone, Debug)]
+pub(crate) struct RodChain {
+    pub bodies: Vec<Body>,
+    pub coordinates: Vec<Coordinate>,
+    pub lengths: Vec<f64>,
+    pub g: f64,
+    pub tree: crate::Tree,
+}
+
+impl RodChain {
+    pub(crate) fn new(masses: &[f64], lengths: &[f64], g: f64) -> Self {
+        use crate::tree::{Joint, Parent};
+        let bodies: Vec<Body> = masses
+            .iter()
+            .zip(lengths)
+            .enumerate()
+            .map(|(i, (&m, &l))| Body::rigid(format!("rod {i}"), m, m * l * l / 12.0))
+            .collect();
+        let joints = lengths
+            .iter()
+            .enumerate()
+            .map(|(i, &l)| match i {
+                0 => Joint::absolute_revolute("θ0", Parent::Ground, [0.0, 0.0], [0.0, 0.5 * l]),
+                _ => Joint::absolute_revolute(
+                    format!("θ{i}"),
+                    Parent::Body(i - 1),
+                    [0.0, -0.5 * lengths[i - 1]],
+                    [0.0, 0.5 * l],
+                ),
+            })
+            .collect();
+        let tree = crate::Tree::new(joints, bodies.clone(), g).expect("valid tree");
+        let coordinates = (0..masses.len()).map(|i| Coordinate::angle(format!("θ{i}"))).collect();
+        Self { bodies, coordinates, lengths: lengths.to_vec(), g, tree }
+    }
+}
+
+impl Mechanism for RodChain {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+    fn gravity(&self) -> f64 {
+        self.g
+    }
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+        let (mut x, mut y) = (S::zero(), S::zero());
+        for ((pose, &theta), &l) in p.iter_mut().zip(q).zip(&self.lengths) {
+            let (sin, cos) = theta.sin_cos();
+            *pose = Pose::new(x + sin * (0.5 * l), y - cos * (0.5 * l), theta);
+            x += sin * l;
+            y -= cos * l;
+        }
+    }
+    fn tree(&self) -> Option<&crate::Tree> {
+        Some(&self.tree)
+    }
+}

@@ -1,5 +1,6 @@
 //! Every buffer an evaluation of a body model needs, allocated once.
 
+use crate::eom::articulated::ArticulatedBody;
 use crate::{Mechanism, Model, Pose, Scalar};
 use num_dual::{Dual, Dual2};
 
@@ -36,7 +37,8 @@ pub struct Workspace<S> {
     pub mass_matrix: Vec<S>,
     /// LDLᵀ factor of `M` (n × n): unit lower triangle below the diagonal, `D` on it.
     pub factor: Vec<S>,
-    /// Right-hand side `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q` (n), filled by the bias stage.
+    /// Right-hand side `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q` (n), filled by the bias stage;
+    /// on the tree path only `Q − ∂V/∂q` (when the model has either).
     pub rhs: Vec<S>,
     /// Generalized accelerations `q̈` (n), filled by [`accelerations`](crate::accelerations).
     pub qddot: Vec<S>,
@@ -52,6 +54,9 @@ pub struct Workspace<S> {
     pub(crate) constant_jacobian: Vec<S>,
     pub(crate) constant_factor: Vec<S>,
     pub(crate) constant_gravity: Vec<S>,
+    /// Per-body scratch of the articulated-body algorithm (B; empty unless the model uses the
+    /// tree path), filled by `articulated::solve`.
+    pub(crate) articulated: Vec<ArticulatedBody<S>>,
 }
 
 impl<S: Scalar> Workspace<S> {
@@ -87,6 +92,7 @@ impl<S: Scalar> Workspace<S> {
             constant_jacobian,
             constant_factor,
             constant_gravity,
+            articulated: if model.tree.is_some() { vec![ArticulatedBody::zero(); b] } else { Vec::new() },
         }
     }
 }

@@ -4,6 +4,7 @@
 use crate::checks::{check_dimensions, fixed};
 use crate::params::{GRAVITY, check_all};
 use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
 
 /// Parameters: cart mass `M`, bob mass `m`, rod length `r`, gravity `g`, bob inertia `I_b`.
@@ -29,6 +30,12 @@ pub const PARAMS: &[ParamSpec] = &[
 /// point bob is `I_b = 0`. Rigid-body engines whose revolute joints cannot hold a point bob
 /// are compared against this model with `I_b > 0`.
 ///
+/// It describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): the cart on a prismatic
+/// joint along x from the ground, the bob on a revolute joint at the cart's centre with the
+/// absolute angle `θ` ([`AngleReference::World`](lagrange::tree::AngleReference); the cart never
+/// turns, so it is also the angle relative to the cart), `(0, r)` in the bob's frame; so
+/// [`Model::new`] computes `q̈` with the articulated-body algorithm.
+///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params), which validate the
 /// parameters and build the body list; the fields are public for reading (changing one
 /// afterwards does not update the bodies the engine sees).
@@ -46,6 +53,7 @@ pub struct CartPendulum {
     pub bob_inertia: f64,
     coordinates: [Coordinate; 2],
     bodies: [Body; 2],
+    tree: Tree,
 }
 
 impl CartPendulum {
@@ -70,6 +78,13 @@ impl CartPendulum {
         bob_inertia: f64,
     ) -> Result<Self, Error> {
         check_all(PARAMS, &[cart_mass, bob_mass, rod_length, gravity, bob_inertia])?;
+        let bodies = [Body::point("cart", cart_mass), Body::rigid("bob", bob_mass, bob_inertia)];
+        // The cart slides along the rail; the bob hangs a rod length below the cart's centre.
+        let joints = vec![
+            Joint::prismatic("X", Parent::Ground, [0.0, 0.0], [1.0, 0.0], [0.0, 0.0]),
+            Joint::absolute_revolute("θ", Parent::Body(0), [0.0, 0.0], [0.0, rod_length]),
+        ];
+        let tree = Tree::new(joints, bodies.to_vec(), gravity)?;
         Ok(Self {
             cart_mass,
             bob_mass,
@@ -77,7 +92,8 @@ impl CartPendulum {
             gravity,
             bob_inertia,
             coordinates: [Coordinate::length("X"), Coordinate::angle("θ")],
-            bodies: [Body::point("cart", cart_mass), Body::rigid("bob", bob_mass, bob_inertia)],
+            bodies,
+            tree,
         })
     }
 
@@ -180,6 +196,10 @@ impl Mechanism for CartPendulum {
         let (sin, cos) = theta.sin_cos();
         // A compound bob turns with the rod (its angle is irrelevant for a point bob).
         world_from_body[1] = Pose::new(cart_x + sin * self.rod_length, -cos * self.rod_length, theta);
+    }
+
+    fn tree(&self) -> Option<&Tree> {
+        Some(&self.tree)
     }
 }
 

@@ -3,6 +3,7 @@
 use crate::checks::{check_dimensions, fixed};
 use crate::params::{GRAVITY, check_all};
 use crate::{Domain, ParamSpec, Params, Scene};
+use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
 
 /// Parameters: masses `m1`, `m2`, rod lengths `l1`, `l2`, `g`, bob inertias `I1`, `I2`.
@@ -41,6 +42,11 @@ pub const PARAMS: &[ParamSpec] = &[
 /// `V = −(m1 + m2) g l1 cosθ₁ − m2 g l2 cosθ₂` (derived here from the Cartesian maps, as the
 /// lecture does; the system is treated in Taylor, *Classical Mechanics*, §11.4).
 ///
+/// It describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): bob 1 hangs from the
+/// origin, bob 2 from bob 1's centre, each by a revolute joint with the absolute angle `θ_i`
+/// ([`AngleReference::World`](lagrange::tree::AngleReference)) at `(0, l_i)` in the bob's frame;
+/// so [`Model::new`] computes `q̈` with the articulated-body algorithm.
+///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
 #[derive(Clone, Debug, PartialEq)]
@@ -59,6 +65,7 @@ pub struct DoublePendulum {
     pub inertia: [f64; 2],
     coordinates: [Coordinate; 2],
     bodies: [Body; 2],
+    tree: Tree,
 }
 
 impl DoublePendulum {
@@ -83,6 +90,13 @@ impl DoublePendulum {
         inertia: [f64; 2],
     ) -> Result<Self, Error> {
         check_all(PARAMS, &[mass_1, mass_2, length_1, length_2, gravity, inertia[0], inertia[1]])?;
+        let bodies = [Body::rigid("bob 1", mass_1, inertia[0]), Body::rigid("bob 2", mass_2, inertia[1])];
+        // Each bob a rod length below its pivot: the origin, then bob 1's centre.
+        let joints = vec![
+            Joint::absolute_revolute("θ1", Parent::Ground, [0.0, 0.0], [0.0, length_1]),
+            Joint::absolute_revolute("θ2", Parent::Body(0), [0.0, 0.0], [0.0, length_2]),
+        ];
+        let tree = Tree::new(joints, bodies.to_vec(), gravity)?;
         Ok(Self {
             mass_1,
             mass_2,
@@ -91,7 +105,8 @@ impl DoublePendulum {
             gravity,
             inertia,
             coordinates: [Coordinate::angle("θ1"), Coordinate::angle("θ2")],
-            bodies: [Body::rigid("bob 1", mass_1, inertia[0]), Body::rigid("bob 2", mass_2, inertia[1])],
+            bodies,
+            tree,
         })
     }
 
@@ -199,6 +214,10 @@ impl Mechanism for DoublePendulum {
         // Compound bobs turn with their rods (the angles are irrelevant for point bobs).
         world_from_body[0] = Pose::new(x1, y1, theta_1);
         world_from_body[1] = Pose::new(x1 + sin_2 * self.length_2, y1 - cos_2 * self.length_2, theta_2);
+    }
+
+    fn tree(&self) -> Option<&Tree> {
+        Some(&self.tree)
     }
 }
 

@@ -1,8 +1,9 @@
 //! Equations of motion of a body model, stage by stage:
-//! position (`kinematics`) → mass matrix → right-hand side (`bias`) → `solve`; plus the
-//! quantities derived from the same passes (`energy`, `reactions`) and the raw-Lagrangian
-//! path (`raw`).
+//! position (`kinematics`) → mass matrix → right-hand side (`bias`) → `solve`; for kinematic
+//! trees the articulated-body algorithm (`articulated`) instead; plus the quantities derived
+//! from the same passes (`energy`, `reactions`) and the raw-Lagrangian path (`raw`).
 
+pub(crate) mod articulated;
 pub(crate) mod bias;
 pub(crate) mod energy;
 pub(crate) mod kinematics;
@@ -20,8 +21,10 @@ use crate::{Error, Mechanism, Model, Scalar, Workspace};
 /// `M = Σ_b J_bᵀ D_b J_b`, `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q`: `n` first-order dual
 /// passes give `J` (and `∂V/∂q`), one second-order pass along `(q̇, 1)` gives `γ`, then an
 /// in-place LDLᵀ solve. A model with a constant mass matrix skips all of it but the potential
-/// gradient and the solve with the stored factor. Generic over the scalar, so `q̈` itself can be
-/// differentiated. The result is borrowed from the workspace.
+/// gradient and the solve with the stored factor. A model of a kinematic tree
+/// ([`Mechanism::tree`], [`Model::uses_tree_path`]) runs the articulated-body algorithm
+/// instead: `O(n)`, with the same result to round-off. Generic over the scalar, so `q̈` itself
+/// can be differentiated. The result is borrowed from the workspace.
 ///
 /// # Errors
 /// [`Error::DimensionMismatch`], [`Error::NonFinite`] (naming the stage), or
@@ -34,7 +37,11 @@ pub fn accelerations<'w, M: Mechanism, S: Scalar>(
     qdot: &[S],
 ) -> Result<&'w [S], Error> {
     check_state(model.n, t, q, Some(qdot))?;
-    size::with_size!(model.n, n => solve_sized(model, ws, n, t, q, qdot))?;
+    if let Some(tree) = &model.tree {
+        articulated::solve(model, tree, ws, t, q, qdot)?;
+    } else {
+        size::with_size!(model.n, n => solve_sized(model, ws, n, t, q, qdot))?;
+    }
     Ok(&ws.qddot)
 }
 

@@ -1,6 +1,6 @@
 //! What a user writes: coordinates, bodies, and where each body is as a function of them.
 
-use crate::{Pose, Scalar};
+use crate::{Pose, Scalar, Tree};
 
 /// What a generalized coordinate measures, for units and display.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -115,5 +115,22 @@ pub trait Mechanism {
     /// [`Model::new`](crate::Model::new) checks the declaration at probe states.
     fn constant_mass_matrix(&self) -> bool {
         false
+    }
+
+    /// Describe the mechanism as a planar kinematic [`Tree`] (body `i` hung from an earlier
+    /// body or the ground by joint `i`, whose coordinate is `q_i`), or `None` (the default).
+    ///
+    /// Then [`Model::new`](crate::Model::new) checks at probe states that the tree has the
+    /// mechanism's bodies and gravity and that its forward kinematics reproduce
+    /// [`poses`](Self::poses) (positions, velocities and convective accelerations; the angle of
+    /// a body without inertia and the position of a body without mass are not compared), and
+    /// [`accelerations`](crate::accelerations) runs the articulated-body algorithm in `O(n)`
+    /// instead of assembling and factoring `M`. Potentials, generalized forces and everything
+    /// else keep using [`poses`](Self::poses) (so a potential's gradient still costs `n` dual
+    /// passes of the poses, `O(n²)`; gravity costs nothing extra). A [`Tree`] is itself a
+    /// mechanism. Construct the tree once (e.g. in the mechanism's constructor) and return a
+    /// reference to it; the model keeps its own copy.
+    fn tree(&self) -> Option<&Tree> {
+        None
     }
 }

@@ -2,7 +2,8 @@
 
 use crate::eom::{kinematics, mass_matrix, solve};
 use crate::model::probe::ProbeStates;
-use crate::{Body, Coordinate, Error, Mechanism, Pose, Workspace};
+use crate::{Body, Coordinate, Error, Mechanism, Pose, Tree, Workspace};
+use num_dual::Dual2;
 
 /// Terms computed once for a mechanism that declares a constant mass matrix.
 #[derive(Clone, Debug)]
@@ -21,8 +22,20 @@ pub(crate) struct ConstantTerms {
 ///
 /// Construction validates the bodies (finite, non-negative masses and inertias), asks once
 /// which optional terms the mechanism has (potential, generalized forces), checks a declared
-/// constant mass matrix at probe states and factors it, and finds the cyclic coordinates.
-/// Evaluations never re-check any of this.
+/// constant mass matrix or kinematic tree at probe states (and factors the constant matrix),
+/// and finds the cyclic coordinates. Evaluations never re-check any of this.
+///
+/// # Which algorithm computes `q̈`
+///
+/// [`accelerations`](crate::accelerations) picks, once and for all at construction:
+/// 1. a declared constant mass matrix ([`Mechanism::constant_mass_matrix`]): the stored factor;
+/// 2. a declared kinematic tree ([`Mechanism::tree`]): the articulated-body algorithm, `O(n)`
+///    ([`uses_tree_path`](Self::uses_tree_path));
+/// 3. otherwise: assembly of `M` and `f` from the pose Jacobian and an LDLᵀ solve, `O(n³)`.
+///
+/// [`Model::new_generic`] ignores a declared tree and always takes path 3 — the independent
+/// reference the tree path is validated against. The mass matrix, energies, momenta, reaction
+/// forces and the raw-Lagrangian path use the pose passes whatever the choice.
 #[derive(Clone, Debug)]
 pub struct Model<M> {
     pub(crate) mechanism: M,
@@ -37,6 +50,8 @@ pub struct Model<M> {
     pub(crate) constant: Option<ConstantTerms>,
     pub(crate) cyclic: Vec<bool>,
     pub(crate) autonomous: bool,
+    /// The declared kinematic tree, when accelerations run the articulated-body algorithm.
+    pub(crate) tree: Option<Tree>,
 }
 
 impl<M: Mechanism> Model<M> {
@@ -46,9 +61,23 @@ impl<M: Mechanism> Model<M> {
     /// [`Error::InvalidParameter`] for a non-finite or negative mass or inertia, non-finite
     /// gravity (negative `g` is allowed: gravity along +y), or a
     /// mechanism without coordinates or bodies; [`Error::Inconsistent`] if a declared constant
-    /// mass matrix is contradicted by the poses; [`Error::SingularMassMatrix`] if that constant
-    /// matrix is singular.
+    /// mass matrix or a declared tree is contradicted by the poses; [`Error::SingularMassMatrix`]
+    /// if that constant matrix is singular.
     pub fn new(mechanism: M) -> Result<Self, Error> {
+        Self::build(mechanism, true)
+    }
+
+    /// As [`new`](Self::new), but ignoring a declared [`tree`](Mechanism::tree): accelerations
+    /// always assemble and factor `M` from the pose Jacobian. For validating the tree path
+    /// against an independent algorithm on the same mechanism, and for benchmarks.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new) (a declared tree is not checked).
+    pub fn new_generic(mechanism: M) -> Result<Self, Error> {
+        Self::build(mechanism, false)
+    }
+
+    fn build(mechanism: M, use_tree: bool) -> Result<Self, Error> {
         let n = mechanism.coordinates().len();
         let bodies = mechanism.bodies();
         if n == 0 {
@@ -75,6 +104,7 @@ impl<M: Mechanism> Model<M> {
             constant: None,
             cyclic: vec![false; n],
             autonomous: false,
+            tree: None,
             mechanism,
         };
         let probes = ProbeStates::new(n);
@@ -87,6 +117,13 @@ impl<M: Mechanism> Model<M> {
         model.has_force = model.mechanism.generalized_force(t, q, qdot, &mut force);
         if model.mechanism.constant_mass_matrix() {
             model.constant = Some(constant_terms(&model, &probes)?);
+        }
+        if use_tree && let Some(tree) = model.mechanism.tree() {
+            check_tree(&model, tree, &probes)?;
+            // A constant mass matrix is cheaper still: the tree is checked but not used.
+            if model.constant.is_none() {
+                model.tree = Some(tree.clone());
+            }
         }
         let (cyclic, autonomous) = probes.lagrangian_structure(&model);
         model.cyclic = cyclic;
@@ -132,6 +169,13 @@ impl<M: Mechanism> Model<M> {
     /// Whether `M` is constant (declared, and checked at construction).
     pub fn has_constant_mass_matrix(&self) -> bool {
         self.constant.is_some()
+    }
+
+    /// Whether [`accelerations`](crate::accelerations) runs the articulated-body algorithm on
+    /// the mechanism's declared [`Tree`] (built with [`new`](Self::new), a tree declared, no
+    /// constant mass matrix).
+    pub fn uses_tree_path(&self) -> bool {
+        self.tree.is_some()
     }
 
     /// Which coordinates are cyclic (`∂L/∂q_j = 0`): their momenta `p_j` are conserved when
@@ -224,4 +268,63 @@ fn constant_terms<M: Mechanism>(model: &Model<M>, probes: &ProbeStates) -> Resul
         }
     }
     Ok(ConstantTerms { jacobian: ws.jacobian.clone(), mass_matrix: ws.mass_matrix.clone(), factor, gravity_force })
+}
+
+/// Check a declared tree against the mechanism: bodies, gravity, and — at every probe state —
+/// poses, velocities and convective accelerations from one second-order dual pass of each.
+fn check_tree<M: Mechanism>(model: &Model<M>, tree: &Tree, probes: &ProbeStates) -> Result<(), Error> {
+    let inconsistent =
+        |what: String| Err(Error::Inconsistent { what: format!("declared a kinematic tree, but {what}") });
+    let bodies = model.mechanism.bodies();
+    if tree.len() != bodies.len() || tree.len() != model.n {
+        return inconsistent(format!(
+            "it has {} bodies and coordinates where the mechanism has {} bodies and {} coordinates",
+            tree.len(),
+            bodies.len(),
+            model.n
+        ));
+    }
+    for (mine, theirs) in bodies.iter().zip(tree.bodies()) {
+        if (mine.mass, mine.inertia) != (theirs.mass, theirs.inertia) {
+            return inconsistent(format!("its body `{}` differs from the mechanism's `{}`", theirs.name, mine.name));
+        }
+    }
+    if tree.gravity() != model.gravity {
+        return inconsistent(format!("its g = {} differs from the mechanism's {}", tree.gravity(), model.gravity));
+    }
+    let b = bodies.len();
+    let (mut mine, mut theirs) = (vec![Pose::<Dual2<f64>>::default(); b], vec![Pose::<Dual2<f64>>::default(); b]);
+    let mut seeded = vec![Dual2::from_re(0.0); model.n];
+    for k in 0..probes.len() {
+        let (q, qdot, t) = probes.state(k);
+        for ((d, &qi), &vi) in seeded.iter_mut().zip(q).zip(qdot) {
+            *d = Dual2::new(qi, vi, 0.0);
+        }
+        let t_dual = Dual2::new(t, 1.0, 0.0);
+        model.mechanism.poses(&seeded, t_dual, &mut mine);
+        tree.poses(&seeded, t_dual, &mut theirs);
+        // Components: x and y of bodies with mass, the angle of bodies with inertia.
+        let components = |poses: &[Pose<Dual2<f64>>]| {
+            poses
+                .iter()
+                .zip(bodies)
+                .flat_map(|(p, body)| {
+                    let translation = if body.mass != 0.0 { [Some(p.x), Some(p.y)] } else { [None, None] };
+                    translation.into_iter().chain([(body.inertia != 0.0).then_some(p.angle)]).flatten()
+                })
+                .collect::<Vec<_>>()
+        };
+        let (a, b) = (components(&mine), components(&theirs));
+        for (order, part) in [("poses", 0), ("velocities", 1), ("convective accelerations", 2)] {
+            let get = |d: &Dual2<f64>| [d.re, d.v1, d.v2][part];
+            let scale = a.iter().chain(&b).fold(1.0_f64, |m, d| m.max(get(d).abs()));
+            // A NaN difference fails too.
+            if !a.iter().zip(&b).all(|(x, y)| (get(x) - get(y)).abs() <= 1e-12 * scale) {
+                return inconsistent(format!(
+                    "its forward kinematics differ from the mechanism's {order} at q = {q:?}"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
