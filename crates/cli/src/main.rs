@@ -7,7 +7,7 @@
 //!          [--integrator rk4|adaptive|variational] [--dt H | --tol E] [--every S] [--out FILE.csv]
 //! lagrange compare <scene> [--param ..] [--engine cartesian|rapier-impulse|rapier-multibody|
 //!          rapier-impulse-f32|rapier-multibody-f32|all] [--dt H] [--substeps K] [--t-end T] [--json]
-//! lagrange report [--scene ID]... [--t-end T] [--json]
+//! lagrange report [--scene ID]... [--quick] [--out DIR] [--t-end T] [--json]
 //! ```
 //!
 //! Every error is one line on standard error, naming what is wrong, with exit code 2.
@@ -37,8 +37,10 @@ enum Command {
     /// Run the reduced solver and the maximal-coordinate engines (Cartesian with multipliers,
     /// rapier impulse and multibody joints in f64 and f32) side by side.
     Compare(commands::compare::Args),
-    /// Simulate the built-in scenes with every integrator and summarise energy and momentum
-    /// conservation and the error against closed-form solutions.
+    /// The validation report: every scene by every method (reduced RK4, adaptive and variational
+    /// integrators, the Cartesian solver, rapier impulse and multibody joints in f64 and f32)
+    /// over step and tolerance sweeps, against each scene's reference; writes report.json,
+    /// report.md and work-precision plots to --out.
     Report(commands::report::Args),
 }
 

@@ -1,0 +1,171 @@
+//! From the runs of a scene to its entry in `report.json`: the fronts of every family, ours
+//! (the reduced solver's three integrators together) against each rapier f64 engine, and the
+//! per-run rows.
+
+use super::pareto::{EqualError, EqualTime, Front, Point};
+use super::plan::{CARTESIAN_CHECK_TOLERANCE, EQUAL_ERROR, ERROR_RATIO_TARGET, Family, Setting, TIME_RATIO_TARGET};
+use super::runs::{Availability, FamilyRuns, SceneRuns};
+use super::schema::{
+    FrontPoint, MethodReport, Plots, ReferenceReport, RunReport, SceneReport, SettingsReport, Summary, Versus,
+};
+use lagrange_maximal::Engine;
+
+/// The front of the successful runs of the families `which` selects.
+fn front_of(families: &[FamilyRuns], which: impl Fn(Family) -> bool) -> Front {
+    Front::new(families.iter().enumerate().filter(|(_, f)| which(f.family)).flat_map(|(i, f)| {
+        f.runs.iter().enumerate().filter_map(move |(j, run)| {
+            let m = run.outcome.as_ref().ok()?;
+            Some(Point { time: m.wall_time, error: m.max_error(), family: i, run: j })
+        })
+    }))
+}
+
+fn front_points(families: &[FamilyRuns], front: &Front) -> Vec<FrontPoint> {
+    front
+        .points
+        .iter()
+        .map(|p| {
+            let (i, j) = (p.family, p.run);
+            FrontPoint {
+                method: families[i].family.name(),
+                setting: families[i].runs[j].setting.describe(),
+                wall_time_s: p.time,
+                max_error: p.error,
+            }
+        })
+        .collect()
+}
+
+fn settings_report(setting: Setting) -> SettingsReport {
+    match setting {
+        Setting::Step { dt } => SettingsReport { dt: Some(dt), tolerance: None, substeps: None, h: None },
+        Setting::Tolerance { tol } => SettingsReport { dt: None, tolerance: Some(tol), substeps: None, h: None },
+        Setting::Rapier { dt, substeps } => {
+            SettingsReport { dt: Some(dt), tolerance: None, substeps: Some(substeps), h: Some(dt / substeps as f64) }
+        }
+    }
+}
+
+fn status(availability: &Availability) -> (&'static str, Option<String>) {
+    match availability {
+        Availability::Ready { .. } => ("ok", None),
+        Availability::Unbuildable(reason) => ("unbuildable", Some(reason.clone())),
+        Availability::Failed(reason) => ("failed", Some(reason.clone())),
+    }
+}
+
+fn method_report(index: usize, family: &FamilyRuns, own_front: &Front) -> MethodReport {
+    let (status, reason) = status(&family.availability);
+    let on_front = |j: usize| own_front.points.iter().any(|p| p.family == index && p.run == j);
+    let note = match family.availability {
+        Availability::Ready { honours_substeps: false } if matches!(family.family, Family::Maximal(e) if e.is_rapier()) => {
+            Some("the build applies per-step forces and runs one substep per step whatever is asked: swept over dt alone".into())
+        }
+        _ => None,
+    };
+    MethodReport {
+        method: family.family.name(),
+        solver: family.family.solver(),
+        status,
+        reason,
+        deviations: family.deviations.clone(),
+        reference: family.reference.map(|k| k.name()),
+        note,
+        runs: family
+            .runs
+            .iter()
+            .enumerate()
+            .map(|(j, run)| match &run.outcome {
+                Ok(m) => RunReport {
+                    settings: settings_report(run.setting),
+                    status: "ok",
+                    reason: None,
+                    max_error: Some(m.max_error()),
+                    final_error: Some(m.final_error()),
+                    energy_error: m.energy_error,
+                    constraint_violation: m.constraint_violation,
+                    wall_time_s: Some(m.wall_time),
+                    timed_repetitions: m.timed_repetitions,
+                    steps: Some(m.steps),
+                    on_front: on_front(j),
+                },
+                Err(reason) => RunReport {
+                    settings: settings_report(run.setting),
+                    status: "failed",
+                    reason: Some(reason.clone()),
+                    max_error: None,
+                    final_error: None,
+                    energy_error: None,
+                    constraint_violation: None,
+                    wall_time_s: None,
+                    timed_repetitions: 0,
+                    steps: None,
+                    on_front: false,
+                },
+            })
+            .collect(),
+    }
+}
+
+/// Ours against `engine`.
+fn versus(runs: &SceneRuns, ours: &Front, engine: Engine) -> Versus {
+    let family = runs.families.iter().find(|f| f.family == Family::Maximal(engine));
+    let (status, reason) = family.map_or(("failed", Some("not run".to_string())), |f| status(&f.availability));
+    let rapier = front_of(&runs.families, |f| f == Family::Maximal(engine));
+    let (equal_time, equal_error) = match &reason {
+        Some(reason) => (
+            EqualTime::none(format!("{engine} {status}: {reason}"), ERROR_RATIO_TARGET),
+            EqualError::none(EQUAL_ERROR, format!("{engine} {status}: {reason}"), TIME_RATIO_TARGET),
+        ),
+        None => (
+            EqualTime::new(ours, &rapier, ERROR_RATIO_TARGET),
+            EqualError::new(ours, &rapier, EQUAL_ERROR, TIME_RATIO_TARGET),
+        ),
+    };
+    Versus {
+        rapier: engine.name(),
+        status,
+        reason,
+        rapier_front: front_points(&runs.families, &rapier),
+        error_ratio_at_equal_time: equal_time,
+        time_ratio_at_equal_error: equal_error,
+    }
+}
+
+/// The scene's entry in `report.json`.
+pub fn scene_report(runs: &SceneRuns, plots: Plots, wall_time: f64) -> SceneReport {
+    let ours = front_of(&runs.families, Family::is_reduced);
+    let methods = runs
+        .families
+        .iter()
+        .enumerate()
+        .map(|(i, f)| method_report(i, f, &front_of(&runs.families, |g| g == f.family)))
+        .collect();
+    let cartesian_agreement = runs
+        .families
+        .iter()
+        .find(|f| f.family == Family::Maximal(Engine::Cartesian))
+        .and_then(|f| f.runs.iter().find(|r| r.setting == Setting::Tolerance { tol: CARTESIAN_CHECK_TOLERANCE }))
+        .and_then(|r| r.outcome.as_ref().ok())
+        .map(|m| m.max_error());
+    SceneReport {
+        scene: runs.scene.id(),
+        title: runs.scene.title(),
+        coordinates: runs.coordinates.iter().map(|c| c.name.clone()).collect(),
+        conserves_energy: runs.conserves_energy,
+        reference: ReferenceReport {
+            kind: runs.reference.kind.name(),
+            tolerance: runs.reference.kind.tolerance(),
+            cartesian_tolerance: CARTESIAN_CHECK_TOLERANCE,
+            cartesian_agreement,
+        },
+        methods,
+        summary: Summary {
+            ours: Family::OURS.iter().map(|f| f.name()).collect(),
+            ours_front: front_points(&runs.families, &ours),
+            versus: Family::RAPIER_F64.iter().map(|&engine| versus(runs, &ours, engine)).collect(),
+        },
+        plots,
+        scene_wall_time_s: wall_time,
+    }
+}

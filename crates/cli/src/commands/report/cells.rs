@@ -1,0 +1,36 @@
+//! How numbers and ratios read in report.md and on the terminal.
+
+use super::pareto::{EqualError, EqualTime};
+
+/// `1.23e-4`, or `—` for a metric that does not apply.
+pub fn number(value: Option<f64>) -> String {
+    value.map_or_else(|| "—".to_string(), |v| format!("{v:.2e}"))
+}
+
+/// `met`, `not met` or `undetermined`.
+pub fn verdict(met: Option<bool>) -> &'static str {
+    match met {
+        Some(true) => "met",
+        Some(false) => "not met",
+        None => "undetermined",
+    }
+}
+
+/// A ratio: its value, or `≥ bound`, or `—`, with the verdict.
+pub fn ratio(value: Option<f64>, lower_bound: Option<f64>, met: Option<bool>) -> String {
+    match (value, lower_bound) {
+        (Some(v), _) => format!("{v:.2e} ({})", verdict(met)),
+        (None, Some(bound)) => format!("≥ {bound:.2e} ({})", verdict(met)),
+        (None, None) => "—".to_string(),
+    }
+}
+
+/// The equal-time ratio as a cell.
+pub fn equal_time(r: &EqualTime) -> String {
+    ratio(r.value, r.lower_bound, r.met)
+}
+
+/// The equal-error ratio as a cell.
+pub fn equal_error(r: &EqualError) -> String {
+    ratio(r.value, r.lower_bound, r.met)
+}

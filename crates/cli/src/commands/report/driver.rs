@@ -1,0 +1,88 @@
+//! `lagrange report` from start to end: validate the arguments, probe every scene, run every
+//! sweep under a progress bar, and write report.json, report.md, the plots and the summary.
+
+use super::assemble::scene_report;
+use super::markdown;
+use super::options::{Args, Options};
+use super::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_TARGET};
+use super::plots;
+use super::runs::{ScenePlan, SceneRuns};
+use super::schema::{Plots, Report, SCHEMA_VERSION, Targets, TimingReport};
+use super::terminal;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::Path;
+use std::time::Instant;
+
+fn write(path: &Path, contents: &str) -> Result<(), String> {
+    std::fs::write(path, contents).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+/// A progress bar on standard error (hidden when it is not a terminal).
+fn progress_bar(total: usize) -> ProgressBar {
+    let bar = ProgressBar::new(total as u64);
+    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {wide_msg}") {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+/// Run the report.
+///
+/// # Errors
+/// A bad argument, an output that cannot be written, or a scene whose reference fails.
+pub fn run(args: &Args) -> Result<(), String> {
+    let start = Instant::now();
+    let options = Options::new(args)?;
+    let plan = &options.plan;
+    let scene_plans: Vec<ScenePlan> =
+        options.scenes.iter().map(|&scene| ScenePlan::new(scene, plan)).collect::<Result<_, _>>()?;
+    let bar = progress_bar(scene_plans.iter().map(ScenePlan::runs).sum());
+    let mut scenes = Vec::with_capacity(scene_plans.len());
+    let mut files = 0;
+    for scene_plan in &scene_plans {
+        let scene_start = Instant::now();
+        let runs = SceneRuns::execute(scene_plan, plan, |label| {
+            bar.set_message(label.to_string());
+            bar.inc(1);
+        })?;
+        let id = scene_plan.scene.id();
+        let names = Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg") };
+        plots::work_precision(&options.out.join(&names.work_precision), &runs, plan.horizon)?;
+        plots::errors_over_time(&options.out.join(&names.error), &runs, &plan.times)?;
+        files += 2;
+        scenes.push(scene_report(&runs, names, scene_start.elapsed().as_secs_f64()));
+    }
+    bar.finish_and_clear();
+    let report = Report {
+        schema_version: SCHEMA_VERSION,
+        generator: format!("lagrange-cli {}", env!("CARGO_PKG_VERSION")),
+        mode: if plan.quick { "quick" } else { "full" },
+        horizon_s: plan.horizon,
+        sample_interval_s: SAMPLE_INTERVAL,
+        samples: plan.times.len(),
+        timing: TimingReport {
+            warmup_runs: plan.timing.warmup,
+            max_timed_repetitions: plan.timing.repetitions,
+            repetition_budget_s: plan.timing.budget,
+            statistic: "minimum wall time (std::time::Instant) of the timed part of a run: the whole \
+                        simulate call for the reduced solver, the advance_to calls through the saved times \
+                        for a maximal engine (building it and reading it back are not timed)",
+        },
+        targets: Targets {
+            error_ratio_at_equal_time: ERROR_RATIO_TARGET,
+            time_ratio_at_equal_error: TIME_RATIO_TARGET,
+            equal_error: EQUAL_ERROR,
+        },
+        scenes,
+        total_wall_time_s: start.elapsed().as_secs_f64(),
+    };
+    let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    write(&options.out.join("report.json"), &json)?;
+    write(&options.out.join("report.md"), &markdown::render(&report))?;
+    if options.json {
+        println!("{json}");
+    } else {
+        print!("{}", terminal::render(&report, &options.out, files));
+    }
+    Ok(())
+}

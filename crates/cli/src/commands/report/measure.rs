@@ -1,0 +1,169 @@
+//! One run of one method at one setting: its error against the reference at every saved time,
+//! its energy error and constraint violation where they mean something, and its wall time.
+
+use super::plan::Timing;
+use super::reference::{Reference, max_or_nan};
+use lagrange::{Method, Output, State, System};
+use lagrange_maximal::{Built, Engine, MaximalSimulation, Settings, build, maps};
+use std::hint::black_box;
+use std::time::Instant;
+
+/// What one run measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measured {
+    /// `‖q − q_ref‖∞` at each saved time (positions in m, angles in rad).
+    pub errors: Vec<f64>,
+    /// `max |E − E₀| / |E₀|` over the saved times, where the scene conserves energy.
+    pub energy_error: Option<f64>,
+    /// Largest constraint violation over the saved times, where the engine has one.
+    pub constraint_violation: Option<f64>,
+    /// Steps taken (accepted steps of the adaptive integrators, rapier steps).
+    pub steps: usize,
+    /// Minimum wall time over the timed repetitions (s).
+    pub wall_time: f64,
+    /// Timed repetitions.
+    pub timed_repetitions: usize,
+}
+
+impl Measured {
+    /// Largest error over the saved times.
+    pub fn max_error(&self) -> f64 {
+        self.errors.iter().copied().fold(0.0, max_or_nan)
+    }
+
+    /// Error at the last saved time.
+    pub fn final_error(&self) -> f64 {
+        self.errors.last().copied().unwrap_or(0.0)
+    }
+
+    /// Whether every error is finite (a run that blew up has NaN or infinite errors).
+    pub fn is_finite(&self) -> bool {
+        self.errors.iter().all(|e| e.is_finite()) && self.energy_error.is_none_or(f64::is_finite)
+    }
+}
+
+/// `|E − E₀| / |E₀|`, or `|E − E₀|` when `E₀ = 0`.
+fn relative_energy_error(energy: f64, initial: f64) -> f64 {
+    let drift = (energy - initial).abs();
+    if initial != 0.0 { drift / initial.abs() } else { drift }
+}
+
+/// Run `once` (which returns the wall time of its timed part) `timing.warmup − 1` more times
+/// untimed, then up to `timing.repetitions` times timed, stopping once the timed runs add up to
+/// `timing.budget` (at least one); the minimum and the number of timed runs.
+fn time(timing: &Timing, mut once: impl FnMut() -> Result<f64, String>) -> Result<(f64, usize), String> {
+    for _ in 1..timing.warmup {
+        once()?;
+    }
+    let (mut best, mut total, mut count) = (f64::INFINITY, 0.0, 0);
+    while count < timing.repetitions.max(1) {
+        let seconds = once()?;
+        best = best.min(seconds);
+        total += seconds;
+        count += 1;
+        if total >= timing.budget {
+            break;
+        }
+    }
+    Ok((best, count))
+}
+
+/// A reduced-solver run: `simulate` from `initial` recording at `times`; the first run is the
+/// warm-up and is measured, the timed ones are whole `simulate` calls.
+///
+/// # Errors
+/// A failing run, as a sentence.
+pub fn reduced(
+    system: &dyn System,
+    initial: &State,
+    times: &[f64],
+    method: Method,
+    reference: &Reference,
+    timing: &Timing,
+) -> Result<Measured, String> {
+    let t_end = times.last().copied().unwrap_or(initial.t);
+    let output = Output::Times(times.to_vec());
+    let trajectory = system.simulate(initial, t_end, method, &output).map_err(|e| e.to_string())?;
+    let errors = (0..trajectory.len()).map(|k| reference.error(k, trajectory.q(k))).collect();
+    let energy_error = system.conserves_energy().then(|| {
+        let initial_energy = trajectory.energy[0];
+        trajectory.energy.iter().map(|&e| relative_energy_error(e, initial_energy)).fold(0.0, max_or_nan)
+    });
+    let (wall_time, timed_repetitions) = time(timing, || {
+        let start = Instant::now();
+        let trajectory = system.simulate(black_box(initial), t_end, method, &output).map_err(|e| e.to_string())?;
+        let seconds = start.elapsed().as_secs_f64();
+        black_box(trajectory);
+        Ok(seconds)
+    })?;
+    Ok(Measured {
+        errors,
+        energy_error,
+        constraint_violation: None,
+        steps: trajectory.stats.steps,
+        wall_time,
+        timed_repetitions,
+    })
+}
+
+/// Advance `simulation` through `times`, timing only the `advance_to` calls.
+fn advance(simulation: &mut dyn MaximalSimulation, times: &[f64]) -> Result<f64, String> {
+    let start = Instant::now();
+    for &t in times {
+        simulation.advance_to(t).map_err(|e| e.to_string())?;
+    }
+    Ok(start.elapsed().as_secs_f64())
+}
+
+/// A maximal-engine run: `built` (already built with `settings`, so that its deviations could
+/// choose the reference) is advanced through `times` and read back into generalized coordinates
+/// at each; the timed repetitions rebuild it (untimed) and time the `advance_to` calls alone.
+///
+/// # Errors
+/// A failing run, as a sentence.
+pub fn maximal(
+    engine: Engine,
+    scene: &str,
+    requested: &lagrange_scenes::Params,
+    initial: &State,
+    settings: &Settings,
+    built: Built,
+    conserves_energy: bool,
+    times: &[f64],
+    reference: &Reference,
+    timing: &Timing,
+) -> Result<Measured, String> {
+    let params = &built.params;
+    let mut simulation = built.simulation;
+    let text = |e: lagrange::Error| e.to_string();
+    let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies()).map_err(text)?;
+    let mut q_previous = initial.q.clone();
+    let (mut errors, mut energy_error, mut violation) = (Vec::with_capacity(times.len()), 0.0, None::<f64>);
+    for (k, &t) in times.iter().enumerate() {
+        simulation.advance_to(t).map_err(text)?;
+        let bodies = simulation.bodies();
+        let (q, _) = maps::generalized(scene, params, t, &bodies, &q_previous).map_err(text)?;
+        errors.push(reference.error(k, &q));
+        q_previous = q;
+        if conserves_energy {
+            let energy = maps::energy(scene, params, t, &bodies).map_err(text)?;
+            energy_error = max_or_nan(energy_error, relative_energy_error(energy, initial_energy));
+        }
+        if let Some(v) = simulation.constraint_violation() {
+            violation = Some(max_or_nan(violation.unwrap_or(0.0), v));
+        }
+    }
+    let steps = simulation.steps();
+    let (wall_time, timed_repetitions) = time(timing, || {
+        let mut built = build(engine, scene, requested, initial, settings).map_err(|e| e.to_string())?;
+        advance(built.simulation.as_mut(), times)
+    })?;
+    Ok(Measured {
+        errors,
+        energy_error: conserves_energy.then_some(energy_error),
+        constraint_violation: violation,
+        steps,
+        wall_time,
+        timed_repetitions,
+    })
+}

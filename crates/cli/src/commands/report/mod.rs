@@ -1,0 +1,34 @@
+//! `lagrange report`: the validation report. Every scene (all by default) is simulated to a
+//! fixed horizon by every method — the reduced solver's RK4 and variational integrators over
+//! steps and its adaptive integrator over tolerances, the Cartesian + multiplier solver over
+//! tolerances, and rapier's impulse and multibody joints in f64 and f32 over `dt` and substeps
+//! where rapier can build the scene — and measured against the scene's reference: its error
+//! over the saved times, its energy error where energy is conserved, its constraint violation
+//! where it has one, and its wall time. The summary reads off the work-precision fronts how much
+//! smaller our error is than rapier's at equal wall time and how much less time we take at equal
+//! error (DESIGN §6–§7).
+//!
+//! Output (`--out DIR`, default `report/`): `report.json` (schema in
+//! `crates/cli/REPORT_SCHEMA.md`), `report.md`, and per scene `<scene>_work_precision.svg` and
+//! `<scene>_error.svg`; a summary on standard output and a progress bar on standard error.
+//!
+//! The pipeline, one file each: [`options`] → [`plan`] → [`runs`] (with [`reference`] and
+//! [`measure`]) → [`assemble`] (with [`pareto`]) → [`schema`], [`markdown`], [`plots`],
+//! [`terminal`]; [`driver`] runs it.
+
+mod assemble;
+mod cells;
+mod driver;
+mod markdown;
+mod measure;
+mod options;
+mod pareto;
+mod plan;
+mod plots;
+mod reference;
+mod runs;
+mod schema;
+mod terminal;
+
+pub use driver::run;
+pub use options::Args;

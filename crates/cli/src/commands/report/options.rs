@@ -1,0 +1,68 @@
+//! The arguments of `lagrange report` and their validation, before anything runs.
+
+use super::plan::Plan;
+use crate::args;
+use lagrange_scenes::Scene;
+use std::path::PathBuf;
+
+/// Arguments of `lagrange report`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene id to report, repeatable (default: every scene).
+    #[arg(long = "scene", value_name = "ID")]
+    scenes: Vec<String>,
+    /// Smaller sweeps, a 2 s horizon and one timed repetition (well under a minute for every scene).
+    #[arg(long)]
+    quick: bool,
+    /// Output directory for report.json, report.md and the SVG plots (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "report")]
+    out: PathBuf,
+    /// Horizon (s), a multiple of 0.05 (default: 10, or 2 with --quick).
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    t_end: Option<f64>,
+    /// Print report.json on standard output instead of the terminal summary (files are still written).
+    #[arg(long)]
+    json: bool,
+}
+
+/// Validated options.
+pub struct Options {
+    /// The scenes, in registry order, without repeats.
+    pub scenes: Vec<&'static dyn Scene>,
+    /// What runs (`--quick`, `--t-end`).
+    pub plan: Plan,
+    /// The output directory, which exists and is a directory.
+    pub out: PathBuf,
+    /// `--json`.
+    pub json: bool,
+}
+
+impl Options {
+    /// Check the scenes and the horizon, then create the output directory, so that a bad argument
+    /// fails at once and leaves nothing behind.
+    ///
+    /// # Errors
+    /// An unknown scene, a bad horizon, or an output directory that cannot be created or written.
+    pub fn new(args: &Args) -> Result<Options, String> {
+        let plan = Plan::new(args.quick, args.t_end)?;
+        for id in &args.scenes {
+            args::scene(id)?;
+        }
+        let scenes = lagrange_scenes::all()
+            .iter()
+            .copied()
+            .filter(|s| args.scenes.is_empty() || args.scenes.iter().any(|id| id == s.id()))
+            .collect();
+        let out = args.out.clone();
+        let cannot = |e: std::io::Error| format!("--out {}: cannot create the output directory: {e}", out.display());
+        if out.as_os_str().is_empty() {
+            return Err("--out: the output directory must not be empty".into());
+        }
+        std::fs::create_dir_all(&out).map_err(cannot)?;
+        // A directory we cannot write into fails here, not after minutes of runs.
+        let probe = out.join(".lagrange-report-write-test");
+        std::fs::write(&probe, b"").map_err(|e| format!("--out {}: cannot write into it: {e}", out.display()))?;
+        let _ = std::fs::remove_file(&probe);
+        Ok(Options { scenes, plan, out, json: args.json })
+    }
+}

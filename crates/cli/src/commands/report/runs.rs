@@ -1,0 +1,216 @@
+//! Running every method family of one scene over its sweep: which engines can build the scene
+//! (and whether a rapier build honours substeps), then every run, measured against the
+//! reference of the problem it actually simulates.
+
+use super::measure::{self, Measured};
+use super::plan::{CARTESIAN_CHECK_TOLERANCE, Family, Plan, Setting};
+use super::reference::{Reference, ReferenceKind, References};
+use lagrange::{Coordinate, Method, State, Tolerances};
+use lagrange_maximal::{BuildError, Engine, Settings, build};
+use lagrange_scenes::{Params, Scene};
+
+/// Whether a family can run on a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Availability {
+    /// It runs; a rapier build may ignore substeps.
+    Ready {
+        /// Whether more substeps change the run (false for scenes driven by per-step forces).
+        honours_substeps: bool,
+    },
+    /// The engine cannot express the scene.
+    Unbuildable(String),
+    /// The build failed for another reason.
+    Failed(String),
+}
+
+/// What will run on one scene.
+pub struct ScenePlan {
+    /// The scene.
+    pub scene: &'static dyn Scene,
+    /// Its default parameters.
+    pub params: Params,
+    /// Its default initial state.
+    pub initial: State,
+    /// Each family with its availability and sweep.
+    pub families: Vec<(Family, Availability, Vec<Setting>)>,
+}
+
+impl ScenePlan {
+    /// Probe every family on `scene` (one cheap build each) and lay out the sweeps.
+    ///
+    /// # Errors
+    /// Invalid default parameters or state (a bug in the scene).
+    pub fn new(scene: &'static dyn Scene, plan: &Plan) -> Result<ScenePlan, String> {
+        let params = scene.default_params();
+        let initial = scene.default_state(&params).map_err(|e| format!("{}: {e}", scene.id()))?;
+        let families = Family::ALL
+            .into_iter()
+            .map(|family| {
+                let availability = match family {
+                    Family::Maximal(engine) => probe(engine, scene.id(), &params, &initial, plan),
+                    _ => Availability::Ready { honours_substeps: false },
+                };
+                let settings = match availability {
+                    Availability::Ready { honours_substeps } => plan.settings(family, honours_substeps),
+                    _ => Vec::new(),
+                };
+                (family, availability, settings)
+            })
+            .collect();
+        Ok(ScenePlan { scene, params, initial, families })
+    }
+
+    /// Number of runs.
+    pub fn runs(&self) -> usize {
+        self.families.iter().map(|(_, _, settings)| settings.len()).sum()
+    }
+}
+
+/// Build `engine` once; for rapier, also find out whether substeps matter: a build that applies
+/// per-step forces runs one substep per step whatever is asked (`Settings::substeps`), so one
+/// step with 1 and with 2 substeps gives bitwise the same bodies.
+fn probe(engine: Engine, scene: &str, params: &Params, initial: &State, plan: &Plan) -> Availability {
+    let dt = plan.rapier.first().map_or(1.0 / 60.0, |&(dt, _)| dt);
+    let settings = |substeps| Settings { dt, substeps, tolerance: CARTESIAN_CHECK_TOLERANCE };
+    let after_one_step = |substeps| -> Result<Vec<_>, BuildError> {
+        let mut built = build(engine, scene, params, initial, &settings(substeps))?;
+        if engine.is_rapier() {
+            built.simulation.advance_to(initial.t + dt)?;
+        }
+        Ok(built.simulation.bodies())
+    };
+    let one = match after_one_step(1) {
+        Ok(bodies) => bodies,
+        Err(BuildError::Unbuildable { reason, .. }) => return Availability::Unbuildable(reason),
+        Err(e) => return Availability::Failed(e.to_string()),
+    };
+    if !engine.is_rapier() {
+        return Availability::Ready { honours_substeps: false };
+    }
+    match after_one_step(2) {
+        Ok(two) => Availability::Ready { honours_substeps: two != one },
+        Err(e) => Availability::Failed(e.to_string()),
+    }
+}
+
+/// One run: its setting and what it measured, or why it failed.
+pub struct Run {
+    /// The setting.
+    pub setting: Setting,
+    /// The measurement, or the failure as a sentence.
+    pub outcome: Result<Measured, String>,
+}
+
+/// Every run of one family.
+pub struct FamilyRuns {
+    /// The family.
+    pub family: Family,
+    /// Whether it could run.
+    pub availability: Availability,
+    /// Deviations the engine needs (from its builds).
+    pub deviations: Vec<String>,
+    /// Reference kind of its errors.
+    pub reference: Option<ReferenceKind>,
+    /// The runs, in sweep order.
+    pub runs: Vec<Run>,
+}
+
+/// Every run of one scene.
+pub struct SceneRuns {
+    /// The scene.
+    pub scene: &'static dyn Scene,
+    /// Its coordinates.
+    pub coordinates: Vec<Coordinate>,
+    /// Whether it conserves energy.
+    pub conserves_energy: bool,
+    /// The scene's own reference.
+    pub reference: Reference,
+    /// One entry per family.
+    pub families: Vec<FamilyRuns>,
+}
+
+impl SceneRuns {
+    /// Run every family of `scene_plan`, calling `progress` before each run with a label.
+    ///
+    /// # Errors
+    /// A failing scene build or reference (runs that fail are recorded, not errors).
+    pub fn execute(scene_plan: &ScenePlan, plan: &Plan, mut progress: impl FnMut(&str)) -> Result<SceneRuns, String> {
+        let ScenePlan { scene, params, initial, .. } = scene_plan;
+        let scene = *scene;
+        let id = scene.id();
+        let system = scene.build(params).map_err(|e| format!("{id}: {e}"))?;
+        let coordinates = scene.coordinates(params).map_err(|e| format!("{id}: {e}"))?;
+        let conserves_energy = system.conserves_energy();
+        let mut references = References::default();
+        let reference = references.get(scene, params, initial, &plan.times)?.clone();
+        let mut families = Vec::new();
+        for (family, availability, settings) in &scene_plan.families {
+            let mut result = FamilyRuns {
+                family: *family,
+                availability: availability.clone(),
+                deviations: Vec::new(),
+                reference: None,
+                runs: Vec::new(),
+            };
+            for &setting in settings {
+                progress(&format!("{id}: {} {}", family.name(), setting.describe()));
+                let outcome = match *family {
+                    Family::Maximal(engine) => {
+                        run_maximal(engine, scene_plan, plan, setting, conserves_energy, &mut references, &mut result)
+                    }
+                    family => {
+                        result.reference = Some(reference.kind);
+                        let method = reduced_method(family, setting);
+                        measure::reduced(system.as_ref(), initial, &plan.times, method, &reference, &plan.timing)
+                    }
+                };
+                let outcome = outcome.and_then(|m| {
+                    if m.is_finite() { Ok(m) } else { Err("the run blew up (non-finite error)".to_string()) }
+                });
+                result.runs.push(Run { setting, outcome });
+            }
+            families.push(result);
+        }
+        Ok(SceneRuns { scene, coordinates, conserves_energy, reference, families })
+    }
+}
+
+/// One run of a maximal engine: build it (its deviations choose the reference), then measure.
+fn run_maximal(
+    engine: Engine,
+    scene_plan: &ScenePlan,
+    plan: &Plan,
+    setting: Setting,
+    conserves_energy: bool,
+    references: &mut References,
+    result: &mut FamilyRuns,
+) -> Result<Measured, String> {
+    let ScenePlan { scene, params, initial, .. } = scene_plan;
+    let settings = maximal_settings(setting);
+    let built = build(engine, scene.id(), params, initial, &settings).map_err(|e| e.to_string())?;
+    let reference = references.get(*scene, &built.params, initial, &plan.times)?;
+    result.deviations.clone_from(&built.deviations);
+    result.reference = Some(reference.kind);
+    let (times, timing) = (&plan.times, &plan.timing);
+    measure::maximal(engine, scene.id(), params, initial, &settings, built, conserves_energy, times, reference, timing)
+}
+
+fn maximal_settings(setting: Setting) -> Settings {
+    match setting {
+        Setting::Rapier { dt, substeps } => Settings { dt, substeps, tolerance: CARTESIAN_CHECK_TOLERANCE },
+        Setting::Tolerance { tol } => Settings { tolerance: tol, ..Settings::default() },
+        Setting::Step { dt } => Settings { dt, ..Settings::default() },
+    }
+}
+
+fn reduced_method(family: Family, setting: Setting) -> Method {
+    match (family, setting) {
+        (Family::Rk4, Setting::Step { dt }) => Method::Rk4 { dt },
+        (Family::Variational, Setting::Step { dt }) => Method::Variational { dt },
+        (_, Setting::Tolerance { tol }) => Method::Adaptive { tol: Tolerances::uniform(tol) },
+        (_, setting) => {
+            debug_assert!(false, "{family:?} has no setting {setting:?}");
+            Method::Adaptive { tol: Tolerances::uniform(1e-8) }
+        }
+    }
+}
