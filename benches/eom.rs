@@ -7,9 +7,9 @@
 use criterion::{BatchSize, Criterion};
 use lagrange::integrate::Rk4;
 use lagrange::{Dynamics, Mechanism, Model, RawModel, State};
+use lagrange_benches::mean_ns;
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Registers the benches of one typed scene.
@@ -65,21 +65,6 @@ impl MechanismVisitor for Register<'_> {
     }
 }
 
-/// Mean time (ns) of a finished benchmark, from criterion's `estimates.json`.
-fn mean_ns(root: &Path, group: &str, bench: &str) -> Option<f64> {
-    let text = std::fs::read_to_string(root.join(group).join(bench).join("new").join("estimates.json")).ok()?;
-    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
-    json["mean"]["point_estimate"].as_f64()
-}
-
-/// Criterion writes to `$CARGO_TARGET_DIR/criterion`, else `target/criterion` of the workspace.
-fn criterion_root() -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("target"));
-    target.join("criterion")
-}
-
 fn main() {
     let mut criterion = Criterion::default()
         .warm_up_time(Duration::from_millis(300))
@@ -97,12 +82,11 @@ fn main() {
     }
     criterion.final_summary();
     // The table: engine / closed form, side by side from this run.
-    let root = criterion_root();
     println!("\n| scene | n | engine q̈ | hand-coded q̈ | ratio | raw-Lagrangian q̈ | RK4 step |");
     println!("|---|---|---|---|---|---|---|");
     for id in ids {
         let n = lagrange_scenes::find(id).and_then(|s| s.coordinates(&s.default_params()).ok()).map_or(0, |c| c.len());
-        let get = |bench| mean_ns(&root, id, bench);
+        let get = |bench| mean_ns(id, bench);
         match (get("engine"), get("closed_form"), get("raw_path"), get("rk4_step")) {
             (Some(e), Some(c), Some(r), Some(k)) => {
                 println!("| {id} | {n} | {e:.1} ns | {c:.1} ns | {:.1}× | {r:.1} ns | {k:.1} ns |", e / c)

@@ -1,0 +1,81 @@
+//! Chains of N = 2 … 64 uniform rods: one RK4 step of the reduced solver (the path `Model`
+//! chooses for a tree) against one rapier step with multibody and with impulse joints
+//! (rapier2d-f64, dt = 1e-3, 1 substep), and one evaluation of q̈.
+//!
+//! `cargo bench -p lagrange-benches --bench scaling` measures, then prints the table.
+
+use criterion::{BatchSize, Criterion};
+use lagrange::integrate::Rk4;
+use lagrange::{Dynamics, Model};
+use lagrange_benches::{format_ns, mean_ns};
+use lagrange_maximal::{Engine, Settings, build};
+use lagrange_scenes::chain::Chain;
+use std::hint::black_box;
+use std::time::Duration;
+
+const DT: f64 = 1e-3;
+const LINKS: [usize; 6] = [2, 4, 8, 16, 32, 64];
+
+fn main() {
+    let mut criterion = Criterion::default()
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .sample_size(20)
+        .configure_from_args();
+    let scene = lagrange_scenes::find("chain").expect("registered");
+    let settings = Settings { dt: DT, substeps: 1, ..Settings::default() };
+    for n in LINKS {
+        let group = format!("chain_{n}");
+        let mut params = scene.default_params();
+        params.set("links", n as f64).expect("in range");
+        let state = scene.default_state(&params).expect("valid");
+        // The reduced solver.
+        let model = Model::new(Chain::from_params(&params).expect("valid")).expect("valid");
+        let mut ws = model.new_workspace();
+        let mut qddot = vec![0.0; n];
+        let mut g = criterion.benchmark_group(&group);
+        g.bench_function("reduced_accelerations", |b| {
+            b.iter(|| model.accelerations(&mut ws, 0.0, black_box(&state.q), black_box(&state.qdot), &mut qddot))
+        });
+        let mut rk4 = Rk4::new(n);
+        g.bench_function("reduced_rk4", |b| {
+            b.iter_batched_ref(
+                || state.clone(),
+                |s| rk4.step(&model, &mut ws, s, black_box(DT)).map(|_| s.q[0]),
+                BatchSize::SmallInput,
+            )
+        });
+        // rapier, multibody and impulse joints.
+        for engine in [Engine::RapierMultibody, Engine::RapierImpulse] {
+            let mut simulation =
+                build(engine, "chain", &params, &state, &settings).expect("chains are buildable").simulation;
+            let mut t = 0.0;
+            g.bench_function(engine.name(), |b| {
+                b.iter(|| {
+                    t += DT;
+                    simulation.advance_to(black_box(t)).expect("steps");
+                })
+            });
+        }
+        g.finish();
+    }
+    criterion.final_summary();
+    println!("\n| N | reduced q̈ | reduced RK4 step | rapier multibody step | rapier impulse step | RK4 / impulse |");
+    println!("|---|---|---|---|---|---|");
+    for n in LINKS {
+        let group = format!("chain_{n}");
+        let get = |bench| mean_ns(&group, bench);
+        let cell = |v: Option<f64>| v.map_or("—".into(), format_ns);
+        let ratio = match (get("reduced_rk4"), get("rapier-impulse")) {
+            (Some(a), Some(b)) => format!("{:.2}", a / b),
+            _ => "—".into(),
+        };
+        println!(
+            "| {n} | {} | {} | {} | {} | {ratio} |",
+            cell(get("reduced_accelerations")),
+            cell(get("reduced_rk4")),
+            cell(get("rapier-multibody")),
+            cell(get("rapier-impulse"))
+        );
+    }
+}
