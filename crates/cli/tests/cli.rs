@@ -111,6 +111,56 @@ fn simulate_writes_csv_with_time_coordinates_velocities_and_energy() {
 }
 
 #[test]
+fn simulate_with_the_implicit_and_gauss_integrators_and_a_stiffness_warning() {
+    // A strongly damped oscillator (c = 1e4, k = 1: eigenvalues ≈ −1e4 and −1e-4) is stiff:
+    // the explicit adaptive integrator warns once, the implicit one takes few steps silently.
+    let stiff = ["simulate", "harmonic_oscillator", "--param", "c=1e4", "--param", "k=1", "--q", "1", "--t-end", "1"];
+    let explicit = lagrange(&[&stiff[..], &["--integrator", "adaptive", "--tol", "1e-6"]].concat());
+    assert!(explicit.status.success(), "{}", stderr(&explicit));
+    let warning = stderr(&explicit);
+    assert_eq!(warning.trim_end().lines().count(), 1, "{warning}");
+    assert!(warning.starts_with("warning: the problem looks stiff from t = "), "{warning}");
+    assert!(warning.contains("--integrator implicit"), "{warning}");
+    let implicit = lagrange(&[&stiff[..], &["--integrator", "implicit", "--tol", "1e-6", "--every", "0.5"]].concat());
+    assert!(implicit.status.success(), "{}", stderr(&implicit));
+    assert!(stderr(&implicit).is_empty(), "{}", stderr(&implicit));
+    let text = stdout(&implicit);
+    let rows: Vec<Vec<f64>> =
+        text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().expect("number")).collect()).collect();
+    assert_eq!(rows.iter().map(|r| r[0]).collect::<Vec<_>>(), vec![0.0, 0.5, 1.0]);
+    // Exactly x = (r₂ e^{r₁t} − r₁ e^{r₂t})/(r₂ − r₁), r = (−c ± √(c² − 4k))/2, within the tolerance.
+    let root = (1e8_f64 - 4.0).sqrt();
+    let (slow, fast) = ((-1e4 + root) / 2.0, (-1e4 - root) / 2.0);
+    for row in &rows {
+        let expected = (fast * (slow * row[0]).exp() - slow * (fast * row[0]).exp()) / (fast - slow);
+        assert!((row[1] - expected).abs() <= 1e-6, "{row:?} vs {expected}");
+    }
+    // Gauss–Legendre with a fixed step on the cart pendulum: the energy stays put.
+    let gauss = lagrange(&[
+        "simulate",
+        "cart_pendulum",
+        "--t-end",
+        "1",
+        "--integrator",
+        "gauss",
+        "--dt",
+        "0.01",
+        "--every",
+        "0.25",
+    ]);
+    assert!(gauss.status.success(), "{}", stderr(&gauss));
+    let rows: Vec<Vec<f64>> =
+        stdout(&gauss).lines().skip(1).map(|l| l.split(',').map(|v| v.parse().expect("number")).collect()).collect();
+    assert_eq!(rows.len(), 5);
+    // Order 4 at h = 0.01: energy error ~(h ω)⁴ ~ 1e-8 at most, bounded (symplectic).
+    let e0 = rows[0][5];
+    assert!(rows.iter().all(|r| (r[5] - e0).abs() <= 1e-6 * e0.abs()), "{rows:?}");
+    // Each integrator takes only its own setting.
+    assert_one_line_error(&["simulate", "wedge", "--t-end", "1", "--integrator", "implicit", "--dt", "0.1"], "--dt");
+    assert_one_line_error(&["simulate", "wedge", "--t-end", "1", "--integrator", "gauss", "--tol", "1e-6"], "--tol");
+}
+
+#[test]
 fn wrong_scene_parameter_arity_or_value_is_a_one_line_error() {
     assert_one_line_error(&["accel", "pendulum", "--q", "0", "--qdot", "0"], "unknown scene `pendulum`");
     assert_one_line_error(&["accel", "wedge", "--param", "mass=2", "--q", "0,0", "--qdot", "0,0"], "mass");

@@ -18,6 +18,8 @@ pub enum Stage {
     Lagrangian,
     /// The solved accelerations.
     Accelerations,
+    /// The derivatives of the accelerations, `∂q̈/∂(q, q̇)` (implicit integrators).
+    Jacobian,
 }
 
 impl fmt::Display for Stage {
@@ -29,6 +31,7 @@ impl fmt::Display for Stage {
             Stage::GeneralizedForce => "generalized force",
             Stage::Lagrangian => "Lagrangian",
             Stage::Accelerations => "accelerations",
+            Stage::Jacobian => "acceleration Jacobian",
         })
     }
 }
@@ -121,6 +124,19 @@ pub enum Error {
         t: f64,
         /// Requested end.
         t_end: f64,
+    },
+    /// The explicit adaptive integrator failed (its step collapsed, or it ran out of steps)
+    /// after its stiffness test had fired: the problem is stiff, and an L-stable implicit
+    /// method takes steps the explicit one cannot.
+    #[error(
+        "the problem looks stiff at t = {t} (the explicit step fell to h = {h:e}): use the implicit integrator \
+         (Method::Implicit / --integrator implicit)"
+    )]
+    Stiff {
+        /// Time reached.
+        t: f64,
+        /// The last step tried.
+        h: f64,
     },
     /// Newton's method in an implicit integrator did not converge.
     #[error("Newton iteration did not converge at t = {t} ({iterations} iterations, residual {residual:e})")]

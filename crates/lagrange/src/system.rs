@@ -19,6 +19,12 @@ pub trait System {
     /// As [`Dynamics::accelerations`].
     fn accelerations(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error>;
 
+    /// The acceleration Jacobian `∂q̈/∂(q, q̇)` (n × 2n, row-major, columns `q` then `q̇`).
+    ///
+    /// # Errors
+    /// As [`Dynamics::acceleration_jacobian`].
+    fn acceleration_jacobian(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error>;
+
     /// The energy function `h`.
     ///
     /// # Errors
@@ -70,6 +76,8 @@ pub struct Simulation<D: Dynamics> {
     mass: Vec<f64>,
     /// Reaction forces (3B).
     reaction: Vec<f64>,
+    /// Acceleration Jacobian (n × 2n).
+    jacobian: Vec<f64>,
 }
 
 impl<D: Dynamics> Simulation<D> {
@@ -79,7 +87,8 @@ impl<D: Dynamics> Simulation<D> {
         let out = vec![0.0; system.dof()];
         let mass = vec![0.0; system.dof() * system.dof()];
         let reaction = vec![0.0; 3 * system.bodies().len()];
-        Self { system, ws, out, mass, reaction }
+        let jacobian = vec![0.0; 2 * system.dof() * system.dof()];
+        Self { system, ws, out, mass, reaction, jacobian }
     }
 
     /// The wrapped system.
@@ -100,6 +109,11 @@ impl<D: Dynamics> System for Simulation<D> {
     fn accelerations(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error> {
         self.system.accelerations(&mut self.ws, t, q, qdot, &mut self.out)?;
         Ok(&self.out)
+    }
+
+    fn acceleration_jacobian(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error> {
+        self.system.acceleration_jacobian(&mut self.ws, t, q, qdot, &mut self.jacobian)?;
+        Ok(&self.jacobian)
     }
 
     fn energy(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {

@@ -182,3 +182,96 @@ impl Mechanism for RodChain {
         Some(&self.tree)
     }
 }
+
+/// A pendulum (point bob `m` on a rod `r`) whose pivot is driven horizontally,
+/// `x_p = A sin(ω t)`, with a torsional spring `V = ½ k θ²` and viscous damping `Q = −c θ̇`:
+/// every optional term at once (time-dependent poses, a potential, a velocity-dependent force).
+#[derive(Clone, Debug)]
+pub(crate) struct Driven {
+    pub bodies: [Body; 1],
+    pub coordinates: [Coordinate; 1],
+    pub r: f64,
+    pub amplitude: f64,
+    pub omega: f64,
+    pub k: f64,
+    pub c: f64,
+}
+
+impl Driven {
+    pub(crate) fn new() -> Self {
+        Self {
+            bodies: [Body::point("bob", 0.7)],
+            coordinates: [Coordinate::angle("θ")],
+            r: 1.3,
+            amplitude: 0.2,
+            omega: 2.5,
+            k: 3.0,
+            c: 0.4,
+        }
+    }
+}
+
+impl Mechanism for Driven {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+    fn gravity(&self) -> f64 {
+        9.81
+    }
+    fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
+        let pivot = (t * self.omega).sin() * self.amplitude;
+        p[0] = Pose::point(pivot + q[0].sin() * self.r, -q[0].cos() * self.r);
+    }
+    fn potential<S: Scalar>(&self, q: &[S], _p: &[Pose<S>], _t: S) -> Option<S> {
+        Some(q[0] * q[0] * (0.5 * self.k))
+    }
+    fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S], force: &mut [S]) -> bool {
+        force[0] -= qdot[0] * self.c;
+        true
+    }
+}
+
+/// A stiff spring whose anchor moves slowly: `V = ½ k (x − A sin t)²`, `m ẍ = −k (x − A sin t)`.
+/// From `x = 0`, `ẋ = A ω²/(ω² − 1)` (`ω² = k/m`) the motion is exactly the slow
+/// `x = A ω²/(ω² − 1) sin t`, with the fast mode (frequency `ω`) not excited.
+#[derive(Clone, Debug)]
+pub(crate) struct DrivenSpring {
+    pub bodies: [Body; 1],
+    pub coordinates: [Coordinate; 1],
+    pub k: f64,
+    pub amplitude: f64,
+}
+
+impl DrivenSpring {
+    pub(crate) fn new(m: f64, k: f64, amplitude: f64) -> Self {
+        Self { bodies: [Body::point("mass", m)], coordinates: [Coordinate::length("x")], k, amplitude }
+    }
+
+    /// `ω²/(ω² − 1) A`: the amplitude of the slow solution.
+    pub(crate) fn slow_amplitude(&self) -> f64 {
+        let omega2 = self.k / self.bodies[0].mass;
+        self.amplitude * omega2 / (omega2 - 1.0)
+    }
+}
+
+impl Mechanism for DrivenSpring {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+        p[0] = Pose::point(q[0], S::zero());
+    }
+    fn potential<S: Scalar>(&self, q: &[S], _p: &[Pose<S>], t: S) -> Option<S> {
+        let stretch = q[0] - t.sin() * self.amplitude;
+        Some(stretch * stretch * (0.5 * self.k))
+    }
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}

@@ -1,8 +1,9 @@
 //! Every buffer an evaluation of a body model needs, allocated once.
 
+use crate::dynamics::jacobian::Tangent;
 use crate::eom::articulated::ArticulatedBody;
 use crate::{Mechanism, Model, Pose, Scalar};
-use num_dual::{Dual, Dual2};
+use num_dual::{Dual, Dual2, Dual64};
 
 /// Scratch space for evaluating a [`Model`] in scalar `S` (the *data* of Pinocchio's
 /// model/data split). Allocate it once with [`Model::workspace`]; no evaluation allocates.
@@ -57,6 +58,11 @@ pub struct Workspace<S> {
     /// Per-body scratch of the articulated-body algorithm (B; empty unless the model uses the
     /// tree path), filled by `articulated::solve`.
     pub(crate) articulated: Vec<ArticulatedBody<S>>,
+    /// The `Dual64` workspace and seeds of the tangent passes of
+    /// [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian): allocated
+    /// up front by [`Dynamics::new_workspace`](crate::Dynamics::new_workspace), otherwise by the
+    /// first Jacobian (`None` until then).
+    pub(crate) tangent: Option<Box<Tangent<Workspace<Dual64>>>>,
 }
 
 impl<S: Scalar> Workspace<S> {
@@ -93,6 +99,7 @@ impl<S: Scalar> Workspace<S> {
             constant_factor,
             constant_gravity,
             articulated: if model.tree.is_some() { vec![ArticulatedBody::zero(); b] } else { Vec::new() },
+            tangent: None,
         }
     }
 }

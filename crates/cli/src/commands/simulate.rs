@@ -13,6 +13,10 @@ pub enum Integrator {
     Adaptive,
     /// Variational midpoint (discrete Euler–Lagrange), fixed step `--dt`.
     Variational,
+    /// L-stable implicit SDIRK4 with error control `--tol`, for stiff problems.
+    Implicit,
+    /// Gauss–Legendre of order 4 (implicit, symplectic), fixed step `--dt`.
+    Gauss,
 }
 
 /// Arguments of `lagrange simulate`.
@@ -35,10 +39,11 @@ pub struct Args {
     /// Integrator.
     #[arg(long, value_enum, default_value_t = Integrator::Adaptive)]
     integrator: Integrator,
-    /// Step of the fixed-step integrators (default 1e-3).
+    /// Step of the fixed-step integrators: rk4, variational, gauss (default 1e-3).
     #[arg(long, allow_negative_numbers = true)]
     dt: Option<f64>,
-    /// Tolerance (relative and absolute) of the adaptive integrator (default 1e-10).
+    /// Tolerance (relative and absolute) of the error-controlled integrators: adaptive, implicit
+    /// (default 1e-10 for adaptive, 1e-8 for implicit).
     #[arg(long, allow_negative_numbers = true)]
     tol: Option<f64>,
     /// Output interval (default: 200 samples; a multiple of --dt for fixed steps).
@@ -55,27 +60,37 @@ fn method_and_output(args: &Args) -> Result<(Method, Output), String> {
         return Err(format!("--t-end must be positive and finite, got {}", args.t_end));
     }
     let method = match args.integrator {
-        Integrator::Adaptive => {
+        controlled @ (Integrator::Adaptive | Integrator::Implicit) => {
             if args.dt.is_some() {
-                return Err("--dt applies to the fixed-step integrators (rk4, variational); use --tol".into());
+                return Err("--dt applies to the fixed-step integrators (rk4, variational, gauss); use --tol".into());
             }
-            Method::Adaptive { tol: Tolerances::uniform(args.tol.unwrap_or(1e-10)) }
+            if controlled == Integrator::Adaptive {
+                Method::Adaptive { tol: Tolerances::uniform(args.tol.unwrap_or(1e-10)) }
+            } else {
+                Method::Implicit { tol: Tolerances::uniform(args.tol.unwrap_or(1e-8)) }
+            }
         }
         fixed => {
             if args.tol.is_some() {
-                return Err("--tol applies to the adaptive integrator; use --dt".into());
+                return Err("--tol applies to the error-controlled integrators (adaptive, implicit); use --dt".into());
             }
             let dt = args.dt.unwrap_or(1e-3);
             if !(dt > 0.0 && dt.is_finite()) {
                 return Err(format!("--dt must be positive and finite, got {dt}"));
             }
-            if fixed == Integrator::Rk4 { Method::Rk4 { dt } } else { Method::Variational { dt } }
+            match fixed {
+                Integrator::Rk4 => Method::Rk4 { dt },
+                Integrator::Gauss => Method::Gauss { dt },
+                _ => Method::Variational { dt },
+            }
         }
     };
     let every = match (args.every, method) {
         (Some(every), _) => every,
-        (None, Method::Rk4 { dt } | Method::Variational { dt }) => dt * (args.t_end / 200.0 / dt).round().max(1.0),
-        (None, Method::Adaptive { .. }) => args.t_end / 200.0,
+        (None, Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt }) => {
+            dt * (args.t_end / 200.0 / dt).round().max(1.0)
+        }
+        (None, Method::Adaptive { .. } | Method::Implicit { .. }) => args.t_end / 200.0,
     };
     if !(every > 0.0 && every.is_finite()) {
         return Err(format!("--every must be positive and finite, got {every}"));
@@ -108,6 +123,9 @@ pub fn run(args: &Args) -> Result<(), String> {
     let (method, output) = method_and_output(args)?;
     let system = scene.build(&params).map_err(|e| e.to_string())?;
     let trajectory = system.simulate(&initial, initial.t + args.t_end, method, &output).map_err(|e| e.to_string())?;
+    if let Some(t) = trajectory.stats.stiffness {
+        eprintln!("warning: the problem looks stiff from t = {t}; try --integrator implicit");
+    }
     let names: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
     match &args.out {
         Some(path) => {

@@ -1,6 +1,7 @@
 //! Energies, the energy function and the generalized momenta of a body model.
 
-use super::{check_state, kinematics};
+use super::{all_finite, check_state, kinematics, non_finite};
+use crate::error::Stage;
 use crate::{Error, Mechanism, Model, Scalar, Workspace};
 
 /// Kinetic energy `T = Σ_b ½ m_b |ṗ_b|² + ½ I_b φ̇_b²` (one velocity pass).
@@ -59,6 +60,10 @@ pub fn lagrangian<M: Mechanism, S: Scalar>(
 }
 
 /// Generalized momenta `p = ∂L/∂q̇ = Σ_b J_bᵀ D_b ṗ_b`, borrowed from the workspace.
+///
+/// # Errors
+/// [`Error::DimensionMismatch`], or [`Error::NonFinite`] for a non-finite state or momenta
+/// that overflow.
 pub fn momenta<'w, M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &'w mut Workspace<S>,
@@ -80,12 +85,19 @@ pub fn momenta<'w, M: Mechanism, S: Scalar>(
                 + ws.jacobian[(3 * b + 2) * n + j] * va;
         }
     }
+    if !all_finite(&ws.momenta) {
+        return Err(non_finite(Stage::Kinematics, t, q));
+    }
     Ok(&ws.momenta)
 }
 
 /// The energy function `h = q̇·∂L/∂q̇ − L` (Jacobi's integral). For scleronomic mechanisms it is
 /// `T + V`; it is conserved whenever `∂L/∂t = 0` and `Q = 0`, and in general
 /// `dh/dt = Q·q̇ − ∂L/∂t`.
+///
+/// # Errors
+/// As [`momenta`]; [`Error::NonFinite`] (stage [`Potential`](Stage::Potential)) for a potential
+/// that is not finite here (a singular point).
 pub fn energy<M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &mut Workspace<S>,
@@ -101,5 +113,10 @@ pub fn energy<M: Mechanism, S: Scalar>(
     // The velocity pass of `momenta` is still in the workspace.
     let kinetic = kinetic_from_velocity(model, ws);
     let potential = potential_energy(model, ws, t, q)?;
-    Ok(qdot_p - kinetic + potential)
+    let energy = qdot_p - kinetic + potential;
+    if !energy.re().is_finite() {
+        let stage = if potential.re().is_finite() { Stage::Kinematics } else { Stage::Potential };
+        return Err(non_finite(stage, t, q));
+    }
+    Ok(energy)
 }

@@ -1,10 +1,11 @@
 //! The raw-Lagrangian path: Lagrange's equations from second derivatives of `L(q, q̇, t)`.
 
 use super::{check_state, solve};
+use crate::dynamics::jacobian::Tangent;
 use crate::error::Stage;
 use crate::model::probe::ProbeStates;
-use crate::{Coordinate, Error, LagrangianFunction};
-use num_dual::HyperDual64;
+use crate::{Coordinate, Error, LagrangianFunction, Scalar};
+use num_dual::{Dual64, HyperDual};
 
 /// A system given by its Lagrangian (a user's [`Lagrangian`](crate::Lagrangian), or the
 /// Lagrangian of a [`Model`](crate::Model)), whose equations of motion are
@@ -13,6 +14,12 @@ use num_dual::HyperDual64;
 ///
 /// all derivatives exact (hyper-dual passes). For a body model this is an independent
 /// assembly of the same equations: on every scene both paths must agree to round-off.
+///
+/// Every evaluation is generic over the scalar `S` of its [`RawWorkspace<F, S>`]: the
+/// Lagrangian is evaluated in `HyperDual<S>` (second derivatives in `ε₁ε₂`, the outer
+/// derivative in `S`), so with `S = Dual64` the accelerations themselves are differentiated —
+/// that is how [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian)
+/// gets `∂q̈/∂(q, q̇)` for implicit integrators, exactly.
 #[derive(Clone, Debug)]
 pub struct RawModel<F> {
     pub(crate) function: F,
@@ -22,26 +29,32 @@ pub struct RawModel<F> {
     autonomous: bool,
 }
 
-/// Scratch space for [`RawModel`] evaluations (allocated once).
-pub struct RawWorkspace<F: LagrangianFunction> {
-    /// The Lagrangian's own scratch, in hyper-dual numbers.
-    scratch: F::Scratch<HyperDual64>,
+/// Scratch space for [`RawModel`] evaluations in scalar `S` (allocated once, by
+/// [`RawModel::workspace`] for `f64` or [`RawModel::workspace_in`] for any scalar).
+pub struct RawWorkspace<F: LagrangianFunction, S: Scalar = f64> {
+    /// The Lagrangian's own scratch, in hyper-dual numbers over `S`.
+    scratch: F::Scratch<HyperDual<S>>,
     /// Seeded coordinates (n).
-    q: Vec<HyperDual64>,
+    q: Vec<HyperDual<S>>,
     /// Seeded velocities (n).
-    qdot: Vec<HyperDual64>,
+    qdot: Vec<HyperDual<S>>,
     /// `∂²L/∂q̇²` (n × n), filled by [`RawModel::accelerations`].
-    pub hessian: Vec<f64>,
+    pub hessian: Vec<S>,
     /// Its LDLᵀ factor (n × n).
-    factor: Vec<f64>,
+    factor: Vec<S>,
     /// `∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q` (n).
-    pub rhs: Vec<f64>,
+    pub rhs: Vec<S>,
     /// `q̈` (n).
-    pub qddot: Vec<f64>,
+    pub qddot: Vec<S>,
     /// `Q` (n).
-    pub generalized_force: Vec<f64>,
+    pub generalized_force: Vec<S>,
     /// `p = ∂L/∂q̇` (n), filled by [`RawModel::momenta`].
-    pub momenta: Vec<f64>,
+    pub momenta: Vec<S>,
+    /// The `Dual64` workspace and seeds of the tangent passes of
+    /// [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian): allocated
+    /// up front by [`Dynamics::new_workspace`](crate::Dynamics::new_workspace), otherwise by the
+    /// first Jacobian.
+    pub(crate) tangent: Option<Box<Tangent<RawWorkspace<F, Dual64>>>>,
 }
 
 impl<F: LagrangianFunction> RawModel<F> {
@@ -96,34 +109,42 @@ impl<F: LagrangianFunction> RawModel<F> {
         self.has_force
     }
 
-    /// Allocate the scratch space.
+    /// Allocate the scratch space for `f64` evaluations.
     pub fn workspace(&self) -> RawWorkspace<F> {
+        self.workspace_in()
+    }
+
+    /// Allocate the scratch space for evaluations in scalar `S` (e.g. `Dual64`, to
+    /// differentiate the accelerations).
+    pub fn workspace_in<S: Scalar>(&self) -> RawWorkspace<F, S> {
         let n = self.n;
-        let zero = HyperDual64::from(0.0);
+        let zero = S::zero();
+        let dual_zero = HyperDual::from_re(zero);
         RawWorkspace {
             scratch: self.function.scratch(),
-            q: vec![zero; n],
-            qdot: vec![zero; n],
-            hessian: vec![0.0; n * n],
-            factor: vec![0.0; n * n],
-            rhs: vec![0.0; n],
-            qddot: vec![0.0; n],
-            generalized_force: vec![0.0; n],
-            momenta: vec![0.0; n],
+            q: vec![dual_zero; n],
+            qdot: vec![dual_zero; n],
+            hessian: vec![zero; n * n],
+            factor: vec![zero; n * n],
+            rhs: vec![zero; n],
+            qddot: vec![zero; n],
+            generalized_force: vec![zero; n],
+            momenta: vec![zero; n],
+            tangent: None,
         }
     }
 
     /// Evaluate `L` with the seeds already written into `ws.q`, `ws.qdot`.
-    fn eval(&self, ws: &mut RawWorkspace<F>, t: HyperDual64) -> HyperDual64 {
+    fn eval<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: HyperDual<S>) -> HyperDual<S> {
         self.function.lagrangian_with(&mut ws.scratch, t, &ws.q, &ws.qdot)
     }
 
-    fn reset(ws: &mut RawWorkspace<F>, q: &[f64], qdot: &[f64]) {
+    fn reset<S: Scalar>(ws: &mut RawWorkspace<F, S>, q: &[S], qdot: &[S]) {
         for (d, v) in ws.q.iter_mut().zip(q) {
-            *d = HyperDual64::from(*v);
+            *d = HyperDual::from_re(*v);
         }
         for (d, v) in ws.qdot.iter_mut().zip(qdot) {
-            *d = HyperDual64::from(*v);
+            *d = HyperDual::from_re(*v);
         }
     }
 
@@ -132,45 +153,46 @@ impl<F: LagrangianFunction> RawModel<F> {
     /// # Errors
     /// [`Error::DimensionMismatch`], [`Error::NonFinite`], or [`Error::SingularMassMatrix`]
     /// when `∂²L/∂q̇²` is singular or indefinite.
-    pub fn accelerations<'w>(
+    pub fn accelerations<'w, S: Scalar>(
         &self,
-        ws: &'w mut RawWorkspace<F>,
-        t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<&'w [f64], Error> {
+        ws: &'w mut RawWorkspace<F, S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+    ) -> Result<&'w [S], Error> {
         let n = self.n;
         check_state(n, t, q, Some(qdot))?;
+        let (zero, one) = (S::zero(), S::one());
         Self::reset(ws, q, qdot);
-        let t_plain = HyperDual64::from(t);
+        let t_plain = HyperDual::from_re(t);
         self.fill_velocity_hessian(ws, t_plain);
         // Σ_j ∂²L/∂q̇_i∂q_j q̇_j + ∂²L/∂q̇_i∂t: seed q̇_i (ε1) and the motion (q̇, 1) (ε2).
         for (d, v) in ws.q.iter_mut().zip(qdot) {
             d.eps2 = *v;
         }
-        let t_moving = HyperDual64::new(t, 0.0, 1.0, 0.0);
+        let t_moving = HyperDual::new(t, zero, one, zero);
         for i in 0..n {
-            ws.qdot[i].eps1 = 1.0;
+            ws.qdot[i].eps1 = one;
             let l = self.eval(ws, t_moving);
             ws.rhs[i] = -l.eps1eps2;
-            ws.qdot[i].eps1 = 0.0;
+            ws.qdot[i].eps1 = zero;
         }
         // ∂L/∂q_i: seed q_i (ε1).
         for d in ws.q.iter_mut() {
-            d.eps2 = 0.0;
+            d.eps2 = zero;
         }
         for i in 0..n {
-            ws.q[i].eps1 = 1.0;
+            ws.q[i].eps1 = one;
             let l = self.eval(ws, t_plain);
             ws.rhs[i] += l.eps1;
-            ws.q[i].eps1 = 0.0;
+            ws.q[i].eps1 = zero;
         }
         // + Q.
         if self.has_force {
-            ws.generalized_force.fill(0.0);
+            ws.generalized_force.fill(zero);
             self.function.generalized_force_with(t, q, qdot, &mut ws.generalized_force);
             for (r, f) in ws.rhs.iter_mut().zip(&ws.generalized_force) {
-                *r += f;
+                *r += *f;
             }
         }
         // Solve.
@@ -180,8 +202,8 @@ impl<F: LagrangianFunction> RawModel<F> {
                 return Err(super::non_finite(Stage::Lagrangian, t, q));
             }
             return Err(Error::SingularMassMatrix {
-                t,
-                q: q.to_vec(),
+                t: t.re(),
+                q: q.iter().map(|v| v.re()).collect(),
                 coordinate: self.coordinates()[j].name.clone(),
                 pivot,
             });
@@ -197,17 +219,18 @@ impl<F: LagrangianFunction> RawModel<F> {
 
     /// `∂²L/∂q̇_i∂q̇_j`: one pass per pair, seeding `q̇_i` (ε1) and `q̇_j` (ε2). Expects the
     /// unseeded state in `ws.q`, `ws.qdot`.
-    fn fill_velocity_hessian(&self, ws: &mut RawWorkspace<F>, t: HyperDual64) {
+    fn fill_velocity_hessian<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: HyperDual<S>) {
         let n = self.n;
+        let (zero, one) = (S::zero(), S::one());
         for i in 0..n {
             for j in i..n {
-                ws.qdot[i].eps1 = 1.0;
-                ws.qdot[j].eps2 = 1.0;
+                ws.qdot[i].eps1 = one;
+                ws.qdot[j].eps2 = one;
                 let l = self.eval(ws, t);
                 ws.hessian[i * n + j] = l.eps1eps2;
                 ws.hessian[j * n + i] = l.eps1eps2;
-                ws.qdot[i].eps1 = 0.0;
-                ws.qdot[j].eps2 = 0.0;
+                ws.qdot[i].eps1 = zero;
+                ws.qdot[j].eps2 = zero;
             }
         }
     }
@@ -216,51 +239,64 @@ impl<F: LagrangianFunction> RawModel<F> {
     ///
     /// # Errors
     /// On a malformed or non-finite state.
-    pub fn velocity_hessian<'w>(
+    pub fn velocity_hessian<'w, S: Scalar>(
         &self,
-        ws: &'w mut RawWorkspace<F>,
-        t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<&'w [f64], Error> {
+        ws: &'w mut RawWorkspace<F, S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+    ) -> Result<&'w [S], Error> {
         check_state(self.n, t, q, Some(qdot))?;
         Self::reset(ws, q, qdot);
-        self.fill_velocity_hessian(ws, HyperDual64::from(t));
+        self.fill_velocity_hessian(ws, HyperDual::from_re(t));
         Ok(&ws.hessian)
     }
 
     /// `L(q, q̇, t)`.
-    pub fn lagrangian(&self, ws: &mut RawWorkspace<F>, t: f64, q: &[f64], qdot: &[f64]) -> f64 {
+    pub fn lagrangian<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: S, q: &[S], qdot: &[S]) -> S {
         Self::reset(ws, q, qdot);
-        self.eval(ws, HyperDual64::from(t)).re
+        self.eval(ws, HyperDual::from_re(t)).re
     }
 
     /// Generalized momenta `p = ∂L/∂q̇`, borrowed from the workspace.
-    pub fn momenta<'w>(
+    ///
+    /// # Errors
+    /// On a malformed or non-finite state, or momenta that overflow.
+    pub fn momenta<'w, S: Scalar>(
         &self,
-        ws: &'w mut RawWorkspace<F>,
-        t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<&'w [f64], Error> {
+        ws: &'w mut RawWorkspace<F, S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+    ) -> Result<&'w [S], Error> {
         check_state(self.n, t, q, Some(qdot))?;
         Self::reset(ws, q, qdot);
         for i in 0..self.n {
-            ws.qdot[i].eps1 = 1.0;
-            ws.momenta[i] = self.eval(ws, HyperDual64::from(t)).eps1;
-            ws.qdot[i].eps1 = 0.0;
+            ws.qdot[i].eps1 = S::one();
+            ws.momenta[i] = self.eval(ws, HyperDual::from_re(t)).eps1;
+            ws.qdot[i].eps1 = S::zero();
+        }
+        if !super::all_finite(&ws.momenta) {
+            return Err(super::non_finite(Stage::Lagrangian, t, q));
         }
         Ok(&ws.momenta)
     }
 
     /// The energy function `h = q̇·∂L/∂q̇ − L`: one pass seeded along `q̇` in velocity space.
-    pub fn energy(&self, ws: &mut RawWorkspace<F>, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
+    ///
+    /// # Errors
+    /// On a malformed or non-finite state, or an energy that overflows.
+    pub fn energy<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
         check_state(self.n, t, q, Some(qdot))?;
         Self::reset(ws, q, qdot);
         for (d, v) in ws.qdot.iter_mut().zip(qdot) {
             d.eps1 = *v;
         }
-        let l = self.eval(ws, HyperDual64::from(t));
-        Ok(l.eps1 - l.re)
+        let l = self.eval(ws, HyperDual::from_re(t));
+        let energy = l.eps1 - l.re;
+        if !energy.re().is_finite() {
+            return Err(super::non_finite(Stage::Lagrangian, t, q));
+        }
+        Ok(energy)
     }
 }

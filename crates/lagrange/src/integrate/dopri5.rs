@@ -1,5 +1,6 @@
-//! Dormand–Prince 5(4) with error control and dense output (Hairer, Nørsett & Wanner,
-//! *Solving Ordinary Differential Equations I*, §II.5 and §II.6; the `DOPRI5` code).
+//! Dormand–Prince 5(4) with error control, dense output and stiffness detection (Hairer,
+//! Nørsett & Wanner, *Solving Ordinary Differential Equations I*, §II.5, §II.6 and §II.10;
+//! the `DOPRI5` code).
 
 use super::{Tolerances, check_tolerance};
 use crate::{Dynamics, Error};
@@ -50,8 +51,17 @@ const FAC_MIN: f64 = 0.2;
 const FAC_MAX: f64 = 10.0;
 const BETA: f64 = 0.04;
 
+// Stiffness detection (DOPRI5, Hairer–Wanner I §II.10): `h λ` is estimated on every accepted
+// step as `h ‖k7 − k6‖ / ‖y_new − y_stage6‖` (both stages sit at `t + h`, so the quotient is a
+// Lipschitz estimate of `f` along the step); the stability boundary of DOPRI5 on the negative
+// real axis is about 3.3. The problem is declared stiff when `h λ > 3.25` on 15 accepted
+// steps, counting restarts after 6 accepted steps in a row below it.
+const STIFF_H_LAMBDA: f64 = 3.25;
+const STIFF_STEPS: usize = 15;
+const NON_STIFF_RESET: usize = 6;
+
 /// Counters of an adaptive integration.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct AdaptiveStats {
     /// Accepted steps.
     pub accepted: usize,
@@ -59,11 +69,18 @@ pub struct AdaptiveStats {
     pub rejected: usize,
     /// Evaluations of the equations of motion.
     pub evaluations: usize,
+    /// The start of the accepted step at which the stiffness test first fired (`None` while the
+    /// problem does not look stiff). The integration goes on; only a later failure says so.
+    pub stiffness: Option<f64>,
 }
 
 /// The embedded Dormand–Prince 5(4) pair with PI step control, FSAL and 4th-order dense output,
 /// on `y = (q, q̇)`. The local error of each accepted step satisfies
 /// `‖err_i / (atol + rtol max(|y_i|, |y_i'|))‖_rms ≤ 1`.
+///
+/// Hairer's stiffness test runs on every accepted step; when it fires, the time is recorded in
+/// [`AdaptiveStats::stiffness`], and a step-size collapse afterwards is reported as
+/// [`Error::Stiff`] (pointing to the implicit integrator) rather than a bare underflow.
 #[derive(Clone, Debug)]
 pub struct Dopri5 {
     n: usize,
@@ -87,6 +104,11 @@ pub struct Dopri5 {
     /// Last accepted error norm (PI control memory).
     err_old: f64,
     last_rejected: bool,
+    /// `h λ` estimate of the last attempted step (stiffness test).
+    h_lambda: f64,
+    /// Accepted steps with `h λ` above the bound, and accepted steps in a row below it.
+    stiff_steps: usize,
+    non_stiff_steps: usize,
     /// Counters.
     pub stats: AdaptiveStats,
 }
@@ -113,6 +135,9 @@ impl Dopri5 {
             h: 0.0,
             err_old: 1e-4,
             last_rejected: false,
+            h_lambda: 0.0,
+            stiff_steps: 0,
+            non_stiff_steps: 0,
             stats: AdaptiveStats::default(),
         })
     }
@@ -183,6 +208,8 @@ impl Dopri5 {
         self.stats = AdaptiveStats::default();
         self.err_old = 1e-4;
         self.last_rejected = false;
+        self.stiff_steps = 0;
+        self.non_stiff_steps = 0;
         let [k1, k2, ..] = &mut self.k;
         Self::rhs(system, ws, n, t, &self.y, k1)?;
         self.stats.evaluations += 1;
@@ -237,7 +264,8 @@ impl Dopri5 {
     /// Afterwards [`interpolate`](Self::interpolate) covers `[t_old, t]`.
     ///
     /// # Errors
-    /// [`Error::StepSizeUnderflow`] when the step collapses; any error of the equations of motion.
+    /// [`Error::StepSizeUnderflow`] when the step collapses, [`Error::Stiff`] instead once the
+    /// stiffness test has fired; any error of the equations of motion.
     pub fn step<D: Dynamics>(&mut self, system: &D, ws: &mut D::Workspace, t_limit: f64) -> Result<(), Error> {
         let n2 = 2 * self.n;
         let n = self.n;
@@ -247,7 +275,11 @@ impl Dopri5 {
                 h = t_limit - self.t;
             }
             if h.abs() <= 10.0 * f64::EPSILON * self.t.abs().max(1.0) {
-                return Err(Error::StepSizeUnderflow { t: self.t, h });
+                return Err(if self.stats.stiffness.is_some() {
+                    Error::Stiff { t: self.t, h }
+                } else {
+                    Error::StepSizeUnderflow { t: self.t, h }
+                });
             }
             let t = self.t;
             let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
@@ -279,6 +311,13 @@ impl Dopri5 {
             }
             Self::rhs(system, ws, n, t + h, &self.y_new, k7)?;
             self.stats.evaluations += 6;
+            // Stiffness estimate h λ = h ‖k7 − k6‖ / ‖y_new − y_stage6‖ (y_stage6 still in ys).
+            let (mut num, mut den) = (0.0, 0.0);
+            for i in 0..n2 {
+                num += (k7[i] - k6[i]).powi(2);
+                den += (self.y_new[i] - ys[i]).powi(2);
+            }
+            self.h_lambda = if den > 0.0 { h.abs() * (num / den).sqrt() } else { 0.0 };
             // Error estimate (stored in y_stage).
             for i in 0..n2 {
                 ys[i] = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
@@ -313,6 +352,7 @@ impl Dopri5 {
                     h_new = h_new.min(h);
                 }
                 self.last_rejected = false;
+                self.stiffness_test(t);
                 self.t_old = t;
                 self.h_old = h;
                 self.t = if h == t_limit - t { t_limit } else { t + h };
@@ -326,6 +366,22 @@ impl Dopri5 {
             self.h = h / (1.0 / FAC_MIN).min(fac11 / SAFETY);
             self.stats.rejected += 1;
             self.last_rejected = true;
+        }
+    }
+
+    /// Count an accepted step starting at `t` in the stiffness test.
+    fn stiffness_test(&mut self, t: f64) {
+        if self.h_lambda > STIFF_H_LAMBDA {
+            self.non_stiff_steps = 0;
+            self.stiff_steps += 1;
+            if self.stiff_steps == STIFF_STEPS && self.stats.stiffness.is_none() {
+                self.stats.stiffness = Some(t);
+            }
+        } else {
+            self.non_stiff_steps += 1;
+            if self.non_stiff_steps == NON_STIFF_RESET {
+                self.stiff_steps = 0;
+            }
         }
     }
 

@@ -1,7 +1,7 @@
 //! Running an integrator over an interval and recording `t, q, q̇` and the energy.
 
-use super::{Dopri5, Rk4, Tolerances, Variational, check_step};
-use crate::{Dynamics, Error, State};
+use super::{Dopri5, Gauss4, Rk4, Sdirk4, Tolerances, Variational, check_step, non_finite_quantity};
+use crate::{Coordinate, Dynamics, Error, State};
 
 /// Which integrator, with its step or tolerances.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,15 +21,27 @@ pub enum Method {
         /// Step.
         dt: f64,
     },
+    /// L-stable SDIRK4 ([`Sdirk4`]) with error control, for stiff problems.
+    Implicit {
+        /// Tolerances.
+        tol: Tolerances,
+    },
+    /// Gauss–Legendre of order 4 ([`Gauss4`]), symplectic, with fixed step `dt`.
+    Gauss {
+        /// Step.
+        dt: f64,
+    },
 }
 
 impl Method {
-    /// Short name: `rk4`, `adaptive`, `variational`.
+    /// Short name: `rk4`, `adaptive`, `variational`, `implicit`, `gauss`.
     pub fn name(&self) -> &'static str {
         match self {
             Method::Rk4 { .. } => "rk4",
             Method::Adaptive { .. } => "adaptive",
             Method::Variational { .. } => "variational",
+            Method::Implicit { .. } => "implicit",
+            Method::Gauss { .. } => "gauss",
         }
     }
 }
@@ -48,16 +60,24 @@ pub enum Output {
 }
 
 /// Work counters of a run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
     /// Accepted steps.
     pub steps: usize,
-    /// Rejected steps (adaptive).
+    /// Rejected steps (adaptive and implicit-adaptive).
     pub rejected: usize,
-    /// Evaluations of the equations of motion (explicit methods).
+    /// Evaluations of the equations of motion `q̈` in `f64` (RK4, the adaptive methods and
+    /// Gauss; the variational integrator evaluates the Lagrangian instead).
     pub evaluations: usize,
     /// Newton iterations (implicit methods).
     pub newton_iterations: usize,
+    /// Evaluations of the acceleration Jacobian (implicit Runge–Kutta methods).
+    pub jacobians: usize,
+    /// LU factorizations of a Newton matrix (implicit Runge–Kutta methods).
+    pub factorizations: usize,
+    /// The time at which the explicit adaptive integrator's stiffness test first fired
+    /// ([`Method::Adaptive`] only; `None` otherwise).
+    pub stiffness: Option<f64>,
 }
 
 /// A recorded trajectory: rows at the output times.
@@ -122,11 +142,24 @@ impl Trajectory {
         t: f64,
         q: &[f64],
         qdot: &[f64],
+        step: usize,
     ) -> Result<(), Error> {
+        // A finite state whose energy overflows (a run growing past ~1e150) has diverged.
+        let energy = system.energy(ws, t, q, qdot).map_err(|error| match error {
+            Error::NonFinite { stage, .. } if !self.t.is_empty() => {
+                let largest = q.iter().chain(qdot).fold(0.0_f64, |m, v| m.max(v.abs()));
+                Error::Diverged {
+                    t,
+                    step,
+                    quantity: format!("energy = non-finite ({stage}), the state reaching |q|, |q̇| = {largest:e}"),
+                }
+            }
+            other => other,
+        })?;
         self.t.push(t);
         self.q.extend_from_slice(q);
         self.qdot.extend_from_slice(qdot);
-        self.energy.push(system.energy(ws, t, q, qdot)?);
+        self.energy.push(energy);
         Ok(())
     }
 }
@@ -138,8 +171,13 @@ const MAX_STEPS: usize = 500_000_000;
 ///
 /// # Errors
 /// [`Error::InvalidSetting`] for a bad horizon, step, tolerance or output grid;
-/// [`Error::Diverged`] when the state stops being finite; any error of the equations of motion
-/// or of the integrator.
+/// [`Error::Diverged`] (naming the quantity) when the state, a stage value or the recorded
+/// energy stops being finite; [`Error::Stiff`] when the explicit adaptive method runs out of
+/// step or of steps after its stiffness test fired; any error of the equations of motion or
+/// of the integrator ([`Error::NewtonFailed`], [`Error::StepSizeUnderflow`], …).
+///
+/// [`Method::Implicit`] lands its steps on the output times; [`Method::Adaptive`] interpolates
+/// (dense output) and records in [`Stats::stiffness`] when its stiffness test fired.
 pub fn simulate<D: Dynamics>(
     system: &D,
     initial: &State,
@@ -174,12 +212,12 @@ pub fn simulate<D: Dynamics>(
             run_fixed(t0, dt, &times, &mut trajectory, |traj, event| match event {
                 Event::Step { h, k } => {
                     state.t = t0 + k as f64 * dt;
-                    rk4.step(system, &mut ws, &mut state, h).map_err(|e| diverged(e, state.t, k))?;
-                    check_finite(&state.q, &state.qdot, state.t, k)
+                    rk4.step(system, &mut ws, &mut state, h).map_err(|e| diverged(system, e, state.t, k))?;
+                    check_finite(system, &state.q, &state.qdot, state.t, k)
                 }
                 Event::Record { t } => {
                     state.t = t;
-                    traj.push(system, &mut ws, t, &state.q, &state.qdot)
+                    traj.push(system, &mut ws, t, &state.q, &state.qdot, traj.stats.steps)
                 }
             })?;
             trajectory.stats.evaluations = 4 * trajectory.stats.steps;
@@ -193,8 +231,8 @@ pub fn simulate<D: Dynamics>(
             run_fixed(t0, dt, &times, &mut trajectory, |traj, event| match event {
                 Event::Step { h, k } => {
                     let t = integrator.t();
-                    integrator.step(system, h).map_err(|e| diverged(e, t, k))?;
-                    check_finite(integrator.q(), integrator.momenta(), integrator.t(), k)
+                    integrator.step(system, h).map_err(|e| diverged(system, e, t, k))?;
+                    check_finite_momenta(system, integrator.q(), integrator.momenta(), integrator.t(), k)
                 }
                 Event::Record { t } => {
                     if t == t0 {
@@ -203,10 +241,31 @@ pub fn simulate<D: Dynamics>(
                         integrator.velocities(system, &mut qdot)?;
                     }
                     q.copy_from_slice(integrator.q());
-                    traj.push(system, &mut ws, t, &q, &qdot)
+                    traj.push(system, &mut ws, t, &q, &qdot, traj.stats.steps)
                 }
             })?;
             trajectory.stats.newton_iterations = integrator.newton_iterations;
+        }
+        Method::Gauss { dt } => {
+            check_step(dt)?;
+            let mut gauss = Gauss4::new(n);
+            let mut state = initial.clone();
+            run_fixed(t0, dt, &times, &mut trajectory, |traj, event| match event {
+                Event::Step { h, k } => {
+                    state.t = t0 + k as f64 * dt;
+                    gauss.step(system, &mut ws, &mut state, h).map_err(|e| diverged(system, e, state.t, k))?;
+                    check_finite(system, &state.q, &state.qdot, state.t, k)
+                }
+                Event::Record { t } => {
+                    state.t = t;
+                    traj.push(system, &mut ws, t, &state.q, &state.qdot, traj.stats.steps)
+                }
+            })?;
+            let stats = &mut trajectory.stats;
+            stats.evaluations = gauss.stats.evaluations;
+            stats.newton_iterations = gauss.stats.newton_iterations;
+            stats.jacobians = gauss.stats.jacobians;
+            stats.factorizations = gauss.stats.factorizations;
         }
         Method::Adaptive { tol } => {
             let mut integrator = Dopri5::new(n, tol)?;
@@ -218,11 +277,14 @@ pub fn simulate<D: Dynamics>(
             for &t_out in &times {
                 while integrator.t() < t_out {
                     if steps >= MAX_STEPS {
-                        return Err(Error::TooManySteps { steps, t: integrator.t(), t_end });
+                        return Err(match integrator.stats.stiffness {
+                            Some(_) => Error::Stiff { t: integrator.t(), h: integrator.proposed_step() },
+                            None => Error::TooManySteps { steps, t: integrator.t(), t_end },
+                        });
                     }
-                    integrator.step(system, &mut ws, t_end).map_err(|e| diverged(e, integrator.t(), steps))?;
+                    integrator.step(system, &mut ws, t_end).map_err(|e| diverged(system, e, integrator.t(), steps))?;
                     steps += 1;
-                    check_finite(integrator.q(), integrator.qdot(), integrator.t(), steps)?;
+                    check_finite(system, integrator.q(), integrator.qdot(), integrator.t(), steps)?;
                 }
                 if t_out == integrator.t() {
                     q.copy_from_slice(integrator.q());
@@ -230,11 +292,37 @@ pub fn simulate<D: Dynamics>(
                 } else {
                     integrator.interpolate(t_out, &mut q, &mut qdot);
                 }
-                trajectory.push(system, &mut ws, t_out, &q, &qdot)?;
+                trajectory.push(system, &mut ws, t_out, &q, &qdot, steps)?;
             }
             trajectory.stats.steps = integrator.stats.accepted;
             trajectory.stats.rejected = integrator.stats.rejected;
             trajectory.stats.evaluations = integrator.stats.evaluations;
+            trajectory.stats.stiffness = integrator.stats.stiffness;
+        }
+        Method::Implicit { tol } => {
+            let mut integrator = Sdirk4::new(n, tol)?;
+            let span = (t_end - t0).max(f64::MIN_POSITIVE);
+            integrator.start(system, &mut ws, t0, &initial.q, &initial.qdot, span)?;
+            let mut steps = 0;
+            for &t_out in &times {
+                while integrator.t() < t_out {
+                    if steps >= MAX_STEPS {
+                        return Err(Error::TooManySteps { steps, t: integrator.t(), t_end });
+                    }
+                    // Steps land on the output times (no interpolation of stiff velocities).
+                    integrator.step(system, &mut ws, t_out).map_err(|e| diverged(system, e, integrator.t(), steps))?;
+                    steps += 1;
+                    check_finite(system, integrator.q(), integrator.qdot(), integrator.t(), steps)?;
+                }
+                trajectory.push(system, &mut ws, t_out, integrator.q(), integrator.qdot(), steps)?;
+            }
+            let stats = &mut trajectory.stats;
+            stats.steps = integrator.stats.accepted;
+            stats.rejected = integrator.stats.rejected;
+            stats.evaluations = integrator.stats.evaluations;
+            stats.newton_iterations = integrator.stats.newton_iterations;
+            stats.jacobians = integrator.stats.jacobians;
+            stats.factorizations = integrator.stats.factorizations;
         }
     }
     Ok(trajectory)
@@ -331,18 +419,44 @@ fn output_times(t0: f64, t_end: f64, output: &Output) -> Result<Vec<f64>, Error>
     }
 }
 
-fn check_finite(q: &[f64], v: &[f64], t: f64, step: usize) -> Result<(), Error> {
-    if crate::error::all_finite(q) && crate::error::all_finite(v) {
-        Ok(())
-    } else {
-        Err(Error::Diverged { t, step, quantity: "the state is no longer finite".into() })
+/// The state after a step must be finite; the error names the first coordinate that is not.
+fn check_finite<D: Dynamics>(system: &D, q: &[f64], v: &[f64], t: f64, step: usize) -> Result<(), Error> {
+    match non_finite_quantity(system.coordinates(), q, v) {
+        None => Ok(()),
+        Some(quantity) => Err(Error::Diverged { t, step, quantity }),
     }
 }
 
-/// A non-finite evaluation during a run is a divergence of the run.
-fn diverged(error: Error, t: f64, step: usize) -> Error {
+/// As [`check_finite`] for the variational integrator's `(q, p)`.
+fn check_finite_momenta<D: Dynamics>(system: &D, q: &[f64], p: &[f64], t: f64, step: usize) -> Result<(), Error> {
+    match non_finite_quantity(system.coordinates(), q, &[]) {
+        Some(quantity) => Err(Error::Diverged { t, step, quantity }),
+        None => match p.iter().position(|v| !v.is_finite()) {
+            Some(i) => {
+                let quantity = format!("p[{}] = {}", coordinate_name(system.coordinates(), i), p[i]);
+                Err(Error::Diverged { t, step, quantity })
+            }
+            None => Ok(()),
+        },
+    }
+}
+
+fn coordinate_name(coordinates: &[Coordinate], i: usize) -> String {
+    coordinates.get(i).map_or_else(|| i.to_string(), |c| c.name.clone())
+}
+
+/// A non-finite evaluation during a run is a divergence of the run: name the coordinate of the
+/// stage state that blew up when it is one, or else the stage of the evaluation.
+fn diverged<D: Dynamics>(system: &D, error: Error, t: f64, step: usize) -> Error {
     match error {
-        Error::NonFinite { stage, .. } => Error::Diverged { t, step, quantity: format!("non-finite {stage}") },
+        Error::NonFinite { stage, q, .. } => {
+            let quantity = match non_finite_quantity(system.coordinates(), &q, &[]) {
+                Some(named) => format!("{named} within the step"),
+                None if stage == crate::Stage::State => "q̇ non-finite within the step".to_string(),
+                None => format!("non-finite {stage} at q = {q:?} within the step"),
+            };
+            Error::Diverged { t, step, quantity }
+        }
         other => other,
     }
 }

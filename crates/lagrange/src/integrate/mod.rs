@@ -5,18 +5,31 @@
 //! | [`Rk4`] | 4, fixed step | reference workhorse | error ratio ≈ 16 per halving |
 //! | [`Dopri5`] | 5(4), adaptive, dense output | accuracy on demand | local error ≤ tolerance |
 //! | [`Variational`] | 2, fixed step, implicit | long runs | cyclic momenta exact, energy error bounded |
+//! | [`Gauss4`] | 4, fixed step, implicit (Gauss–Legendre) | long runs | symplectic, A-stable; quadratic invariants to round-off |
+//! | [`Sdirk4`] | 4(3), adaptive, L-stable implicit | stiff scenes | stable at `ω h ≫ 1`, stiff modes damped, error tracks tolerance |
+//!
+//! The implicit methods solve their stages by simplified Newton with the exact AD Jacobian
+//! [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian), in the reduced
+//! form of [`newton`]. [`Dopri5`] watches for stiffness (Hairer's test) and says so when it
+//! fails ([`Error::Stiff`]).
 
 mod dopri5;
 mod driver;
+mod gauss;
+pub mod newton;
 mod rk4;
+mod sdirk;
 mod variational;
 
 pub use dopri5::{AdaptiveStats, Dopri5};
 pub use driver::{Method, Output, Stats, Trajectory, simulate};
+pub use gauss::Gauss4;
+pub use newton::ImplicitStats;
 pub use rk4::Rk4;
+pub use sdirk::Sdirk4;
 pub use variational::Variational;
 
-use crate::Error;
+use crate::{Coordinate, Error};
 
 /// Relative and absolute tolerances of an adaptive integrator.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,6 +69,16 @@ pub(crate) fn check_tolerance(tol: Tolerances) -> Result<(), Error> {
         });
     }
     Ok(())
+}
+
+/// The first non-finite entry of a state, named: `q[θ] = inf`, `q̇[x] = NaN`.
+pub(crate) fn non_finite_quantity(coordinates: &[Coordinate], q: &[f64], qdot: &[f64]) -> Option<String> {
+    let name = |i: usize| coordinates.get(i).map_or_else(|| i.to_string(), |c| c.name.clone());
+    if let Some(i) = q.iter().position(|v| !v.is_finite()) {
+        return Some(format!("q[{}] = {}", name(i), q[i]));
+    }
+    let i = qdot.iter().position(|v| !v.is_finite())?;
+    Some(format!("q̇[{}] = {}", name(i), qdot[i]))
 }
 
 #[cfg(test)]

@@ -1,16 +1,19 @@
 //! Integrator checks on small mechanisms: observed order, tolerance tracking, structure.
 
+mod allocation;
+mod implicit;
+
 use super::*;
 use crate::test_support::{Cart, Charge, Spring};
 use crate::{Coordinate, Dynamics, Model, RawModel, State};
 
-fn final_state<D: Dynamics>(system: &D, initial: &State, t_end: f64, method: Method) -> Vec<f64> {
+pub(super) fn final_state<D: Dynamics>(system: &D, initial: &State, t_end: f64, method: Method) -> Vec<f64> {
     let traj = simulate(system, initial, t_end, method, &Output::Ends).unwrap();
     let k = traj.len() - 1;
     [traj.q(k), traj.qdot(k)].concat()
 }
 
-fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
 }
 
@@ -46,7 +49,7 @@ fn variational_is_second_order_and_conserves_cart_momentum() {
     }
     // Horizontal momentum p_X: exactly conserved by the discrete Noether theorem.
     let traj = simulate(&model, &initial, 20.0, Method::Variational { dt: 0.01 }, &Output::Every(1.0)).unwrap();
-    let mut ws = model.workspace();
+    let mut ws = model.new_workspace();
     let mut p = [0.0; 2];
     model.momenta(&mut ws, 0.0, &initial.q, &initial.qdot, &mut p).unwrap();
     let p0 = p[0];

@@ -1,0 +1,306 @@
+//! The two-stage Gauss–Legendre collocation method, order 4, fixed step: symplectic, symmetric
+//! and A-stable (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §II.1.3 and
+//! §VIII.6; Hairer & Wanner, *Solving ODE II*, §IV.5, Table 5.2).
+
+use super::newton::{ImplicitStats, StageSystem};
+use super::{check_step, non_finite_quantity};
+use crate::{Dynamics, Error, State};
+
+/// `√3`.
+const SQRT_3: f64 = 1.732_050_807_568_877_2;
+/// Nodes `c = ½ ∓ √3/6`.
+const C: [f64; 2] = [0.5 - SQRT_3 / 6.0, 0.5 + SQRT_3 / 6.0];
+/// Butcher matrix (row-major).
+const A: [f64; 4] = [0.25, 0.25 - SQRT_3 / 6.0, 0.25 + SQRT_3 / 6.0, 0.25];
+/// Weights.
+const B: [f64; 2] = [0.5, 0.5];
+/// Newton iterations before a step gives up.
+const NEWTON_MAX_ITERATIONS: usize = 50;
+/// A scaled update that stops decreasing below this is round-off noise: converged.
+const ROUNDOFF_PLATEAU: f64 = 1e-12;
+/// Largest contraction `θ` of a step after which the Jacobian is kept for the next one; a
+/// slower convergence recomputes it there (fresh, `θ = O(h²)`).
+const THETA_REFRESH: f64 = 1e-2;
+
+/// Why Newton stopped without converging.
+enum Failure {
+    /// Not converging (iterations, last scaled update).
+    Newton(usize, f64),
+    /// A stage value or its accelerations were not finite.
+    NonFinite(String),
+}
+
+/// Gauss–Legendre of order 4 (2 stages) with fixed step on `y = (q, q̇)`: the stage equations
+/// `Z_i = h Σ_j a_ij f(t + c_j h, y + Z_j)` are solved by simplified Newton with the exact AD
+/// Jacobian ([`Dynamics::acceleration_jacobian`]) **to round-off** — the iteration runs until
+/// its update stops decreasing at the last bits — so that the method's invariants hold to
+/// round-off: quadratic invariants exactly (the energy of a linear oscillator, angular
+/// momentum), energy errors bounded without drift on nonlinear ones (symplectic, symmetric).
+///
+/// The Newton matrix is the reduced `I − h A ⊗ ∂f/∂y` of [`newton`](super::newton), factored
+/// once and kept, with its Jacobian, for as long as the step size stays and Newton contracts
+/// fast (`θ ≤ 10⁻²`); the stage values start from the extrapolated collocation polynomial of the
+/// previous step. Buffers are allocated once in [`new`](Self::new); [`step`](Self::step)
+/// allocates nothing.
+#[derive(Clone, Debug)]
+pub struct Gauss4 {
+    n: usize,
+    /// `A²` (row-major 2 × 2), for the Newton matrix.
+    a_squared: [f64; 4],
+    /// Stage increments `Z_i`, stage-major: coordinates (2n) and velocities (2n).
+    zq: Vec<f64>,
+    zv: Vec<f64>,
+    /// Stage accelerations `q̈(t + c_i h, Y_i)` (2n).
+    accel: Vec<f64>,
+    /// Newton residuals, then updates (2n each).
+    rq: Vec<f64>,
+    rv: Vec<f64>,
+    /// One stage value `Y_i = (q, q̇)` (n each).
+    q_stage: Vec<f64>,
+    v_stage: Vec<f64>,
+    /// Jacobian and factored Newton matrix.
+    newton: StageSystem,
+    /// Whether `newton.jacobian` was evaluated at the current state.
+    jacobian_fresh: bool,
+    /// Whether the next step must recompute the Jacobian first.
+    refresh_jacobian: bool,
+    /// Step the Newton matrix is factored for (NaN: not factored).
+    factored_step: f64,
+    /// Step of the last step, whose stage values seed the next (NaN: none).
+    last_step: f64,
+    /// Largest final scaled Newton update of any step so far.
+    pub max_residual: f64,
+    /// Counters.
+    pub stats: ImplicitStats,
+}
+
+impl Gauss4 {
+    /// Buffers for `n` coordinates.
+    pub fn new(n: usize) -> Self {
+        let z = |k: usize| vec![0.0; k];
+        let mut a_squared = [0.0; 4];
+        for i in 0..2 {
+            for j in 0..2 {
+                a_squared[i * 2 + j] = (0..2).map(|k| A[i * 2 + k] * A[k * 2 + j]).sum();
+            }
+        }
+        Self {
+            n,
+            a_squared,
+            zq: z(2 * n),
+            zv: z(2 * n),
+            accel: z(2 * n),
+            rq: z(2 * n),
+            rv: z(2 * n),
+            q_stage: z(n),
+            v_stage: z(n),
+            newton: StageSystem::new(n, 2),
+            jacobian_fresh: false,
+            refresh_jacobian: true,
+            factored_step: f64::NAN,
+            last_step: f64::NAN,
+            max_residual: 0.0,
+            stats: ImplicitStats::default(),
+        }
+    }
+
+    /// Advance `state` by `h`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] for a step that is not positive and finite;
+    /// [`Error::DimensionMismatch`] for a state of another size; [`Error::NewtonFailed`] when
+    /// Newton does not converge even with a fresh Jacobian (the step is too large for the
+    /// motion); [`Error::Diverged`] naming the quantity when a stage value or its accelerations
+    /// stop being finite; any other error of the equations of motion.
+    pub fn step<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        state: &mut State,
+        h: f64,
+    ) -> Result<(), Error> {
+        check_step(h)?;
+        let n = self.n;
+        for (what, got) in [("q", state.q.len()), ("q̇", state.qdot.len())] {
+            if got != n {
+                return Err(Error::DimensionMismatch { what, expected: n, got });
+            }
+        }
+        // Stage values from the previous step's collocation polynomial, or from y.
+        if self.last_step == h {
+            self.extrapolate();
+        } else {
+            self.zq.fill(0.0);
+            self.zv.fill(0.0);
+        }
+        // Newton, retried once with a Jacobian at this state if an old one fails.
+        let theta = loop {
+            if self.refresh_jacobian && !self.jacobian_fresh {
+                system.acceleration_jacobian(ws, state.t, &state.q, &state.qdot, &mut self.newton.jacobian)?;
+                self.stats.jacobians += 1;
+                self.jacobian_fresh = true;
+                self.factored_step = f64::NAN;
+            }
+            if self.factored_step != h {
+                self.stats.factorizations += 1;
+                self.factored_step = f64::NAN;
+                if self.newton.factor(h, &A, &self.a_squared) {
+                    self.factored_step = h;
+                } else if self.jacobian_fresh {
+                    return Err(Error::NewtonFailed { t: state.t, iterations: 0, residual: f64::NAN });
+                } else {
+                    self.refresh_jacobian = true;
+                    continue;
+                }
+            }
+            match self.newton(system, ws, state, h)? {
+                Ok(theta) => break theta,
+                Err(_) if !self.jacobian_fresh => {
+                    self.refresh_jacobian = true;
+                    self.zq.fill(0.0);
+                    self.zv.fill(0.0);
+                }
+                Err(Failure::Newton(iterations, residual)) => {
+                    self.last_step = f64::NAN;
+                    return Err(Error::NewtonFailed { t: state.t, iterations, residual });
+                }
+                Err(Failure::NonFinite(quantity)) => {
+                    self.last_step = f64::NAN;
+                    return Err(Error::Diverged {
+                        t: state.t,
+                        step: self.stats.accepted,
+                        quantity: format!("Newton did not converge: {quantity} in a stage"),
+                    });
+                }
+            }
+        };
+        // y₁ = y₀ + h Σ b_i f(Y_i): velocities from the final stage values, accelerations from
+        // the last evaluation (before an update at round-off level).
+        for i in 0..n {
+            let (mut dq, mut dv) = (0.0, 0.0);
+            for s in 0..2 {
+                dq += B[s] * (state.qdot[i] + self.zv[s * n + i]);
+                dv += B[s] * self.accel[s * n + i];
+            }
+            state.q[i] += h * dq;
+            state.qdot[i] += h * dv;
+        }
+        state.t += h;
+        self.refresh_jacobian = theta > THETA_REFRESH;
+        self.jacobian_fresh = false;
+        self.last_step = h;
+        self.stats.accepted += 1;
+        Ok(())
+    }
+
+    /// Stage increments of the next step from the collocation polynomial `u` of this one
+    /// (degree 2 through `Z(0) = 0`, `Z(c_1)`, `Z(c_2)`): `Z_i ← u(1 + c_i) − u(1)`.
+    fn extrapolate(&mut self) {
+        let lagrange = |j: usize, x: f64| {
+            let other = C[1 - j];
+            x * (x - other) / (C[j] * (C[j] - other))
+        };
+        let mut weights = [[0.0; 2]; 2];
+        for (i, row) in weights.iter_mut().enumerate() {
+            for (j, w) in row.iter_mut().enumerate() {
+                *w = lagrange(j, 1.0 + C[i]) - lagrange(j, 1.0);
+            }
+        }
+        for z in [&mut self.zq, &mut self.zv] {
+            let (first, second) = z.split_at_mut(self.n);
+            for (a, b) in first.iter_mut().zip(second.iter_mut()) {
+                let (z1, z2) = (*a, *b);
+                *a = weights[0][0] * z1 + weights[0][1] * z2;
+                *b = weights[1][0] * z1 + weights[1][1] * z2;
+            }
+        }
+    }
+
+    /// Simplified Newton on the stage equations to round-off: `Ok(Ok(θ_max))` on convergence,
+    /// `Ok(Err(why))` on failure, `Err` for errors of the equations of motion other than
+    /// non-finite values.
+    fn newton<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        state: &State,
+        h: f64,
+    ) -> Result<Result<f64, Failure>, Error> {
+        let n = self.n;
+        let mut previous = f64::NAN;
+        let mut theta_max: f64 = 0.0;
+        for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
+            // Accelerations at both stage values.
+            for s in 0..2 {
+                for i in 0..n {
+                    self.q_stage[i] = state.q[i] + self.zq[s * n + i];
+                    self.v_stage[i] = state.qdot[i] + self.zv[s * n + i];
+                }
+                if let Some(quantity) = non_finite_quantity(system.coordinates(), &self.q_stage, &self.v_stage) {
+                    return Ok(Err(Failure::NonFinite(quantity)));
+                }
+                self.stats.evaluations += 1;
+                let accel = &mut self.accel[s * n..(s + 1) * n];
+                match system.accelerations(ws, state.t + C[s] * h, &self.q_stage, &self.v_stage, accel) {
+                    Ok(()) => {}
+                    Err(Error::NonFinite { stage, q, .. }) => {
+                        return Ok(Err(Failure::NonFinite(format!("non-finite {stage} at q = {q:?}"))));
+                    }
+                    Err(other) => return Err(other),
+                }
+            }
+            // Residuals r = h (A ⊗ I) f(Y) − Z, solved for the update.
+            for s in 0..2 {
+                for i in 0..n {
+                    let (mut fq, mut fv) = (0.0, 0.0);
+                    for j in 0..2 {
+                        fq += A[s * 2 + j] * (state.qdot[i] + self.zv[j * n + i]);
+                        fv += A[s * 2 + j] * self.accel[j * n + i];
+                    }
+                    self.rq[s * n + i] = h * fq - self.zq[s * n + i];
+                    self.rv[s * n + i] = h * fv - self.zv[s * n + i];
+                }
+            }
+            self.newton.solve(h, &A, &mut self.rq, &mut self.rv);
+            // Apply; the size of the update relative to the stage values.
+            let mut norm: f64 = 0.0;
+            for s in 0..2 {
+                for i in 0..n {
+                    let k = s * n + i;
+                    self.zq[k] += self.rq[k];
+                    self.zv[k] += self.rv[k];
+                    let scale_q = (state.q[i].abs() + self.zq[k].abs()).max(f64::MIN_POSITIVE);
+                    let scale_v = (state.qdot[i].abs() + self.zv[k].abs()).max(f64::MIN_POSITIVE);
+                    norm = norm.max(self.rq[k].abs() / scale_q).max(self.rv[k].abs() / scale_v);
+                }
+            }
+            if !norm.is_finite() {
+                return Ok(Err(Failure::NonFinite("a non-finite Newton update".into())));
+            }
+            // Converged when the update is below round-off, when the predicted remainder
+            // θ/(1 − θ) ‖δ‖ is, or when the update stops decreasing at round-off level.
+            let mut converged = norm <= f64::EPSILON;
+            if iteration > 1 && !converged {
+                let theta = norm / previous;
+                if previous > 1e3 * f64::EPSILON {
+                    // (A rate measured among round-off noise means nothing.)
+                    theta_max = theta_max.max(theta);
+                }
+                if theta < 1.0 {
+                    converged = theta / (1.0 - theta) * norm <= f64::EPSILON;
+                } else if norm <= ROUNDOFF_PLATEAU {
+                    converged = true;
+                } else {
+                    return Ok(Err(Failure::Newton(iteration, norm)));
+                }
+            }
+            if converged {
+                self.max_residual = self.max_residual.max(norm);
+                return Ok(Ok(theta_max));
+            }
+            previous = norm;
+        }
+        Ok(Err(Failure::Newton(NEWTON_MAX_ITERATIONS, previous)))
+    }
+}
