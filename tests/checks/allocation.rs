@@ -1,8 +1,9 @@
 //! No heap allocation per step (Pinocchio's malloc tests): a counting global allocator around
-//! the equations of motion and one step of every integrator, for every scene.
+//! the equations of motion and one step of every integrator (RK4, Dormand–Prince, variational,
+//! SDIRK4, Gauss–Legendre), for every scene.
 #![allow(unsafe_code)] // a global allocator is necessarily `unsafe impl`
 
-use lagrange::integrate::{Dopri5, Rk4, Variational};
+use lagrange::integrate::{Dopri5, Gauss4, Rk4, Sdirk4, Variational};
 use lagrange::{Dynamics, Mechanism, Model, RawModel, State, Tolerances};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -62,6 +63,10 @@ fn assert_no_allocation_per_step<D: Dynamics>(name: &str, system: &D, initial: &
     dopri.start(system, &mut ws, initial.t, &initial.q, &initial.qdot, 1.0).expect("valid");
     let mut variational = Variational::new(system);
     variational.start(system, initial.t, &initial.q, &initial.qdot).expect("valid");
+    let mut sdirk = Sdirk4::new(n, Tolerances::uniform(1e-8)).expect("valid");
+    sdirk.start(system, &mut ws, initial.t, &initial.q, &initial.qdot, 1.0).expect("valid");
+    let mut gauss = Gauss4::new(n);
+    let mut gauss_state = initial.clone();
     let mut qdot = vec![0.0; n];
     // Warm-up: anything lazily initialised happens here, outside the count.
     system.accelerations(&mut ws, initial.t, &initial.q, &initial.qdot, &mut qddot).expect("valid");
@@ -71,6 +76,8 @@ fn assert_no_allocation_per_step<D: Dynamics>(name: &str, system: &D, initial: &
             rk4.step(system, &mut ws, &mut state, 1e-3).expect("valid");
             dopri.step(system, &mut ws, 1e9).expect("valid");
             variational.step(system, 1e-3).expect("valid");
+            sdirk.step(system, &mut ws, 1e9).expect("valid");
+            gauss.step(system, &mut ws, &mut gauss_state, 1e-3).expect("valid");
         }
         variational.velocities(system, &mut qdot).expect("valid");
     });

@@ -7,6 +7,8 @@ mod constant_mass;
 mod derivatives;
 mod identities;
 mod integrators;
+mod properties;
 mod raw_path;
 mod reactions;
 mod readme;
+mod stability;

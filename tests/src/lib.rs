@@ -2,6 +2,7 @@
 //! and sampling of scene parameters and states.
 
 pub mod sampling;
+pub mod stability;
 pub mod tolerance;
 
 use rand::SeedableRng;

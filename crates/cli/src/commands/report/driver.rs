@@ -8,6 +8,7 @@ use super::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_T
 use super::plots;
 use super::runs::{ScenePlan, SceneRuns};
 use super::schema::{Plots, Report, SCHEMA_VERSION, Targets, TimingReport};
+use super::stability::{self, Effort};
 use super::terminal;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
@@ -53,6 +54,16 @@ pub fn run(args: &Args) -> Result<(), String> {
         scenes.push(scene_report(&runs, names, scene_start.elapsed().as_secs_f64()));
     }
     bar.finish_and_clear();
+    // The stability cases of the requested scenes (all of them by default).
+    let ids: Vec<&str> =
+        if options.all_scenes() { Vec::new() } else { options.scenes.iter().map(|s| s.id()).collect() };
+    let effort = if plan.quick { Effort::Quick } else { Effort::Full };
+    let bar = progress_bar(stability::case_count(&ids));
+    let stability = stability::run(effort, &ids, |id| {
+        bar.set_message(format!("stability: {id}"));
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
     let report = Report {
         schema_version: SCHEMA_VERSION,
         generator: format!("lagrange-cli {}", env!("CARGO_PKG_VERSION")),
@@ -74,6 +85,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             equal_error: EQUAL_ERROR,
         },
         scenes,
+        stability,
         total_wall_time_s: start.elapsed().as_secs_f64(),
     };
     let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;

@@ -1,10 +1,11 @@
-//! `report.md`: what was measured and how, a summary table of the ratios, and a section per
-//! scene with every run and its plots.
+//! `report.md`: what was measured and how, a summary table of the ratios, a section per scene
+//! with every run and its plots, and the stability section.
 
 use super::cells;
 use super::pareto;
 use super::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
 use super::schema::{MethodReport, Report, SceneReport, Versus};
+use super::stability;
 use std::fmt::Write;
 
 fn reference(scene: &SceneReport) -> String {
@@ -106,6 +107,7 @@ pub fn render(report: &Report) -> String {
     for scene in &report.scenes {
         scene_section(&mut md, scene);
     }
+    stability::render::markdown(&mut md, &report.stability);
     md
 }
 

@@ -8,13 +8,18 @@
 //! smaller our error is than rapier's at equal wall time and how much less time we take at equal
 //! error (DESIGN §6–§7).
 //!
+//! After the scenes, a stability section ([`stability`]) runs its cases — stiff springs and
+//! strong damping against the methods' stability functions, extreme parameters, a Kepler orbit
+//! at `e = 0.99`, chaos, near-singular configurations, long runs, bad input — each measurement
+//! checked against theory or a derived bound (the cases involving the `--scene` scenes only).
+//!
 //! Output (`--out DIR`, default `report/`): `report.json` (schema in
 //! `crates/cli/REPORT_SCHEMA.md`), `report.md`, and per scene `<scene>_work_precision.svg` and
 //! `<scene>_error.svg`; a summary on standard output and a progress bar on standard error.
 //!
 //! The pipeline, one file each: [`options`] → [`plan`] → [`runs`] (with [`reference`] and
 //! [`measure`]) → [`assemble`] (with [`pareto`]) → [`schema`], [`markdown`], [`plots`],
-//! [`terminal`]; [`driver`] runs it.
+//! [`terminal`]; [`stability`] for the stability section; [`driver`] runs it.
 
 mod assemble;
 mod cells;
@@ -28,6 +33,7 @@ mod plots;
 mod reference;
 mod runs;
 mod schema;
+mod stability;
 mod terminal;
 
 pub use driver::run;

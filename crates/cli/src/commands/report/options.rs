@@ -65,4 +65,9 @@ impl Options {
         let _ = std::fs::remove_file(&probe);
         Ok(Options { scenes, plan, out, json: args.json })
     }
+
+    /// Whether every scene is reported (no `--scene` given).
+    pub fn all_scenes(&self) -> bool {
+        self.scenes.len() == lagrange_scenes::all().len()
+    }
 }

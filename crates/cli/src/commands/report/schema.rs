@@ -3,6 +3,7 @@
 //! [`SCHEMA_VERSION`] when a field changes meaning or disappears.
 
 use super::pareto::{EqualError, EqualTime};
+use super::stability::StabilityReport;
 use serde::Serialize;
 
 /// Version of the layout below.
@@ -29,6 +30,8 @@ pub struct Report {
     pub targets: Targets,
     /// One entry per scene, in registry order.
     pub scenes: Vec<SceneReport>,
+    /// The stability cases (documented in REPORT_SCHEMA.md, "Stability").
+    pub stability: StabilityReport,
     /// Wall time of the whole report (s).
     pub total_wall_time_s: f64,
 }

@@ -1,10 +1,12 @@
 //! The terminal summary: one line per scene with its reference, our best error, and the ratios
-//! against rapier; then whether the DESIGN §7 targets are met, and where the files went.
+//! against rapier; then whether the DESIGN §7 targets are met, one line per stability case, and
+//! where the files went.
 
 use super::cells;
 use super::markdown::targets_met;
 use super::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
 use super::schema::Report;
+use super::stability;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -56,6 +58,7 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
          {error_met} of {comparisons}; total {:.1} s",
         report.total_wall_time_s
     );
+    stability::render::terminal(&mut text, &report.stability);
     let _ = writeln!(text, "wrote {} (report.json, report.md, {files} SVG plots)", out.display());
     text
 }

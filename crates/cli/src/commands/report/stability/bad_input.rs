@@ -1,0 +1,333 @@
+//! Bad input on every scene: every call under `catch_unwind`, counting panics, non-finite values
+//! returned as values, and invalid parameters or settings not rejected by name.
+
+use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement};
+use lagrange::{Error, Method, Output, State, System, Tolerances};
+use lagrange_maximal::{BuildError, Engine, Settings};
+use lagrange_scenes::{Domain, Params, Scene};
+use std::collections::BTreeSet;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::time::Instant;
+
+pub const BAD_INPUT: CaseSpec = CaseSpec {
+    id: "bad_input",
+    title: "Bad input on every scene: random, extreme, overflowing, non-finite and misshapen",
+    scenes: &[
+        "cart_pendulum",
+        "harmonic_oscillator",
+        "kepler",
+        "isotropic_oscillator",
+        "atwood",
+        "double_atwood",
+        "double_double_atwood",
+        "wedge",
+        "double_pendulum",
+        "chain",
+        "spring_pendulum",
+        "driven_pendulum",
+        "charged_particle",
+    ],
+    theory: "User input never reaches a panic (STYLE: errors), and the engine checks finiteness after every \
+             stage (DESIGN §2, §5): every call returns finite values or a typed error; a non-finite, negative \
+             or zero mass, length or step is rejected with the parameter named.",
+    run: bad_input,
+};
+
+/// A small fixed-seed generator (xorshift64*), so that the report needs no random-number crate.
+struct Random(u64);
+
+impl Random {
+    /// Uniform in `[0, 1)`.
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn range(&mut self, low: f64, high: f64) -> f64 {
+        low + (high - low) * self.next()
+    }
+}
+
+/// What the calls of one scene did.
+#[derive(Default)]
+struct Tally {
+    calls: usize,
+    panics: Vec<String>,
+    non_finite: BTreeSet<String>,
+    not_named: Vec<String>,
+}
+
+impl Tally {
+    /// Run `f` under `catch_unwind`; `None` (and a recorded panic) if it panicked.
+    fn call<T>(&mut self, what: &str, f: impl FnOnce() -> T) -> Option<T> {
+        self.calls += 1;
+        match catch_unwind(AssertUnwindSafe(f)) {
+            Ok(value) => Some(value),
+            Err(_) => {
+                self.panics.push(what.to_string());
+                None
+            }
+        }
+    }
+
+    /// Record a value that should be finite.
+    fn finite(&mut self, what: &str, values: &[f64]) {
+        if !values.iter().all(|v| v.is_finite()) {
+            self.non_finite.insert(what.to_string());
+        }
+    }
+}
+
+/// Parameter sets: defaults, and each mass scaled by 1e-6 and 1e6.
+fn parameter_sets(scene: &dyn Scene) -> Vec<(String, Params)> {
+    let mut sets = vec![("defaults".to_string(), scene.default_params())];
+    for spec in scene.params().iter().filter(|s| s.unit == "kg" && s.domain == Domain::Positive) {
+        for factor in [1e-6, 1e6] {
+            let mut params = scene.default_params();
+            if params.set(spec.name, spec.default * factor).is_ok() {
+                sets.push((format!("{} × {factor:.0e}", spec.name), params));
+            }
+        }
+    }
+    sets
+}
+
+/// Regular states around the default, then overflowing ones (whose values may not be finite:
+/// `overflowing` = true).
+fn states(default: &State, random: &mut Random) -> Vec<(String, State, bool)> {
+    let mut states = Vec::new();
+    for k in 0..3 {
+        let mut s = default.clone();
+        for q in &mut s.q {
+            *q = *q * random.range(0.5, 1.5) + random.range(-0.3, 0.3);
+        }
+        for v in &mut s.qdot {
+            *v = random.range(-3.0, 3.0);
+        }
+        states.push((format!("random {k}"), s, false));
+    }
+    let with = |f: &dyn Fn(&mut State)| {
+        let mut s = default.clone();
+        f(&mut s);
+        s
+    };
+    states.push(("q = 1e300".into(), with(&|s| s.q.fill(1e300)), true));
+    states.push(("q̇ = 1e200".into(), with(&|s| s.qdot.fill(1e200)), true));
+    states.push(("q = 0".into(), with(&|s| s.q.fill(0.0)), true));
+    states
+}
+
+/// Malformed states: every call must be an error (or ignore the malformed part).
+fn malformed(default: &State) -> Vec<(String, State)> {
+    let n = default.q.len();
+    let with = |f: &dyn Fn(&mut State)| {
+        let mut s = default.clone();
+        f(&mut s);
+        s
+    };
+    vec![
+        ("NaN q".into(), with(&|s| s.q[n - 1] = f64::NAN)),
+        ("∞ q̇".into(), with(&|s| s.qdot[0] = f64::INFINITY)),
+        ("NaN t".into(), with(&|s| s.t = f64::NAN)),
+        ("short q".into(), with(&|s| s.q.truncate(n - 1))),
+    ]
+}
+
+fn evaluate(tally: &mut Tally, system: &mut dyn System, state: &State, overflowing: bool, label: &str) {
+    let (t, q, v) = (state.t, state.q.as_slice(), state.qdot.as_slice());
+    let what = |call: &str| format!("{call} at {label}");
+    if let Some(Ok(a)) = tally.call(&what("accelerations"), || system.accelerations(t, q, v).map(<[f64]>::to_vec)) {
+        tally.finite(&what("accelerations"), &a);
+    }
+    if let Some(Ok(r)) =
+        tally.call(&what("reactions"), || system.reaction_forces(t, q, v).map(|r| r.map(<[f64]>::to_vec)))
+    {
+        tally.finite(&what("reaction forces"), &r.unwrap_or_default());
+    }
+    if let Some(Ok(m)) = tally.call(&what("mass matrix"), || system.mass_matrix(t, q, v).map(<[f64]>::to_vec)) {
+        tally.finite(&what("mass matrix"), &m);
+    }
+    if let Some(Ok(p)) = tally.call(&what("momenta"), || system.momenta(t, q, v).map(<[f64]>::to_vec)) {
+        tally.finite(&if overflowing { what("momenta") } else { what("momenta (regular state)") }, &p);
+    }
+    if let Some(Ok(e)) = tally.call(&what("energy"), || system.energy(t, q, v)) {
+        tally.finite(&if overflowing { what("energy") } else { what("energy (regular state)") }, &[e]);
+    }
+}
+
+fn simulate(tally: &mut Tally, system: &dyn System, state: &State) {
+    let (dt, tol) = (0.005, 1e-6);
+    let horizon = state.t + 0.1;
+    let methods = [
+        Method::Rk4 { dt },
+        Method::Adaptive { tol: Tolerances::uniform(tol) },
+        Method::Variational { dt },
+        Method::Implicit { tol: Tolerances::uniform(tol) },
+        Method::Gauss { dt },
+    ];
+    for method in methods {
+        let what = format!("simulate {}", method.name());
+        if let Some(Ok(run)) = tally.call(&what, || system.simulate(state, horizon, method, &Output::Every(0.05))) {
+            tally.finite(&what, &[run.q, run.qdot, run.energy].concat());
+        }
+    }
+    for bad in [0.0, -dt, f64::NAN, f64::INFINITY] {
+        for method in [Method::Rk4 { dt: bad }, Method::Variational { dt: bad }, Method::Gauss { dt: bad }] {
+            let what = format!("simulate {} with dt = {bad}", method.name());
+            let result = tally.call(&what, || system.simulate(state, horizon, method, &Output::Ends));
+            if !matches!(result, Some(Err(Error::InvalidSetting { what: "step", .. })) | None) {
+                tally.not_named.push(what);
+            }
+        }
+    }
+    for bad in [0.0, -tol, f64::NAN, 1e-18] {
+        for method in
+            [Method::Adaptive { tol: Tolerances::uniform(bad) }, Method::Implicit { tol: Tolerances::uniform(bad) }]
+        {
+            let what = format!("simulate {} with tol = {bad}", method.name());
+            let result = tally.call(&what, || system.simulate(state, horizon, method, &Output::Ends));
+            if !matches!(result, Some(Err(Error::InvalidSetting { what: "tolerance", .. })) | None) {
+                tally.not_named.push(what);
+            }
+        }
+    }
+}
+
+fn maximal(tally: &mut Tally, scene: &dyn Scene, params: &Params, state: &State) {
+    for engine in Engine::ALL {
+        let settings = Settings { dt: 1.0 / 240.0, substeps: 2, tolerance: 1e-8 };
+        let what = format!("{engine} build");
+        match tally.call(&what, || lagrange_maximal::build(engine, scene.id(), params, state, &settings)) {
+            Some(Ok(mut built)) => {
+                let sim = &mut built.simulation;
+                if let Some(Ok(())) = tally.call(&format!("{engine} advance"), || sim.advance_to(state.t + 0.05)) {
+                    let bodies = tally.call(&format!("{engine} bodies"), || sim.bodies()).unwrap_or_default();
+                    let values: Vec<f64> = bodies.iter().flat_map(|b| b.pose.into_iter().chain(b.velocity)).collect();
+                    tally.finite(&format!("{engine} bodies"), &values);
+                }
+            }
+            Some(Err(BuildError::Invalid(error))) => {
+                tally.not_named.push(format!("{what}: valid input rejected: {error}"))
+            }
+            _ => {}
+        }
+        for (bad, setting) in [
+            (Settings { dt: f64::NAN, ..settings }, "step"),
+            (Settings { substeps: 0, ..settings }, "substeps"),
+            (Settings { tolerance: -1.0, ..settings }, "tolerance"),
+        ] {
+            let used = engine.is_rapier() == (setting != "tolerance");
+            let what = format!("{engine} build with a bad {setting}");
+            let result = tally.call(&what, || lagrange_maximal::build(engine, scene.id(), params, state, &bad));
+            let named =
+                matches!(result, Some(Err(BuildError::Invalid(Error::InvalidSetting { what, .. }))) if what == setting);
+            if used && !named && !matches!(result, Some(Err(BuildError::Unbuildable { .. }))) {
+                tally.not_named.push(what);
+            }
+        }
+    }
+}
+
+fn invalid_parameters(tally: &mut Tally, scene: &dyn Scene) {
+    for spec in scene.params() {
+        let mut bad = vec![f64::NAN, f64::INFINITY];
+        match spec.domain {
+            Domain::Positive => bad.extend([0.0, -1.0]),
+            Domain::NonNegative => bad.push(-1e-3),
+            Domain::OpenInterval(low, high) => bad.extend([low, high]),
+            Domain::Integer { min, max } => bad.extend([f64::from(min) - 1.0, f64::from(max) + 1.0, 1.5]),
+            Domain::Finite => {}
+        }
+        for value in bad {
+            let mut params = scene.default_params();
+            let what = format!("{} = {value}", spec.name);
+            let result = tally.call(&what, || params.set(spec.name, value));
+            if !matches!(result, Some(Err(Error::InvalidParameter { ref name, .. })) if name == spec.name) {
+                tally.not_named.push(what);
+            }
+        }
+    }
+}
+
+fn bad_input(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
+    case.setup = "Per scene: the defaults and every mass scaled by 1e-6 and 1e6; at three random states (fixed seed) \
+                  and at q = 1e300, q̇ = 1e200, q = 0: accelerations, reaction forces, mass matrix, momenta, energy; \
+                  at NaN q, ∞ q̇, NaN t and a short q: the same, which must be errors; 0.1 s runs with every method \
+                  and with bad steps and tolerances; builds in every maximal engine (advanced 0.05 s) and with bad \
+                  settings; every parameter set to NaN, ∞ and values outside its domain."
+        .into();
+    // Panics are caught and counted here: keep their messages off the terminal.
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let result = run_scenes(case);
+    std::panic::set_hook(hook);
+    result
+}
+
+fn run_scenes(case: &mut CaseBuilder) -> Result<(), String> {
+    for (index, scene) in lagrange_scenes::all().iter().enumerate() {
+        let start = Instant::now();
+        let mut tally = Tally::default();
+        let mut random = Random(0x9E37_79B9_7F4A_7C15 ^ (index as u64 + 1));
+        for (label, params) in parameter_sets(*scene) {
+            let Some(Ok(mut system)) = tally.call("build", || scene.build(&params)) else {
+                tally.not_named.push(format!("build [{label}]: valid parameters rejected"));
+                continue;
+            };
+            let default = scene.default_state(&params).map_err(|e| e.to_string())?;
+            for (state_label, state, overflowing) in states(&default, &mut random) {
+                evaluate(&mut tally, system.as_mut(), &state, overflowing, &state_label);
+            }
+            for (state_label, state) in malformed(&default) {
+                let what = format!("accelerations at {state_label}");
+                let result =
+                    tally.call(&what, || system.accelerations(state.t, &state.q, &state.qdot).map(<[f64]>::to_vec));
+                if !matches!(result, Some(Err(Error::NonFinite { .. } | Error::DimensionMismatch { .. })) | None) {
+                    tally.not_named.push(format!("{what}: accepted"));
+                }
+                evaluate(&mut tally, system.as_mut(), &state, true, &state_label);
+            }
+            simulate(&mut tally, system.as_ref(), &default);
+            if label == "defaults" {
+                maximal(&mut tally, *scene, &params, &default);
+            }
+        }
+        invalid_parameters(&mut tally, *scene);
+        let id = scene.id();
+        let cost = Cost { wall_time_s: start.elapsed().as_secs_f64(), ..Cost::default() };
+        let calls = tally.calls;
+        let list = |items: &mut dyn Iterator<Item = &String>| items.take(6).cloned().collect::<Vec<_>>().join("; ");
+        case.push(
+            Measurement::new("every call", id, "engine", "panics")
+                .value(tally.panics.len() as f64)
+                .cost(cost)
+                .note(format!(
+                    "{calls} calls under catch_unwind{}",
+                    if tally.panics.is_empty() {
+                        String::new()
+                    } else {
+                        format!(": {}", list(&mut tally.panics.iter()))
+                    }
+                ))
+                .check(Check::Exact, Some(0.0), None),
+        );
+        let m = Measurement::new("every call", id, "engine", "non-finite values returned as values (call kinds)")
+            .value(tally.non_finite.len() as f64)
+            .cost(cost);
+        let m = if tally.non_finite.is_empty() { m } else { m.note(list(&mut tally.non_finite.iter())) };
+        case.push(m.check(Check::Exact, Some(0.0), None));
+        let m = Measurement::new(
+            "invalid input",
+            id,
+            "engine",
+            "invalid parameters, settings or states not rejected by name",
+        )
+        .value(tally.not_named.len() as f64)
+        .cost(cost);
+        let m = if tally.not_named.is_empty() { m } else { m.note(list(&mut tally.not_named.iter())) };
+        case.push(m.check(Check::Exact, Some(0.0), None));
+    }
+    Ok(())
+}

@@ -1,0 +1,470 @@
+//! Extreme parameters, simulated against closed forms and conservation laws, with rapier beside.
+
+use super::{
+    CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, relative_energy_error, scene_params,
+    timed_simulate,
+};
+use lagrange::tree::{Joint, Parent, Tree};
+use lagrange::{Body, Method, Model, Output, Simulation, State, System, Tolerances};
+use lagrange_maximal::{Engine, Settings, build, maps};
+use lagrange_scenes::Params;
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::time::Instant;
+
+pub const EXTREME: CaseSpec = CaseSpec {
+    id: "extreme_parameters",
+    title: "Extreme parameters: mass ratios 1e±6, wedge angles 1e-6 and π/2 − 1e-6, I/a² = 1e8, balanced \
+            Atwood masses, chains with link masses spanning 1e6",
+    scenes: &["wedge", "atwood", "cart_pendulum", "chain"],
+    theory: "Wedge and Atwood machines accelerate uniformly (SYSTEMS.md §4, §7): RK4, Gauss and SDIRK4 reproduce \
+             q₀ + v₀t + at²/2 exactly, so only round-off remains — conditioned(κ) = max(1e-12, 64 ε κ(M)) for \
+             the acceleration plus 4ε per step. With m1 = m2 the generalized gravity force m1 g − m2 g is \
+             exactly 0: the machine must not move at all, bit for bit. The wedge's x and the cart's X are \
+             cyclic: their momenta are conserved (the variational integrator to a few ε per step). The \
+             cart pendulum swings at ω² = g(M + m)/(M r) for θ₀² m/M ≪ 1. A chain's energy is conserved \
+             (the adaptive method's global error is C tol, C ≤ 1e3), and the articulated-body algorithm \
+             agrees with the assembled M to conditioned(κ). rapier is first order: its errors are reported.",
+    run: extreme,
+};
+
+/// `max(1e-12, 64 ε κ)`: round-off of a solve with condition number `κ` (tests/src/tolerance.rs).
+fn conditioned(kappa: f64) -> f64 {
+    1e-12_f64.max(64.0 * f64::EPSILON * kappa)
+}
+
+/// Round-off of `steps` fixed steps on a uniformly accelerated motion (relative).
+fn constant_acceleration_bound(kappa: f64, steps: usize) -> f64 {
+    conditioned(kappa) + 4.0 * f64::EPSILON * steps as f64
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+}
+
+fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+fn phase(state: &State) -> Vec<f64> {
+    [state.q.as_slice(), state.qdot.as_slice()].concat()
+}
+
+/// `(params, system)` of a scene with changes.
+fn setup(id: &str, changes: &[(&str, f64)]) -> Result<(Params, Box<dyn System>), String> {
+    let scene = find(id)?;
+    let params = scene_params(scene, changes)?;
+    let system = scene.build(&params).map_err(|e| format!("{id}: {e}"))?;
+    Ok((params, system))
+}
+
+/// rapier's error against the reduced reference (adaptive, tol 1e-12) after `horizon`,
+/// `dt = 1/240` with 4 substeps; reported without a check (first order).
+fn rapier_error(
+    engine: Engine,
+    id: &str,
+    label: &str,
+    changes: &[(&str, f64)],
+    initial: &State,
+    horizon: f64,
+) -> Measurement {
+    let settings = Settings { dt: 1.0 / 240.0, substeps: 4, tolerance: 1e-12 };
+    let m = Measurement::new(label, id, engine.name(), "‖q − q_ref‖∞ at the horizon (reference: adaptive, tol 1e-12)")
+        .params(changes)
+        .settings(RunSettings {
+            dt: Some(settings.dt),
+            substeps: Some(4),
+            horizon_s: Some(horizon),
+            ..RunSettings::default()
+        });
+    let Ok(scene) = find(id) else { return m.failed("unknown scene") };
+    let Ok(params) = scene_params(scene, changes) else { return m.failed("invalid parameters") };
+    let start = Instant::now();
+    let mut built = match build(engine, id, &params, initial, &settings) {
+        Ok(built) => built,
+        Err(e) => return m.failed(e),
+    };
+    if let Err(e) = built.simulation.advance_to(initial.t + horizon) {
+        return m.failed(e);
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let steps = built.simulation.steps();
+    let read = maps::generalized(id, &built.params, initial.t + horizon, &built.simulation.bodies(), &initial.q);
+    let reference = scene.build(&built.params).and_then(|s| {
+        s.simulate(initial, initial.t + horizon, Method::Adaptive { tol: Tolerances::uniform(1e-12) }, &Output::Ends)
+    });
+    let m = m.cost(Cost { steps: Some(steps), wall_time_s: wall, ..Cost::default() });
+    let m = if built.deviations.is_empty() { m } else { m.note(built.deviations.join("; ")) };
+    match (read, reference) {
+        (Ok((q, _)), Ok(reference)) => m.value(max_abs_diff(&q, reference.q(1))),
+        (Err(e), _) | (_, Err(e)) => m.failed(e),
+    }
+}
+
+fn extreme(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+    case.setup = "Wedge (M = 1): m ∈ {1e-6, 1e6} at α = π/6, and m ∈ {1e-6, 1, 1e6} at α = 1e-6 and π/2 − 1e-6, from \
+                  rest for 1 s (dt = 0.01). Atwood (a = 0.5): m1 = m2 = 1 with I = 0.1 and I = 1e8 a² for 100 s with \
+                  every method; (m1, m2, I) = (2, 1, 1e8 a²), (1e-6, 1, 0.1), (1e6, 1, 0.1), (1, 1e6, 0.1) from \
+                  x = 1, ẋ = 0.5 for 1 s. Cart pendulum (M = 1, r = 1): m ∈ {1e-6, 1e6}, released at θ₀ = 1e-9 \
+                  for 10.5 periods (adaptive, rtol 1e-12) and from θ = 0.5, Ẋ = 0.3, θ̇ = −1 for 20 000 \
+                  variational steps of P/2000. Chains of four unit rods with masses (1, 1e2, 1e4, 1e6), \
+                  (1e6, 1e4, 1e2, 1), (1, 1e6, 1, 1e6) from q = (0.5, 1, −0.3, 2), q̇ = (0.3, −1, 2, 0.5) for 10 s. \
+                  rapier: dt = 1/240, 4 substeps, against the reduced solution."
+        .into();
+    wedge(case)?;
+    atwood(case)?;
+    cart_pendulum(case)?;
+    chains(case, effort)?;
+    Ok(())
+}
+
+fn wedge(case: &mut CaseBuilder) -> Result<(), String> {
+    let scene = find("wedge")?;
+    let mut cases: Vec<(f64, f64)> = vec![(1e-6, PI / 6.0), (1e6, PI / 6.0)];
+    for angle in [1e-6, FRAC_PI_2 - 1e-6] {
+        cases.extend([(1e-6, angle), (1.0, angle), (1e6, angle)]);
+    }
+    let initial = State::new(0.0, [0.0, 0.0], [0.0, 0.0]);
+    for (ratio, angle) in cases {
+        let changes = [("wedge_mass", 1.0), ("block_mass", ratio), ("angle", angle)];
+        let (params, mut system) = setup("wedge", &changes)?;
+        let kappa =
+            symmetric_condition(2, system.mass_matrix(0.0, &initial.q, &initial.qdot).map_err(|e| e.to_string())?);
+        let exact = scene.exact_solution(&params, &initial, 1.0).map_err(|e| e.to_string())?.ok_or("no closed form")?;
+        let label = format!("m/M = {ratio:.0e}, α = {angle:.6}");
+        for method in
+            [Method::Rk4 { dt: 0.01 }, Method::Gauss { dt: 0.01 }, Method::Implicit { tol: Tolerances::uniform(1e-10) }]
+        {
+            let (run, wall) = timed_simulate(system.as_ref(), &initial, 1.0, method, &Output::Ends);
+            let m = Measurement::new(
+                label.clone(),
+                "wedge",
+                method.name(),
+                "relative error of (q, q̇) at 1 s vs the closed form",
+            )
+            .params(&changes)
+            .method_settings(method, 1.0);
+            let bound = constant_acceleration_bound(kappa, 100);
+            let m = match run {
+                Ok(t) => {
+                    let got = phase(&t.last_state().ok_or("empty run")?);
+                    let p_x = system.momenta(1.0, t.q(1), t.qdot(1)).map_err(|e| e.to_string())?[0];
+                    m.value(max_abs_diff(&got, &phase(&exact)) / max_abs(&phase(&exact)))
+                        .cost(Cost::of(&t.stats, wall))
+                        .note(format!("κ(M) = {kappa:.2e}; horizontal momentum p_x = {p_x:.2e} (exactly 0 initially)"))
+                }
+                Err(e) => m.failed(e),
+            };
+            case.push(m.check(Check::AtMost, Some(0.0), Some(bound)));
+        }
+        for engine in [Engine::RapierImpulse, Engine::RapierMultibody] {
+            case.push(rapier_error(engine, "wedge", &label, &changes, &initial, 1.0));
+        }
+    }
+    Ok(())
+}
+
+fn atwood(case: &mut CaseBuilder) -> Result<(), String> {
+    let scene = find("atwood")?;
+    let quarter = 0.25; // a² for the default radius a = 0.5
+    for inertia in [0.1, 1e8 * quarter] {
+        let changes = [("mass_1", 1.0), ("mass_2", 1.0), ("pulley_inertia", inertia)];
+        let (params, system) = setup("atwood", &changes)?;
+        let initial = scene.default_state(&params).map_err(|e| e.to_string())?;
+        let label = format!("m1 = m2, I = {inertia:.1e}");
+        let methods = [
+            Method::Rk4 { dt: 0.01 },
+            Method::Adaptive { tol: Tolerances::uniform(1e-10) },
+            Method::Variational { dt: 0.01 },
+            Method::Implicit { tol: Tolerances::uniform(1e-10) },
+            Method::Gauss { dt: 0.01 },
+        ];
+        for method in methods {
+            let (run, wall) = timed_simulate(system.as_ref(), &initial, 100.0, method, &Output::Every(1.0));
+            let m = Measurement::new(label.clone(), "atwood", method.name(), "largest |x − x₀| + |ẋ| over 100 s")
+                .params(&changes)
+                .method_settings(method, 100.0);
+            let m = match run {
+                Ok(t) => {
+                    let drift =
+                        (0..t.len()).map(|k| (t.q(k)[0] - initial.q[0]).abs() + t.qdot(k)[0].abs()).fold(0.0, f64::max);
+                    m.value(drift).cost(Cost::of(&t.stats, wall))
+                }
+                Err(e) => m.failed(e),
+            };
+            case.push(m.check(Check::Exact, Some(0.0), None));
+        }
+        let settings = Settings { dt: 1.0 / 240.0, substeps: 4, tolerance: 1e-12 };
+        let m = Measurement::new(
+            label.clone(),
+            "atwood",
+            Engine::RapierMultibody.name(),
+            "largest |x − x₀| + |ẋ| over 100 s",
+        )
+        .params(&changes)
+        .settings(RunSettings {
+            dt: Some(settings.dt),
+            substeps: Some(4),
+            horizon_s: Some(100.0),
+            ..RunSettings::default()
+        });
+        let start = Instant::now();
+        let m = match build(Engine::RapierMultibody, "atwood", &params, &initial, &settings) {
+            Ok(mut built) => {
+                let mut drift: f64 = 0.0;
+                let mut failure = None;
+                for k in 1..=100 {
+                    if let Err(e) = built.simulation.advance_to(k as f64) {
+                        failure = Some(e);
+                        break;
+                    }
+                    match maps::generalized("atwood", &built.params, k as f64, &built.simulation.bodies(), &initial.q) {
+                        Ok((q, v)) => drift = drift.max((q[0] - initial.q[0]).abs() + v[0].abs()),
+                        Err(e) => {
+                            failure = Some(e);
+                            break;
+                        }
+                    }
+                }
+                let cost = Cost {
+                    steps: Some(built.simulation.steps()),
+                    wall_time_s: start.elapsed().as_secs_f64(),
+                    ..Cost::default()
+                };
+                match failure {
+                    Some(e) => m.failed(e),
+                    None => m.value(drift).cost(cost),
+                }
+            }
+            Err(e) => m.failed(e),
+        };
+        // rapier is reported beside ours: its coupling constraint is solved iteratively.
+        case.push(m);
+    }
+    let cases = [(2.0, 1.0, 1e8 * quarter), (1e-6, 1.0, 0.1), (1e6, 1.0, 0.1), (1.0, 1e6, 0.1)];
+    let initial = State::new(0.0, [1.0], [0.5]);
+    for (m1, m2, inertia) in cases {
+        let changes = [("mass_1", m1), ("mass_2", m2), ("pulley_inertia", inertia)];
+        let (params, system) = setup("atwood", &changes)?;
+        let exact =
+            phase(&scene.exact_solution(&params, &initial, 1.0).map_err(|e| e.to_string())?.ok_or("no closed form")?);
+        let label = format!("m1 = {m1:.0e}, m2 = {m2:.0e}, I = {inertia:.1e}");
+        for method in [Method::Rk4 { dt: 0.01 }, Method::Gauss { dt: 0.01 }, Method::Variational { dt: 0.01 }] {
+            let (run, wall) = timed_simulate(system.as_ref(), &initial, 1.0, method, &Output::Ends);
+            let m = Measurement::new(
+                label.clone(),
+                "atwood",
+                method.name(),
+                "relative error of (q, q̇) at 1 s vs the closed form",
+            )
+            .params(&changes)
+            .method_settings(method, 1.0);
+            let m = match run {
+                Ok(t) => {
+                    let got = phase(&t.last_state().ok_or("empty run")?);
+                    m.value(max_abs_diff(&got, &exact) / max_abs(&exact)).cost(Cost::of(&t.stats, wall))
+                }
+                Err(e) => m.failed(e),
+            };
+            // M = m1 + m2 + I/a² is 1 × 1: κ = 1.
+            case.push(m.check(Check::AtMost, Some(0.0), Some(constant_acceleration_bound(1.0, 100))));
+        }
+        case.push(rapier_error(Engine::RapierMultibody, "atwood", &label, &changes, &initial, 1.0));
+    }
+    Ok(())
+}
+
+fn cart_pendulum(case: &mut CaseBuilder) -> Result<(), String> {
+    for ratio in [1e-6, 1e6] {
+        let changes = [("cart_mass", 1.0), ("bob_mass", ratio), ("rod_length", 1.0)];
+        let (params, mut system) = setup("cart_pendulum", &changes)?;
+        let cart = lagrange_scenes::cart_pendulum::CartPendulum::from_params(&params).map_err(|e| e.to_string())?;
+        let omega = cart.small_oscillation_frequency();
+        let period = 2.0 * PI / omega;
+        let label = format!("m/M = {ratio:.0e}");
+        // The period from the zero crossings of θ.
+        let theta0 = 1e-9;
+        let initial = State::new(0.0, [0.0, theta0], [0.0, 0.0]);
+        let dt = period / 2000.0;
+        let method = Method::Adaptive { tol: Tolerances { rtol: 1e-12, atol: 1e-12 * theta0 } };
+        let (run, wall) = timed_simulate(system.as_ref(), &initial, 10.5 * period, method, &Output::Every(dt));
+        let m = Measurement::new(label.clone(), "cart_pendulum", "adaptive", "period from the zero crossings of θ (s)")
+            .params(&changes)
+            .method_settings(method, 10.5 * period);
+        let m = match run {
+            Ok(t) => {
+                let mut crossings = Vec::new();
+                for k in 1..t.len() {
+                    let (a, b) = (t.q(k - 1)[1], t.q(k)[1]);
+                    if a > 0.0 && b <= 0.0 {
+                        crossings.push(t.t[k - 1] + dt * a / (a - b));
+                    }
+                }
+                let measured = match crossings.len() {
+                    0 | 1 => f64::NAN,
+                    n => (crossings[n - 1] - crossings[0]) / (n - 1) as f64,
+                };
+                m.value(measured).cost(Cost::of(&t.stats, wall)).note(format!(
+                    "amplitude correction ≈ θ₀² (1/16 + m/4M) = {:.1e}",
+                    theta0 * theta0 * (1.0 / 16.0 + ratio / 4.0)
+                ))
+            }
+            Err(e) => m.failed(e),
+        };
+        case.push(m.check(Check::RelativeToTheory, Some(period), Some(1e-8)));
+
+        // Horizontal momentum under the variational integrator.
+        let moving = State::new(0.0, [0.0, 0.5], [0.3, -1.0]);
+        let steps = 20_000;
+        let p0 = system.momenta(0.0, &moving.q, &moving.qdot).map_err(|e| e.to_string())?[0];
+        let method = Method::Variational { dt };
+        let (run, wall) =
+            timed_simulate(system.as_ref(), &moving, steps as f64 * dt, method, &Output::Every(100.0 * dt));
+        let scale = (1.0 + ratio) * 0.3 + ratio;
+        let m =
+            Measurement::new(label.clone(), "cart_pendulum", "variational", "largest |p_X − p_X(0)| / momentum scale")
+                .params(&changes)
+                .method_settings(method, steps as f64 * dt);
+        let m = match run {
+            Ok(t) => {
+                let mut drift: f64 = 0.0;
+                for k in 0..t.len() {
+                    let p = system.momenta(t.t[k], t.q(k), t.qdot(k)).map_err(|e| e.to_string())?[0];
+                    drift = drift.max((p - p0).abs());
+                }
+                m.value(drift / scale).cost(Cost::of(&t.stats, wall))
+            }
+            Err(e) => m.failed(e),
+        };
+        case.push(m.check(Check::AtMost, Some(0.0), Some(4.0 * f64::EPSILON * steps as f64)));
+        for engine in [Engine::RapierImpulse, Engine::RapierMultibody] {
+            case.push(rapier_error(engine, "cart_pendulum", &label, &changes, &moving, 1.0));
+        }
+    }
+    Ok(())
+}
+
+/// Four unit rods hung end to end with these masses, top first.
+fn chain(masses: [f64; 4]) -> Result<Tree, String> {
+    let joints = (0..4)
+        .map(|i| {
+            let (parent, anchor) =
+                if i == 0 { (Parent::Ground, [0.0, 0.0]) } else { (Parent::Body(i - 1), [0.0, -0.5]) };
+            Joint::absolute_revolute(format!("θ{}", i + 1), parent, anchor, [0.0, 0.5])
+        })
+        .collect();
+    let bodies = masses.iter().enumerate().map(|(i, &m)| Body::rigid(format!("link {}", i + 1), m, m / 12.0)).collect();
+    Tree::new(joints, bodies, 9.81).map_err(|e| e.to_string())
+}
+
+fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+    let all = [[1.0, 1e2, 1e4, 1e6], [1e6, 1e4, 1e2, 1.0], [1.0, 1e6, 1.0, 1e6]];
+    let horizon = effort.pick(10.0, 2.0);
+    for masses in all {
+        let tree = chain(masses)?;
+        let label = format!("masses {masses:?}");
+        let scene = "local:chain";
+        let parameters: Vec<(String, f64)> =
+            masses.iter().enumerate().map(|(i, &m)| (format!("mass_{}", i + 1), m)).collect();
+        let with_masses = |mut m: Measurement| {
+            m.parameters.extend(parameters.iter().cloned());
+            m
+        };
+        let mut fast = Simulation::new(Model::new(tree.clone()).map_err(|e| e.to_string())?);
+        let mut generic = Simulation::new(Model::new_generic(tree).map_err(|e| e.to_string())?);
+        let (q, qdot) = ([0.5, 1.0, -0.3, 2.0], [0.3, -1.0, 2.0, 0.5]);
+        let a = fast.accelerations(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
+        let b = generic.accelerations(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
+        let mass = generic.mass_matrix(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
+        let kappa = symmetric_condition(4, &mass);
+        case.push(
+            with_masses(Measurement::new(
+                label.clone(),
+                scene,
+                "engine",
+                "relative difference of q̈: tree (ABA) vs assembled M",
+            ))
+            .value(max_abs_diff(&a, &b) / max_abs(&b))
+            .note(format!("κ(M) = {kappa:.2e}"))
+            .check(Check::AtMost, Some(0.0), Some(conditioned(kappa))),
+        );
+        let initial = State::new(0.0, q, qdot);
+        for (method, bound) in [
+            (Method::Adaptive { tol: Tolerances::uniform(1e-12) }, Some(1e-9)),
+            (Method::Implicit { tol: Tolerances::uniform(1e-8) }, None),
+            (Method::Gauss { dt: 1e-3 }, None),
+            (Method::Variational { dt: 1e-3 }, None),
+        ] {
+            let (run, wall) = timed_simulate(&fast, &initial, horizon, method, &Output::Every(0.1));
+            let m = with_masses(Measurement::new(label.clone(), scene, method.name(), "relative energy error"))
+                .method_settings(method, horizon);
+            let m = match run {
+                Ok(t) => m.value(relative_energy_error(&t.energy)).cost(Cost::of(&t.stats, wall)),
+                Err(e) => m.failed(e),
+            };
+            case.push(match bound {
+                Some(b) => m.check(Check::AtMost, Some(0.0), Some(b)),
+                None => m,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Condition number of a symmetric positive definite matrix by Jacobi rotations (n ≤ 8).
+fn symmetric_condition(n: usize, m: &[f64]) -> f64 {
+    let mut a = m.to_vec();
+    for _ in 0..100 {
+        let mut off = 0.0;
+        for p in 0..n {
+            for q in p + 1..n {
+                off += a[p * n + q] * a[p * n + q];
+            }
+        }
+        if off <= 1e-30 * a.iter().map(|x| x * x).sum::<f64>() {
+            break;
+        }
+        for p in 0..n {
+            for q in p + 1..n {
+                let apq = a[p * n + q];
+                if apq == 0.0 {
+                    continue;
+                }
+                let theta = (a[q * n + q] - a[p * n + p]) / (2.0 * apq);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
+                for k in 0..n {
+                    let (akp, akq) = (a[k * n + p], a[k * n + q]);
+                    a[k * n + p] = c * akp - s * akq;
+                    a[k * n + q] = s * akp + c * akq;
+                }
+                for k in 0..n {
+                    let (apk, aqk) = (a[p * n + k], a[q * n + k]);
+                    a[p * n + k] = c * apk - s * aqk;
+                    a[q * n + k] = s * apk + c * aqk;
+                }
+            }
+        }
+    }
+    let diagonal: Vec<f64> = (0..n).map(|i| a[i * n + i].abs()).collect();
+    let (low, high) = diagonal.iter().fold((f64::INFINITY, 0.0_f64), |(l, h), &d| (l.min(d), h.max(d)));
+    high / low
+}
+
+#[cfg(test)]
+mod tests {
+    use super::symmetric_condition;
+
+    #[test]
+    fn condition_numbers_of_known_matrices() {
+        // diag(1, 4) turned by 30°.
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let m = [c * c + 4.0 * s * s, 3.0 * c * s, 3.0 * c * s, s * s + 4.0 * c * c];
+        assert!((symmetric_condition(2, &m) - 4.0).abs() < 1e-12);
+        let mut d = [0.0; 16];
+        for (i, v) in [2.0, 1e-3, 5.0, 1.0].into_iter().enumerate() {
+            d[i * 4 + i] = v;
+        }
+        assert!((symmetric_condition(4, &d) / 5e3 - 1.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,171 @@
+//! Near-singular configurations: what the engine does there — a regular value, or a typed
+//! error — never a NaN.
+
+use super::theory;
+use super::{
+    CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find, relative_energy_error, scene_params, timed_simulate,
+};
+use lagrange::{Error, Method, Output, State, Tolerances};
+
+pub const SINGULAR: CaseSpec = CaseSpec {
+    id: "near_singular",
+    title: "Near-singular configurations: the stretched double pendulum, polar coordinates at r → 0",
+    scenes: &["double_pendulum", "kepler", "isotropic_oscillator", "spring_pendulum"],
+    theory: "The double pendulum's det M = l₁²l₂² m₂ (m₁ + m₂ sin²(θ₁ − θ₂)) is l₁²l₂² m₁m₂ > 0 when fully \
+             stretched: a regular configuration, the accelerations are the closed form's. With a nearly \
+             massless elbow (m₁ = 1e-12 m₂) M is singular to working precision there, and the engine refuses \
+             with SingularMassMatrix naming θ1 (its pivot threshold is 1e-12 of the diagonal) instead of \
+             dividing. In polar coordinates M = diag(m, m r²) loses rank at r = 0 (SingularMassMatrix for θ, \
+             also wherever r² underflows), unless the potential is singular first (−k/r, |x| at the origin: \
+             NonFinite at the potential stage); for small finite r the accelerations are finite, with round-off \
+             amplified by κ(M) = 1/r². A radial infall from rest at r₀ = 1 reaches r = 0 at \
+             t_c = (π/2)√(r₀³/2μ) = 1.1107 s.",
+    run: singular,
+};
+
+/// How an evaluation ended: `value` (finite), `non-finite value` (a defect), or the error.
+fn outcome(result: Result<Vec<f64>, Error>) -> (Option<f64>, &'static str, String) {
+    match result {
+        Ok(values) if values.iter().all(|v| v.is_finite()) => {
+            (Some(values.iter().fold(0.0_f64, |m, v| m.max(v.abs()))), "ok", "finite".to_string())
+        }
+        Ok(values) => (None, "ok", format!("non-finite value returned: {values:?}")),
+        Err(error) => (None, "failed", error.to_string()),
+    }
+}
+
+fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
+    case.setup =
+        "Double pendulum (l = 1, m₂ = 1) at θ₁ = θ₂ ∈ {0, 0.7, π} with q̇ = (1, −2), m₁ ∈ {1, 1e-6}; m₁ = 1e-12 \
+                  at θ = (0.7, 0.7) and (0.7, 0.7 + 1e-8). Kepler, isotropic oscillator and spring pendulum at \
+                  r ∈ {0, 1e-300, 1e-160, 1e-10}, θ = 0.3, q̇ = (1, 0.5): accelerations and energy. Kepler radial \
+                  infall from r = 1 at rest for 2 s with every method."
+            .into();
+    // The stretched double pendulum.
+    let scene = find("double_pendulum")?;
+    for m1 in [1.0, 1e-6] {
+        let params = scene_params(scene, &[("mass_1", m1)])?;
+        let mut system = scene.build(&params).map_err(|e| e.to_string())?;
+        for angle in [0.0, 0.7, std::f64::consts::PI] {
+            let (q, qdot) = ([angle, angle], [1.0, -2.0]);
+            let expected = scene
+                .closed_form_accelerations(&params, 0.0, &q, &qdot)
+                .map_err(|e| e.to_string())?
+                .ok_or("no closed form")?;
+            let m = Measurement::new(
+                format!("m₁ = {m1:.0e}, θ₁ = θ₂ = {angle:.3}"),
+                "double_pendulum",
+                "engine",
+                "relative error of q̈ vs the closed form",
+            )
+            .params(&[("mass_1", m1)]);
+            let m = match system.accelerations(0.0, &q, &qdot) {
+                Ok(got) => {
+                    let residual = got.iter().zip(&expected).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                    let scale = expected.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+                    // κ(M) ≤ (m₁ + 2m₂)²/(m₁ m₂) here; conditioned(κ) = max(1e-12, 64 ε κ).
+                    let kappa = (m1 + 2.0) * (m1 + 2.0) / m1;
+                    m.value(residual / scale).check(
+                        Check::AtMost,
+                        Some(0.0),
+                        Some(1e-12_f64.max(64.0 * f64::EPSILON * kappa)),
+                    )
+                }
+                Err(e) => m.failed(e).check(Check::AtMost, Some(0.0), Some(0.0)),
+            };
+            case.push(m);
+        }
+    }
+    let params = scene_params(scene, &[("mass_1", 1e-12)])?;
+    let mut system = scene.build(&params).map_err(|e| e.to_string())?;
+    for q in [[0.7, 0.7], [0.7, 0.7 + 1e-8]] {
+        let (value, status, note) = outcome(system.accelerations(0.0, &q, &[1.0, -2.0]).map(<[f64]>::to_vec));
+        let mut m = Measurement::new(
+            format!("m₁ = 1e-12, θ = ({}, {})", q[0], q[1]),
+            "double_pendulum",
+            "engine",
+            "q̈ (largest |component|)",
+        )
+        .params(&[("mass_1", 1e-12)])
+        .note(note);
+        m.value = value;
+        m.status = status;
+        case.push(m.check(Check::TypedError, None, None));
+    }
+    // Polar coordinates at the origin.
+    for id in ["kepler", "isotropic_oscillator", "spring_pendulum"] {
+        let scene = find(id)?;
+        let mut system = scene.build(&scene.default_params()).map_err(|e| e.to_string())?;
+        for r in [0.0, 1e-300, 1e-160, 1e-10] {
+            let (q, qdot) = ([r, 0.3], [1.0, 0.5]);
+            let (value, status, note) = outcome(system.accelerations(0.0, &q, &qdot).map(<[f64]>::to_vec));
+            let mut m = Measurement::new(format!("r = {r:.0e}"), id, "engine", "q̈ (largest |component|)").note(note);
+            m.value = value;
+            m.status = status;
+            // At the origin itself, a typed error; at r = 1e-10, a finite value.
+            case.push(match r {
+                0.0 => m.check(Check::TypedError, None, None),
+                1e-10 => m.check(Check::Finite, None, None),
+                _ => m.check(Check::FiniteOrTypedError, None, None),
+            });
+            let (value, status, note) = outcome(system.energy(0.0, &q, &qdot).map(|e| vec![e]));
+            let mut m = Measurement::new(format!("r = {r:.0e}"), id, "engine", "energy (|value|)").note(note);
+            m.value = value;
+            m.status = status;
+            // A value must be finite or an error (never ±∞/NaN as a value).
+            case.push(m.check(Check::FiniteOrTypedError, None, None));
+        }
+    }
+    // Radial infall.
+    let scene = find("kepler")?;
+    let system = scene.build(&scene.default_params()).map_err(|e| e.to_string())?;
+    let initial = State::new(0.0, [1.0, 0.0], [0.0, 0.0]);
+    let collision = theory::radial_infall_time(1.0, 1.0);
+    let methods = [
+        Method::Rk4 { dt: 0.01 },
+        Method::Adaptive { tol: Tolerances::uniform(1e-8) },
+        Method::Variational { dt: 0.01 },
+        Method::Implicit { tol: Tolerances::uniform(1e-8) },
+        Method::Gauss { dt: 0.01 },
+    ];
+    for method in methods {
+        let (run, wall) = timed_simulate(system.as_ref(), &initial, 2.0, method, &Output::Every(0.01));
+        let m = Measurement::new("radial infall", "kepler", method.name(), "time the run stops (s)")
+            .method_settings(method, 2.0);
+        case.push(match run {
+            Ok(t) => {
+                let finite = t.q.iter().chain(&t.qdot).chain(&t.energy).all(|v| v.is_finite());
+                let m = m.cost(Cost::of(&t.stats, wall)).note(format!(
+                    "ran through r = 0 to the end, {}: relative energy error {:.1e}, r(2 s) = {:.3}",
+                    if finite { "finite values" } else { "NON-FINITE values" },
+                    relative_energy_error(&t.energy),
+                    t.q[t.q.len() - 2]
+                ));
+                if finite {
+                    m.value(2.0).check(Check::None, Some(collision), None)
+                } else {
+                    m.check(Check::Finite, None, None)
+                }
+            }
+            Err(error) => {
+                let t = match error {
+                    Error::StepSizeUnderflow { t, .. }
+                    | Error::Stiff { t, .. }
+                    | Error::NewtonFailed { t, .. }
+                    | Error::Diverged { t, .. } => Some(t),
+                    _ => None,
+                };
+                let mut m = m.failed(&error);
+                m.value = t;
+                // The adaptive methods stop at the collision (to its step); the fixed-step
+                // ones at the step that reaches it.
+                let adaptive = matches!(method, Method::Adaptive { .. } | Method::Implicit { .. });
+                let bound = if adaptive { 1e-6 } else { 0.02 };
+                let mut m = m.check(Check::AbsoluteToTheory, Some(collision), Some(bound));
+                m.status = "failed";
+                m
+            }
+        });
+    }
+    Ok(())
+}
