@@ -3,7 +3,8 @@
 //!
 //! Benches: `cargo bench -p lagrange-benches --bench eom` (engine vs hand-coded EOM, RK4 step),
 //! `--bench rapier` (one rapier step of every scene), `--bench scaling` (chains of 2 … 64 links:
-//! our step against rapier's).
+//! our step against rapier's), `--bench implicit` (Gauss4 step and AD Jacobian beside RK4; whole
+//! stiff runs of SDIRK4 against Dormand–Prince).
 
 use std::path::{Path, PathBuf};
 
