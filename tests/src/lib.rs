@@ -2,7 +2,6 @@
 //! and sampling of scene parameters and states.
 
 pub mod sampling;
-pub mod stability;
 pub mod tolerance;
 
 use rand::SeedableRng;

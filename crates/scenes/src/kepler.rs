@@ -100,6 +100,12 @@ impl Kepler {
         0.5 * self.mass * (r_dot * r_dot + r * r * theta_dot * theta_dot) - self.strength / r
     }
 
+    /// Time to fall from rest at `r₀ > 0` to the centre (`ℓ = 0`, the degenerate ellipse of
+    /// semi-major axis `r₀/2`, half its period): `t = (π/2) √(m r₀³ / 2k)`.
+    pub fn radial_infall_time(&self, r0: f64) -> f64 {
+        std::f64::consts::FRAC_PI_2 * (self.mass * r0 * r0 * r0 / (2.0 * self.strength)).sqrt()
+    }
+
     /// The orbit through `(q, q̇)` (SYSTEMS.md §3a, "Orbit").
     ///
     /// # Panics

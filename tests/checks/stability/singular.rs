@@ -110,8 +110,10 @@ fn energy_at_the_kepler_origin_is_an_error_not_infinity() {
 fn radial_infall_stops_at_the_collision_with_a_typed_error() {
     let system = build("kepler", &params("kepler", &[]));
     let initial = State::new(0.0, [1.0, 0.0], [0.0, 0.0]);
-    // Free fall from rest at r₀ = 1 under μ/r², μ = 1: t_c = (π/2) √(1/2).
-    let collision = std::f64::consts::FRAC_PI_2 * 0.5f64.sqrt();
+    // Free fall from rest at r₀ = 1 under k/r² (m = k = 1): t_c = (π/2) √(1/2).
+    let kepler = lagrange_scenes::kepler::Kepler::from_params(&params("kepler", &[])).expect("valid");
+    let collision = kepler.radial_infall_time(1.0);
+    assert!((collision - std::f64::consts::FRAC_PI_2 * 0.5f64.sqrt()).abs() <= 1e-15);
     let methods = [
         Method::Rk4 { dt: 0.01 },
         Method::Adaptive { tol: Tolerances::uniform(1e-8) },

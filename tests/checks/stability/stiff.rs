@@ -11,11 +11,11 @@
 //! (not `2/ω`, which is explicit Euler's). Both are measured below by bisection on `dt`.
 
 use super::{build, params, relative_energy_error, scene};
+use lagrange::integrate::stability::{
+    damped_roots, dopri5_real_axis_limit, rk4_imaginary_axis_limit, rk4_real_axis_limit, symplectic_euler_limit,
+};
 use lagrange::{Method, Output, State, Tolerances};
 use lagrange_maximal::{Engine, Settings, maps};
-use lagrange_tests::stability::{
-    bisect_limit, dopri5_real_axis_limit, rk4_imaginary_axis_limit, rk4_real_axis_limit, symplectic_euler_limit,
-};
 use lagrange_tests::tolerance::{LINEAR_STABILITY_LIMIT, STABILITY_LIMIT, gauss_energy_per_step};
 
 /// `k/m` of the stiff springs: 1e2 … 1e12 (m = 1).
@@ -78,11 +78,12 @@ fn rk4_limit_on_the_stiff_spring_pendulum_is_set_by_the_radial_mode() {
     }
 }
 
-/// `(λ_fast, λ_slow)` of `ẍ + (c/m) ẋ + (k/m) x = 0` (m = 1), over-damped, each formed
-/// without cancellation.
-fn damped_roots(k: f64, c: f64) -> (f64, f64) {
-    let fast = -(c + (c * c - 4.0 * k).sqrt()) / 2.0;
-    (fast, k / fast)
+/// The stability limit bracketed by `[stable, unstable]` (the bracket is part of each test's
+/// claim: a failure to bracket is a failure).
+fn bisect_limit(stable: f64, unstable: f64, relative: f64, is_stable: impl FnMut(f64) -> bool) -> f64 {
+    lagrange::integrate::stability::bisect_limit(stable, unstable, relative, is_stable)
+        .unwrap_or_else(|| panic!("[{stable:e}, {unstable:e}] does not bracket the limit"))
+        .0
 }
 
 /// Strong damping: `k/m = 1e6`, `c/m = 1e6`, roots ≈ −1e6 and −1.

@@ -11,7 +11,8 @@
 //! The implicit methods solve their stages by simplified Newton with the exact AD Jacobian
 //! [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian), in the reduced
 //! form of [`newton`]. [`Dopri5`] watches for stiffness (Hairer's test) and says so when it
-//! fails ([`Error::Stiff`]).
+//! fails ([`Error::Stiff`]). [`stability`] gives the boundaries of the explicit schemes'
+//! stability regions that the stability suite measures against.
 
 mod dopri5;
 mod driver;
@@ -19,6 +20,7 @@ mod gauss;
 pub mod newton;
 mod rk4;
 mod sdirk;
+pub mod stability;
 mod variational;
 
 pub use dopri5::{AdaptiveStats, Dopri5};

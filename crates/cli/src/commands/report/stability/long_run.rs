@@ -1,8 +1,8 @@
 //! Long runs: ten million steps of the symplectic Gauss integrator and of rapier, and whether
 //! their energy drifts.
 
-use super::theory;
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, timed_simulate};
+use lagrange::integrate::stability as theory;
 use lagrange::{Method, Output, State};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use std::time::Instant;

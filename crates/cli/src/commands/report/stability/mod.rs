@@ -19,7 +19,6 @@ mod orbit;
 pub mod render;
 mod singular;
 mod stiff;
-mod theory;
 
 use lagrange::integrate::Stats;
 use lagrange::{Method, Output, State, System, Trajectory};
@@ -316,31 +315,6 @@ fn scene_params(scene: &dyn Scene, changes: &[(&str, f64)]) -> Result<Params, St
 /// The registered scene `id`.
 fn find(id: &str) -> Result<&'static dyn Scene, String> {
     lagrange_scenes::find(id).ok_or_else(|| format!("scene {id} is not registered"))
-}
-
-/// The boundary between stable and unstable steps by bisection on `dt` in `[stable, unstable]`
-/// until the bracket is `relative` wide: `(midpoint, probes)`, or `None` if the interval does
-/// not bracket it.
-fn bisect_limit(
-    mut stable: f64,
-    mut unstable: f64,
-    relative: f64,
-    mut is_stable: impl FnMut(f64) -> bool,
-) -> Option<(f64, usize)> {
-    if !is_stable(stable) || is_stable(unstable) {
-        return None;
-    }
-    let mut probes = 2;
-    while unstable - stable > relative * stable {
-        let mid = 0.5 * (stable + unstable);
-        probes += 1;
-        if is_stable(mid) {
-            stable = mid;
-        } else {
-            unstable = mid;
-        }
-    }
-    Some((0.5 * (stable + unstable), probes))
 }
 
 /// A case under construction.

@@ -1,11 +1,11 @@
 //! Near-singular configurations: what the engine does there — a regular value, or a typed
 //! error — never a NaN.
 
-use super::theory;
 use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find, relative_energy_error, scene_params, timed_simulate,
 };
 use lagrange::{Error, Method, Output, State, Tolerances};
+use lagrange_scenes::kepler::Kepler;
 
 pub const SINGULAR: CaseSpec = CaseSpec {
     id: "near_singular",
@@ -118,9 +118,10 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
     }
     // Radial infall.
     let scene = find("kepler")?;
-    let system = scene.build(&scene.default_params()).map_err(|e| e.to_string())?;
+    let params = scene.default_params();
+    let system = scene.build(&params).map_err(|e| e.to_string())?;
     let initial = State::new(0.0, [1.0, 0.0], [0.0, 0.0]);
-    let collision = theory::radial_infall_time(1.0, 1.0);
+    let collision = Kepler::from_params(&params).map_err(|e| e.to_string())?.radial_infall_time(1.0);
     let methods = [
         Method::Rk4 { dt: 0.01 },
         Method::Adaptive { tol: Tolerances::uniform(1e-8) },

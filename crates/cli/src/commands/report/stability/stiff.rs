@@ -2,11 +2,11 @@
 //! stability functions of the methods, the explicit adaptive method pinned to its stability
 //! boundary, the implicit methods unconditionally stable — and rapier beside ours.
 
-use super::theory;
 use super::{
-    CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, bisect_limit, find, relative_energy_error,
-    scene_params, timed_simulate,
+    CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, relative_energy_error, scene_params,
+    timed_simulate,
 };
+use lagrange::integrate::stability::{self as theory, bisect_limit};
 use lagrange::{Method, Output, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::Params;
@@ -122,7 +122,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
         });
         let mut m = limit(label.clone(), "harmonic_oscillator", "rk4", found, omega).params(&[("stiffness", k)]).check(
             Check::RelativeToTheory,
-            Some(theory::rk4_imaginary_axis()),
+            Some(theory::rk4_imaginary_axis_limit()),
             Some(LIMIT_BOUND),
         );
         m.cost.wall_time_s = start.elapsed().as_secs_f64();
@@ -142,7 +142,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
         });
         let mut m = limit(label.clone(), "spring_pendulum", "rk4", found, omega).params(&[("stiffness", k)]).check(
             Check::RelativeToTheory,
-            Some(theory::rk4_imaginary_axis()),
+            Some(theory::rk4_imaginary_axis_limit()),
             Some(LIMIT_BOUND),
         );
         m.cost.wall_time_s = start.elapsed().as_secs_f64();
@@ -240,7 +240,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
             });
             let mut m = limit(label.clone(), "harmonic_oscillator", engine.name(), found, omega)
                 .params(&[("stiffness", k)])
-                .check(Check::RelativeToTheory, Some(theory::symplectic_euler()), Some(LIMIT_BOUND));
+                .check(Check::RelativeToTheory, Some(theory::symplectic_euler_limit()), Some(LIMIT_BOUND));
             m.settings.substeps = Some(1);
             m.cost.wall_time_s = start.elapsed().as_secs_f64();
             case.push(m);
@@ -274,7 +274,7 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
     });
     let mut m = limit(label.into(), "harmonic_oscillator", "rk4", found, -fast).params(&changes).check(
         Check::RelativeToTheory,
-        Some(theory::rk4_real_axis()),
+        Some(theory::rk4_real_axis_limit()),
         Some(LIMIT_BOUND),
     );
     m.cost.wall_time_s = start.elapsed().as_secs_f64();
@@ -306,7 +306,7 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
                     t.stats.stiffness.map_or("not detected".to_string(), |s| format!("detected at t = {s:.2e} s"));
                 step_row = step_row.note(format!("{} steps; stiffness {detected}", t.stats.steps)).check(
                     Check::RelativeToTheory,
-                    Some(theory::dopri5_real_axis()),
+                    Some(theory::dopri5_real_axis_limit()),
                     Some(LIMIT_BOUND),
                 );
             } else {
@@ -314,7 +314,7 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
                 step_row = step_row.note(format!("{} steps", t.stats.steps)).check(
                     Check::AtLeast,
                     None,
-                    Some(10.0 * theory::dopri5_real_axis()),
+                    Some(10.0 * theory::dopri5_real_axis_limit()),
                 );
             }
             case.push(step_row);
