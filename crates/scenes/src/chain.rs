@@ -43,6 +43,31 @@ pub struct Chain {
     tree: Tree,
 }
 
+/// The tree of [`Chain`] with one mass per rod, top first (the stability suite's chains with
+/// link masses spanning 1e6): uniform rods of length `l` and inertia `m_i l²/12`, hinged end to
+/// end from the origin, absolute angles `θ₁ … θ_N`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] from [`Tree::new`]: no rods, a non-finite length or gravity, or a
+/// negative or non-finite mass.
+pub fn hanging_rods(masses: &[f64], length: f64, gravity: f64) -> Result<Tree, Error> {
+    let half = 0.5 * length;
+    // Rod i hangs from the bottom end of rod i − 1 (rod 1 from the origin) by its top end.
+    let joints = (1..=masses.len())
+        .map(|i| {
+            let (parent, parent_anchor) =
+                if i == 1 { (Parent::Ground, [0.0, 0.0]) } else { (Parent::Body(i - 2), [0.0, -half]) };
+            Joint::absolute_revolute(format!("θ{i}"), parent, parent_anchor, [0.0, half])
+        })
+        .collect();
+    let bodies = masses
+        .iter()
+        .enumerate()
+        .map(|(i, &m)| Body::rigid(format!("link {}", i + 1), m, m * length * length / 12.0))
+        .collect();
+    Tree::new(joints, bodies, gravity)
+}
+
 impl Chain {
     /// A chain of `N` links of mass `m` and length `l` under gravity `g`.
     ///
@@ -51,18 +76,8 @@ impl Chain {
     pub fn new(links: usize, link_mass: f64, link_length: f64, gravity: f64) -> Result<Self, Error> {
         // usize → f64 is exact up to 2⁵³, far beyond the allowed 256.
         check_all(PARAMS, &[links as f64, link_mass, link_length, gravity])?;
-        let inertia = link_mass * link_length * link_length / 12.0;
-        let half = 0.5 * link_length;
-        // Rod i hangs from the bottom end of rod i − 1 (rod 1 from the origin) by its top end.
-        let joints = (1..=links)
-            .map(|i| {
-                let (parent, parent_anchor) =
-                    if i == 1 { (Parent::Ground, [0.0, 0.0]) } else { (Parent::Body(i - 2), [0.0, -half]) };
-                Joint::absolute_revolute(format!("θ{i}"), parent, parent_anchor, [0.0, half])
-            })
-            .collect();
-        let bodies = (1..=links).map(|i| Body::rigid(format!("link {i}"), link_mass, inertia)).collect();
-        Ok(Self { links, link_mass, link_length, gravity, tree: Tree::new(joints, bodies, gravity)? })
+        let tree = hanging_rods(&vec![link_mass; links], link_length, gravity)?;
+        Ok(Self { links, link_mass, link_length, gravity, tree })
     }
 
     /// The chain with the values in `params`.

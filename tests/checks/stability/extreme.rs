@@ -5,11 +5,16 @@
 //! accelerations alone at extreme parameters are checked in `analytic.rs`.
 
 use super::{build, params, phase, relative_energy_error, scene};
-use lagrange::tree::{Joint, Parent, Tree};
-use lagrange::{Body, Error, Method, Model, Output, Simulation, State, System, Tolerances};
+use lagrange::tree::Tree;
+use lagrange::{Error, Method, Model, Output, Simulation, State, System, Tolerances};
 use lagrange_tests::tolerance::{EPS, conditioned};
 use lagrange_tests::{condition_number, max_abs, max_abs_diff};
 use std::f64::consts::{FRAC_PI_2, PI};
+
+/// Four rods of length 1 hanging from the origin with these masses, top first.
+fn chain(masses: &[f64]) -> Tree {
+    lagrange_scenes::chain::hanging_rods(masses, 1.0, 9.81).expect("valid chain")
+}
 
 /// Mass ratios of the issue.
 const RATIOS: [f64; 2] = [1e-6, 1e6];
@@ -163,23 +168,10 @@ fn cart_pendulum_at_extreme_mass_ratios_keeps_its_frequency_and_momentum() {
     }
 }
 
-/// A hanging chain of four uniform rods (length 1) with these masses, top first.
-fn chain(masses: [f64; 4]) -> Tree {
-    let joints = (0..4)
-        .map(|i| {
-            let (parent, anchor) =
-                if i == 0 { (Parent::Ground, [0.0, 0.0]) } else { (Parent::Body(i - 1), [0.0, -0.5]) };
-            Joint::absolute_revolute(format!("θ{}", i + 1), parent, anchor, [0.0, 0.5])
-        })
-        .collect();
-    let bodies = masses.iter().enumerate().map(|(i, &m)| Body::rigid(format!("link {}", i + 1), m, m / 12.0)).collect();
-    Tree::new(joints, bodies, 9.81).expect("valid chain")
-}
-
 #[test]
 fn chains_with_link_masses_spanning_a_million_conserve_energy() {
     for masses in [[1.0, 1e2, 1e4, 1e6], [1e6, 1e4, 1e2, 1.0], [1.0, 1e6, 1.0, 1e6]] {
-        let tree = chain(masses);
+        let tree = chain(&masses);
         let mut fast = Simulation::new(Model::new(tree.clone()).expect("valid"));
         let mut generic = Simulation::new(Model::new_generic(tree).expect("valid"));
         let (q, qdot) = ([0.5, 1.0, -0.3, 2.0], [0.3, -1.0, 2.0, 0.5]);
@@ -211,7 +203,7 @@ fn gauss_integrates_a_chain_with_link_masses_spanning_a_million() {
     // 2.5e-3: ratios 16 ± 25 %) with the energy error falling alike. Before the round-off
     // plateau rule this ordering's mirror failed at a plateau of 1.2e-12 (regression).
     let initial = State::new(0.0, [0.5, 1.0, -0.3, 2.0], [0.3, -1.0, 2.0, 0.5]);
-    let system = Simulation::new(Model::new(chain([1e6, 1e4, 1e2, 1.0])).expect("valid"));
+    let system = Simulation::new(Model::new(chain(&[1e6, 1e4, 1e2, 1.0])).expect("valid"));
     let reference = system
         .simulate(&initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) }, &Output::Ends)
         .expect("integrates")
@@ -233,7 +225,7 @@ fn gauss_integrates_a_chain_with_link_masses_spanning_a_million() {
     // velocities jump to 18 rad/s within milliseconds near t = 0.09 and 0.15, where its steps
     // collapse to ~1e-5). A fixed step of 1e-3 cannot follow that; Gauss must say so with a
     // typed error inside that window, not return a wrong trajectory or NaN.
-    let system = Simulation::new(Model::new(chain([1.0, 1e2, 1e4, 1e6])).expect("valid"));
+    let system = Simulation::new(Model::new(chain(&[1.0, 1e2, 1e4, 1e6])).expect("valid"));
     match system.simulate(&initial, 2.0, Method::Gauss { dt: 1e-3 }, &Output::Ends) {
         Err(Error::NewtonFailed { t, .. }) => assert!((0.08..=0.17).contains(&t), "failed at t = {t}"),
         other => panic!("expected NewtonFailed in the whip, got {other:?}"),

@@ -4,10 +4,10 @@ use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, relative_energy_error, scene_params,
     timed_simulate,
 };
-use lagrange::tree::{Joint, Parent, Tree};
-use lagrange::{Body, Method, Model, Output, Simulation, State, System, Tolerances};
+use lagrange::{Method, Model, Output, Simulation, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::Params;
+use lagrange_scenes::chain::hanging_rods;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::time::Instant;
 
@@ -343,24 +343,11 @@ fn cart_pendulum(case: &mut CaseBuilder) -> Result<(), String> {
     Ok(())
 }
 
-/// Four unit rods hung end to end with these masses, top first.
-fn chain(masses: [f64; 4]) -> Result<Tree, String> {
-    let joints = (0..4)
-        .map(|i| {
-            let (parent, anchor) =
-                if i == 0 { (Parent::Ground, [0.0, 0.0]) } else { (Parent::Body(i - 1), [0.0, -0.5]) };
-            Joint::absolute_revolute(format!("θ{}", i + 1), parent, anchor, [0.0, 0.5])
-        })
-        .collect();
-    let bodies = masses.iter().enumerate().map(|(i, &m)| Body::rigid(format!("link {}", i + 1), m, m / 12.0)).collect();
-    Tree::new(joints, bodies, 9.81).map_err(|e| e.to_string())
-}
-
 fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
     let all = [[1.0, 1e2, 1e4, 1e6], [1e6, 1e4, 1e2, 1.0], [1.0, 1e6, 1.0, 1e6]];
     let horizon = effort.pick(10.0, 2.0);
     for masses in all {
-        let tree = chain(masses)?;
+        let tree = hanging_rods(&masses, 1.0, 9.81).map_err(|e| e.to_string())?;
         let label = format!("masses {masses:?}");
         let scene = "local:chain";
         let parameters: Vec<(String, f64)> =
