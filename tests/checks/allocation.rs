@@ -1,6 +1,7 @@
 //! No heap allocation per step (Pinocchio's malloc tests): a counting global allocator around
-//! the equations of motion and one step of every integrator (RK4, Dormand–Prince, variational,
-//! SDIRK4, Gauss–Legendre), for every scene.
+//! the equations of motion, the AD Jacobian and one step of every integrator (RK4,
+//! Dormand–Prince, variational, SDIRK4, Gauss–Legendre), for every scene, on the tree path, the
+//! assembled-mass-matrix path and the raw-Lagrangian path.
 #![allow(unsafe_code)] // a global allocator is necessarily `unsafe impl`
 
 use lagrange::integrate::{Dopri5, Gauss4, Rk4, Sdirk4, Variational};
@@ -68,11 +69,14 @@ fn assert_no_allocation_per_step<D: Dynamics>(name: &str, system: &D, initial: &
     let mut gauss = Gauss4::new(n);
     let mut gauss_state = initial.clone();
     let mut qdot = vec![0.0; n];
+    let mut jacobian = vec![0.0; 2 * n * n];
     // Warm-up: anything lazily initialised happens here, outside the count.
     system.accelerations(&mut ws, initial.t, &initial.q, &initial.qdot, &mut qddot).expect("valid");
+    system.acceleration_jacobian(&mut ws, initial.t, &initial.q, &initial.qdot, &mut jacobian).expect("valid");
     let counted = allocations(|| {
         for _ in 0..10 {
             system.accelerations(&mut ws, initial.t, &initial.q, &initial.qdot, &mut qddot).expect("valid");
+            system.acceleration_jacobian(&mut ws, initial.t, &initial.q, &initial.qdot, &mut jacobian).expect("valid");
             rk4.step(system, &mut ws, &mut state, 1e-3).expect("valid");
             dopri.step(system, &mut ws, 1e9).expect("valid");
             variational.step(system, 1e-3).expect("valid");
@@ -82,6 +86,7 @@ fn assert_no_allocation_per_step<D: Dynamics>(name: &str, system: &D, initial: &
         variational.velocities(system, &mut qdot).expect("valid");
     });
     assert_eq!(counted, 0, "{name}: {counted} heap allocations in 10 steps");
+    assert!(gauss.stats.jacobians > 0 && sdirk.stats.jacobians > 0 && sdirk.stats.accepted == 10, "{name}");
 }
 
 struct NoAllocation<'a> {
@@ -95,9 +100,21 @@ impl MechanismVisitor for NoAllocation<'_> {
     fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism.clone()).expect("valid");
         assert_no_allocation_per_step(self.id, &model, self.initial);
+        if model.mechanism().tree().is_some() {
+            let generic = Model::new_generic(mechanism.clone()).expect("valid");
+            assert_no_allocation_per_step(&format!("{} (assembled M)", self.id), &generic, self.initial);
+        }
         let raw = RawModel::new(Model::new(mechanism).expect("valid")).expect("valid");
         assert_no_allocation_per_step(&format!("{} (raw path)", self.id), &raw, self.initial);
     }
+}
+
+#[test]
+fn the_counter_counts() {
+    let counted = allocations(|| {
+        std::hint::black_box(vec![1.0_f64; 8]);
+    });
+    assert_eq!(counted, 1);
 }
 
 #[test]

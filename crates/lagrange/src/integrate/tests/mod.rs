@@ -1,6 +1,5 @@
 //! Integrator checks on small mechanisms: observed order, tolerance tracking, structure.
 
-mod allocation;
 mod implicit;
 
 use super::*;
