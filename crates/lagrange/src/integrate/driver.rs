@@ -208,17 +208,8 @@ pub fn simulate<D: Dynamics>(
         Method::Rk4 { dt } => {
             check_step(dt)?;
             let mut rk4 = Rk4::new(n);
-            let mut state = initial.clone();
-            run_fixed(t0, dt, &times, &mut trajectory, |traj, event| match event {
-                Event::Step { h, k } => {
-                    state.t = t0 + k as f64 * dt;
-                    rk4.step(system, &mut ws, &mut state, h).map_err(|e| diverged(system, e, state.t, k))?;
-                    check_finite(system, &state.q, &state.qdot, state.t, k)
-                }
-                Event::Record { t } => {
-                    state.t = t;
-                    traj.push(system, &mut ws, t, &state.q, &state.qdot, traj.stats.steps)
-                }
+            run_state_stepper(system, &mut ws, initial, dt, &times, &mut trajectory, |ws, state, h| {
+                rk4.step(system, ws, state, h)
             })?;
             trajectory.stats.evaluations = 4 * trajectory.stats.steps;
         }
@@ -249,17 +240,8 @@ pub fn simulate<D: Dynamics>(
         Method::Gauss { dt } => {
             check_step(dt)?;
             let mut gauss = Gauss4::new(n);
-            let mut state = initial.clone();
-            run_fixed(t0, dt, &times, &mut trajectory, |traj, event| match event {
-                Event::Step { h, k } => {
-                    state.t = t0 + k as f64 * dt;
-                    gauss.step(system, &mut ws, &mut state, h).map_err(|e| diverged(system, e, state.t, k))?;
-                    check_finite(system, &state.q, &state.qdot, state.t, k)
-                }
-                Event::Record { t } => {
-                    state.t = t;
-                    traj.push(system, &mut ws, t, &state.q, &state.qdot, traj.stats.steps)
-                }
+            run_state_stepper(system, &mut ws, initial, dt, &times, &mut trajectory, |ws, state, h| {
+                gauss.step(system, ws, state, h)
             })?;
             let stats = &mut trajectory.stats;
             stats.evaluations = gauss.stats.evaluations;
@@ -338,6 +320,32 @@ enum Event {
 
 /// Drive a fixed-step method over the output times: whole steps on the grid `t0 + k dt`, and
 /// one shorter last step when the final output is off the grid.
+/// [`run_fixed`] for a one-step method that advances a [`State`] in place (RK4, Gauss): the
+/// state's time is set from the grid before every step, so it carries no accumulated round-off.
+fn run_state_stepper<D: Dynamics>(
+    system: &D,
+    ws: &mut D::Workspace,
+    initial: &State,
+    dt: f64,
+    times: &[f64],
+    trajectory: &mut Trajectory,
+    mut step: impl FnMut(&mut D::Workspace, &mut State, f64) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let t0 = initial.t;
+    let mut state = initial.clone();
+    run_fixed(t0, dt, times, trajectory, |traj, event| match event {
+        Event::Step { h, k } => {
+            state.t = t0 + k as f64 * dt;
+            step(ws, &mut state, h).map_err(|e| diverged(system, e, state.t, k))?;
+            check_finite(system, &state.q, &state.qdot, state.t, k)
+        }
+        Event::Record { t } => {
+            state.t = t;
+            traj.push(system, ws, t, &state.q, &state.qdot, traj.stats.steps)
+        }
+    })
+}
+
 fn run_fixed(
     t0: f64,
     dt: f64,
