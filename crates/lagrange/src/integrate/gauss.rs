@@ -264,9 +264,7 @@ impl Gauss4 {
         }
         self.stats.jacobians += 1;
         self.stats.factorizations += 1;
-        // The Jacobian no longer belongs to the step's start: the next step evaluates its own.
         self.jacobian_fresh = true;
-        self.refresh_jacobian = true;
         if self.newton.factor(h, &A, &self.a_squared) {
             self.factored_step = h;
             Ok(Ok(()))
@@ -386,6 +384,8 @@ impl Gauss4 {
                 }
                 if !converged && theta > THETA_UPDATE && effect > ROUNDOFF_PLATEAU && updates < MAX_JACOBIAN_UPDATES {
                     updates += 1;
+                    // A slow rate: the next step evaluates its own Jacobian (θ > THETA_REFRESH).
+                    theta_max = theta_max.max(theta);
                     if let Err(why) = self.update_jacobian(system, ws, state, h)? {
                         return Ok(Err(why));
                     }
