@@ -1,6 +1,6 @@
 //! How numbers and ratios read in report.md and on the terminal.
 
-use super::pareto::{EqualError, EqualTime};
+use lagrange_validation::pareto::{EqualError, EqualTime};
 
 /// `1.23e-4`, or `—` for a metric that does not apply.
 pub fn number(value: Option<f64>) -> String {

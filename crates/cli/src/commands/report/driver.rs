@@ -1,16 +1,17 @@
 //! `lagrange report` from start to end: validate the arguments, probe every scene, run every
 //! sweep under a progress bar, and write report.json, report.md, the plots and the summary.
 
-use super::assemble::scene_report;
 use super::markdown;
 use super::options::{Args, Options};
-use super::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_TARGET};
 use super::plots;
-use super::runs::{ScenePlan, SceneRuns};
-use super::schema::{Plots, Report, SCHEMA_VERSION, Targets, TimingReport};
-use super::stability::{self, Effort};
+use lagrange_validation::assemble::scene_report;
+use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_TARGET};
+use lagrange_validation::runs::{ScenePlan, SceneRuns};
+use lagrange_validation::schema::{Plots, Report, SCHEMA_VERSION, Targets, TimingReport};
+
 use super::terminal;
 use indicatif::{ProgressBar, ProgressStyle};
+use lagrange_validation::stability::{self, Effort};
 use std::path::Path;
 use std::time::Instant;
 

@@ -21,19 +21,12 @@
 //! [`measure`]) → [`assemble`] (with [`pareto`]) → [`schema`], [`markdown`], [`plots`],
 //! [`terminal`]; [`stability`] for the stability section; [`driver`] runs it.
 
-mod assemble;
 mod cells;
 mod driver;
 mod markdown;
-mod measure;
 mod options;
-mod pareto;
-mod plan;
 mod plots;
-mod reference;
-mod runs;
-mod schema;
-mod stability;
+mod stability_render;
 mod terminal;
 
 pub use driver::run;

@@ -1,8 +1,8 @@
 //! The arguments of `lagrange report` and their validation, before anything runs.
 
-use super::plan::Plan;
 use crate::args;
 use lagrange_scenes::Scene;
+use lagrange_validation::plan::Plan;
 use std::path::PathBuf;
 
 /// Arguments of `lagrange report`.

@@ -2,10 +2,10 @@
 //! method family through its sweep) and the reference trajectory above each family's error
 //! over time.
 
-use super::pareto::{Front, Point};
-use super::plan::{Family, Setting};
-use super::reference::Reference;
-use super::runs::{FamilyRuns, Run, SceneRuns};
+use lagrange_validation::pareto::{Front, Point};
+use lagrange_validation::plan::{Family, Setting};
+use lagrange_validation::reference::Reference;
+use lagrange_validation::runs::{FamilyRuns, Run, SceneRuns};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;

@@ -4,9 +4,8 @@
 
 use super::cells;
 use super::markdown::targets_met;
-use super::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
-use super::schema::Report;
-use super::stability;
+use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
+use lagrange_validation::schema::Report;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -58,7 +57,7 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
          {error_met} of {comparisons}; total {:.1} s",
         report.total_wall_time_s
     );
-    stability::render::terminal(&mut text, &report.stability);
+    super::stability_render::terminal(&mut text, &report.stability);
     let _ = writeln!(text, "wrote {} (report.json, report.md, {files} SVG plots)", out.display());
     text
 }

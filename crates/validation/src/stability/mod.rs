@@ -16,7 +16,6 @@ mod chaos;
 mod extreme;
 mod long_run;
 mod orbit;
-pub mod render;
 mod singular;
 mod stiff;
 

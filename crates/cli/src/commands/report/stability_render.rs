@@ -1,6 +1,6 @@
 //! The stability section of report.md, and its lines in the terminal summary.
 
-use super::{Case, Check, Measurement, StabilityReport};
+use lagrange_validation::stability::{Case, Check, Measurement, StabilityReport};
 use std::fmt::Write;
 
 /// `1.23e-4`, or `—`.

@@ -2,10 +2,10 @@
 //! (the reduced solver's three integrators together) against each rapier f64 engine, and the
 //! per-run rows.
 
-use super::pareto::{EqualError, EqualTime, Front, Point};
-use super::plan::{CARTESIAN_CHECK_TOLERANCE, EQUAL_ERROR, ERROR_RATIO_TARGET, Family, Setting, TIME_RATIO_TARGET};
-use super::runs::{Availability, FamilyRuns, SceneRuns};
-use super::schema::{
+use crate::pareto::{EqualError, EqualTime, Front, Point};
+use crate::plan::{CARTESIAN_CHECK_TOLERANCE, EQUAL_ERROR, ERROR_RATIO_TARGET, Family, Setting, TIME_RATIO_TARGET};
+use crate::runs::{Availability, FamilyRuns, SceneRuns};
+use crate::schema::{
     FrontPoint, MethodReport, Plots, ReferenceReport, RunReport, SceneReport, SettingsReport, Summary, Versus,
 };
 use lagrange_maximal::Engine;

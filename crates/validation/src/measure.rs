@@ -1,8 +1,8 @@
 //! One run of one method at one setting: its error against the reference at every saved time,
 //! its energy error and constraint violation where they mean something, and its wall time.
 
-use super::plan::Timing;
-use super::reference::{Reference, max_or_nan};
+use crate::plan::Timing;
+use crate::reference::{Reference, max_or_nan};
 use lagrange::{Method, Output, State, System};
 use lagrange_maximal::{Built, Engine, MaximalSimulation, Settings, build, maps};
 use std::hint::black_box;

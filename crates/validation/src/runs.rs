@@ -2,9 +2,9 @@
 //! (and whether a rapier build honours substeps), then every run, measured against the
 //! reference of the problem it actually simulates.
 
-use super::measure::{self, Measured};
-use super::plan::{CARTESIAN_CHECK_TOLERANCE, Family, Plan, Setting};
-use super::reference::{Reference, ReferenceKind, References};
+use crate::measure::{self, Measured};
+use crate::plan::{CARTESIAN_CHECK_TOLERANCE, Family, Plan, Setting};
+use crate::reference::{Reference, ReferenceKind, References};
 use lagrange::{Coordinate, Method, State, Tolerances};
 use lagrange_maximal::{BuildError, Engine, Settings, build};
 use lagrange_scenes::{Params, Scene};

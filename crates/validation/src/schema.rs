@@ -2,8 +2,8 @@
 //! `crates/cli/REPORT_SCHEMA.md`. Change them only together with that document, and bump
 //! [`SCHEMA_VERSION`] when a field changes meaning or disappears.
 
-use super::pareto::{EqualError, EqualTime};
-use super::stability::StabilityReport;
+use crate::pareto::{EqualError, EqualTime};
+use crate::stability::StabilityReport;
 use serde::Serialize;
 
 /// Version of the layout below.

@@ -1,7 +1,7 @@
 //! The reference trajectory every run of a scene is measured against: the scene's closed form
 //! where it has one, otherwise a tight-tolerance reduced solution.
 
-use super::plan::REFERENCE_TOLERANCE;
+use crate::plan::REFERENCE_TOLERANCE;
 use lagrange::{Method, Output, State, Tolerances};
 use lagrange_scenes::{Params, Scene};
 

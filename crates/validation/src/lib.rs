@@ -1,0 +1,18 @@
+//! # lagrange-validation — how the engine is checked, as a library
+//!
+//! The validation report's machinery, reusable by the `lagrange` command line, the tests and
+//! the benches: what runs ([`plan`]), the references every run is measured against
+//! ([`reference`]), the measurement of one run ([`measure`]), the sweeps of a scene
+//! ([`runs`]), the work-precision fronts and their comparison ([`pareto`]), the assembly of a
+//! scene's report ([`assemble`]) into the serialized [`schema`], and the stability suite with
+//! its theory ([`stability`]). Rendering (Markdown, SVG plots, the terminal summary) and file
+//! writing stay in the command line.
+
+pub mod assemble;
+pub mod measure;
+pub mod pareto;
+pub mod plan;
+pub mod reference;
+pub mod runs;
+pub mod schema;
+pub mod stability;
