@@ -4,6 +4,7 @@
 use lagrange::{Mechanism, Model, Pose, State};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use lagrange_tests::{max_abs, rng, sampling, tolerance};
+use lagrange_validation::fixtures;
 
 fn poses<M: Mechanism>(model: &Model<M>, t: f64, q: &[f64]) -> Vec<f64> {
     let mut out = vec![Pose::<f64>::default(); model.bodies()];
@@ -11,15 +12,10 @@ fn poses<M: Mechanism>(model: &Model<M>, t: f64, q: &[f64]) -> Vec<f64> {
     out.iter().flat_map(|p| [p.x, p.y, p.angle]).collect()
 }
 
+/// AD (`expected`) against FD (`got`) to `tol` relative to the larger of both and 1.
 fn assert_close(what: &str, ad: &[f64], fd: &[f64], tol: f64) {
     let scale = max_abs(ad).max(max_abs(fd)).max(1.0);
-    for (i, (a, f)) in ad.iter().zip(fd).enumerate() {
-        assert!(
-            (a - f).abs() <= tol * scale,
-            "{what}[{i}]: AD {a}, FD {f}, residual {:e} (scale {scale})",
-            (a - f).abs()
-        );
-    }
+    fixtures::assert_close(what, ad, fd, tol * scale);
 }
 
 struct FiniteDifferences<'a> {

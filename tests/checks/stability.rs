@@ -11,8 +11,9 @@ mod long_run;
 mod singular;
 mod stiff;
 
-use lagrange::{State, System};
+use lagrange::System;
 use lagrange_scenes::{Params, Scene, find};
+use lagrange_validation::fixtures::{phase, relative_energy_error};
 
 fn scene(id: &str) -> &'static dyn Scene {
     find(id).unwrap_or_else(|| panic!("scene {id} is registered"))
@@ -30,15 +31,4 @@ fn params(id: &str, changes: &[(&str, f64)]) -> Params {
 /// The scene's simulation with these parameters.
 fn build(id: &str, params: &Params) -> Box<dyn System> {
     scene(id).build(params).unwrap_or_else(|e| panic!("{id}: {e}"))
-}
-
-/// `max_k |E_k − E_0| / |E_0|`.
-fn relative_energy_error(energy: &[f64]) -> f64 {
-    let e0 = energy[0];
-    energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max) / e0.abs()
-}
-
-/// `(q, q̇)` of a state, concatenated.
-fn phase(state: &State) -> Vec<f64> {
-    [state.q.as_slice(), state.qdot.as_slice()].concat()
 }

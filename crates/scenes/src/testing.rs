@@ -3,6 +3,8 @@
 
 use crate::{Params, Scene};
 use lagrange::State;
+use lagrange_validation::fixtures::max_abs_diff;
+pub(crate) use lagrange_validation::fixtures::{assert_close, max_abs};
 
 /// Engine `q̈` against the hand-coded closed form, relative to the largest `|q̈_i|`.
 ///
@@ -26,23 +28,6 @@ const FD_STEP: f64 = 1e-3;
 /// Round-off in one evaluation of an exact solution, in units of ε·(largest entry): a few
 /// dozen operations, or Newton's iteration on Kepler's equation converged to a few ε.
 const EXACT_ROUND_OFF: f64 = 100.0;
-
-/// Assert `|got_i − expected_i| ≤ tolerance` for every entry, printing expected, got and the
-/// residual on failure.
-pub(crate) fn assert_close(what: &str, expected: &[f64], got: &[f64], tolerance: f64) {
-    assert_eq!(expected.len(), got.len(), "{what}: expected {expected:?}, got {got:?} (lengths differ)");
-    let residual: Vec<f64> = expected.iter().zip(got).map(|(e, g)| g - e).collect();
-    let worst = residual.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
-    assert!(
-        worst <= tolerance,
-        "{what}:\n  expected {expected:?}\n  got      {got:?}\n  residual {residual:?} (max {worst:e} > tolerance {tolerance:e})"
-    );
-}
-
-/// Largest absolute entry.
-pub(crate) fn max_abs(values: &[f64]) -> f64 {
-    values.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
-}
 
 /// The engine's `q̈` (built through [`Scene::build`]) equals the scene's closed form at every
 /// state, to [`ENGINE_VS_CLOSED_FORM`] relative to the largest acceleration.
@@ -96,9 +81,13 @@ pub(crate) fn assert_exact_solution_consistent(scene: &dyn Scene, params: &Param
         let (dq, dqdot) = central(FD_STEP / 2.0);
         let magnitude = max_abs(&q).max(max_abs(&qdot)).max(max_abs(&qddot)).max(1.0);
         let round_off = 2.0 * EXACT_ROUND_OFF * f64::EPSILON * magnitude / (FD_STEP / 2.0);
-        let gap = |a: &[f64], b: &[f64]| a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
         let what = format!("{id}: derivative of the exact solution at t = {t}");
-        assert_close(&format!("{what}: dq/dt vs q̇"), &qdot, &dq, gap(&dq_h, &dq) + round_off);
-        assert_close(&format!("{what}: dq̇/dt vs closed-form q̈"), &qddot, &dqdot, gap(&dqdot_h, &dqdot) + round_off);
+        assert_close(&format!("{what}: dq/dt vs q̇"), &qdot, &dq, max_abs_diff(&dq_h, &dq) + round_off);
+        assert_close(
+            &format!("{what}: dq̇/dt vs closed-form q̈"),
+            &qddot,
+            &dqdot,
+            max_abs_diff(&dqdot_h, &dqdot) + round_off,
+        );
     }
 }

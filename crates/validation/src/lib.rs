@@ -5,10 +5,12 @@
 //! ([`reference`]), the measurement of one run ([`measure`]), the sweeps of a scene
 //! ([`runs`]), the work-precision fronts and their comparison ([`pareto`]), the assembly of a
 //! scene's report ([`assemble`]) into the serialized [`schema`], and the stability suite with
-//! its theory ([`stability`]). Rendering (Markdown, SVG plots, the terminal summary) and file
+//! its theory ([`stability`]); the helpers every check shares ([`fixtures`]) and the tolerances
+//! with their reasons ([`tolerance`]). Rendering (Markdown, SVG plots, the terminal summary) and file
 //! writing stay in the command line.
 
 pub mod assemble;
+pub mod fixtures;
 pub mod measure;
 pub mod pareto;
 pub mod plan;
@@ -16,3 +18,4 @@ pub mod reference;
 pub mod runs;
 pub mod schema;
 pub mod stability;
+pub mod tolerance;

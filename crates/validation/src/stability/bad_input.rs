@@ -2,9 +2,11 @@
 //! returned as values, and invalid parameters or settings not rejected by name.
 
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement};
+use crate::fixtures::{Rng, rng};
 use lagrange::{Error, Method, Output, State, System, Tolerances};
 use lagrange_maximal::{BuildError, Engine, Settings};
 use lagrange_scenes::{Domain, Params, Scene};
+use rand::Rng as _;
 use std::collections::BTreeSet;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
@@ -32,23 +34,6 @@ pub const BAD_INPUT: CaseSpec = CaseSpec {
              or zero mass, length or step is rejected with the parameter named.",
     run: bad_input,
 };
-
-/// A small fixed-seed generator (xorshift64*), so that the report needs no random-number crate.
-struct Random(u64);
-
-impl Random {
-    /// Uniform in `[0, 1)`.
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, low: f64, high: f64) -> f64 {
-        low + (high - low) * self.next()
-    }
-}
 
 /// What the calls of one scene did.
 #[derive(Default)]
@@ -96,15 +81,15 @@ fn parameter_sets(scene: &dyn Scene) -> Vec<(String, Params)> {
 
 /// Regular states around the default, then overflowing ones (whose values may not be finite:
 /// `overflowing` = true).
-fn states(default: &State, random: &mut Random) -> Vec<(String, State, bool)> {
+fn states(default: &State, random: &mut Rng) -> Vec<(String, State, bool)> {
     let mut states = Vec::new();
     for k in 0..3 {
         let mut s = default.clone();
         for q in &mut s.q {
-            *q = *q * random.range(0.5, 1.5) + random.range(-0.3, 0.3);
+            *q = *q * random.random_range(0.5..1.5) + random.random_range(-0.3..0.3);
         }
         for v in &mut s.qdot {
-            *v = random.range(-3.0, 3.0);
+            *v = random.random_range(-3.0..3.0);
         }
         states.push((format!("random {k}"), s, false));
     }
@@ -270,7 +255,7 @@ fn run_scenes(case: &mut CaseBuilder) -> Result<(), String> {
     for (index, scene) in lagrange_scenes::all().iter().enumerate() {
         let start = Instant::now();
         let mut tally = Tally::default();
-        let mut random = Random(0x9E37_79B9_7F4A_7C15 ^ (index as u64 + 1));
+        let mut random = rng(0x9E37_79B9_7F4A_7C15 ^ (index as u64 + 1));
         for (label, params) in parameter_sets(*scene) {
             let Some(Ok(mut system)) = tally.call("build", || scene.build(&params)) else {
                 tally.not_named.push(format!("build [{label}]: valid parameters rejected"));

@@ -4,6 +4,8 @@ use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, relative_energy_error, scene_params,
     timed_simulate,
 };
+use crate::fixtures::{condition_number, max_abs, max_abs_diff, phase};
+use crate::tolerance::conditioned;
 use lagrange::{Method, Model, Output, Simulation, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::Params;
@@ -27,26 +29,9 @@ pub const EXTREME: CaseSpec = CaseSpec {
     run: extreme,
 };
 
-/// `max(1e-12, 64 ε κ)`: round-off of a solve with condition number `κ` (tests/src/tolerance.rs).
-fn conditioned(kappa: f64) -> f64 {
-    1e-12_f64.max(64.0 * f64::EPSILON * kappa)
-}
-
 /// Round-off of `steps` fixed steps on a uniformly accelerated motion (relative).
 fn constant_acceleration_bound(kappa: f64, steps: usize) -> f64 {
     conditioned(kappa) + 4.0 * f64::EPSILON * steps as f64
-}
-
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0, |m, x| m.max(x.abs()))
-}
-
-fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
-}
-
-fn phase(state: &State) -> Vec<f64> {
-    [state.q.as_slice(), state.qdot.as_slice()].concat()
 }
 
 /// `(params, system)` of a scene with changes.
@@ -127,8 +112,7 @@ fn wedge(case: &mut CaseBuilder) -> Result<(), String> {
     for (ratio, angle) in cases {
         let changes = [("wedge_mass", 1.0), ("block_mass", ratio), ("angle", angle)];
         let (params, mut system) = setup("wedge", &changes)?;
-        let kappa =
-            symmetric_condition(2, system.mass_matrix(0.0, &initial.q, &initial.qdot).map_err(|e| e.to_string())?);
+        let kappa = condition_number(2, system.mass_matrix(0.0, &initial.q, &initial.qdot).map_err(|e| e.to_string())?);
         let exact = scene.exact_solution(&params, &initial, 1.0).map_err(|e| e.to_string())?.ok_or("no closed form")?;
         let label = format!("m/M = {ratio:.0e}, α = {angle:.6}");
         for method in
@@ -362,7 +346,7 @@ fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
         let a = fast.accelerations(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
         let b = generic.accelerations(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
         let mass = generic.mass_matrix(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
-        let kappa = symmetric_condition(4, &mass);
+        let kappa = condition_number(4, &mass);
         case.push(
             with_masses(Measurement::new(
                 label.clone(),
@@ -395,63 +379,4 @@ fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
         }
     }
     Ok(())
-}
-
-/// Condition number of a symmetric positive definite matrix by Jacobi rotations (n ≤ 8).
-fn symmetric_condition(n: usize, m: &[f64]) -> f64 {
-    let mut a = m.to_vec();
-    for _ in 0..100 {
-        let mut off = 0.0;
-        for p in 0..n {
-            for q in p + 1..n {
-                off += a[p * n + q] * a[p * n + q];
-            }
-        }
-        if off <= 1e-30 * a.iter().map(|x| x * x).sum::<f64>() {
-            break;
-        }
-        for p in 0..n {
-            for q in p + 1..n {
-                let apq = a[p * n + q];
-                if apq == 0.0 {
-                    continue;
-                }
-                let theta = (a[q * n + q] - a[p * n + p]) / (2.0 * apq);
-                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-                let t = if theta == 0.0 { 1.0 } else { t };
-                let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
-                for k in 0..n {
-                    let (akp, akq) = (a[k * n + p], a[k * n + q]);
-                    a[k * n + p] = c * akp - s * akq;
-                    a[k * n + q] = s * akp + c * akq;
-                }
-                for k in 0..n {
-                    let (apk, aqk) = (a[p * n + k], a[q * n + k]);
-                    a[p * n + k] = c * apk - s * aqk;
-                    a[q * n + k] = s * apk + c * aqk;
-                }
-            }
-        }
-    }
-    let diagonal: Vec<f64> = (0..n).map(|i| a[i * n + i].abs()).collect();
-    let (low, high) = diagonal.iter().fold((f64::INFINITY, 0.0_f64), |(l, h), &d| (l.min(d), h.max(d)));
-    high / low
-}
-
-#[cfg(test)]
-mod tests {
-    use super::symmetric_condition;
-
-    #[test]
-    fn condition_numbers_of_known_matrices() {
-        // diag(1, 4) turned by 30°.
-        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
-        let m = [c * c + 4.0 * s * s, 3.0 * c * s, 3.0 * c * s, s * s + 4.0 * c * c];
-        assert!((symmetric_condition(2, &m) - 4.0).abs() < 1e-12);
-        let mut d = [0.0; 16];
-        for (i, v) in [2.0, 1e-3, 5.0, 1.0].into_iter().enumerate() {
-            d[i * 4 + i] = v;
-        }
-        assert!((symmetric_condition(4, &d) / 5e3 - 1.0).abs() < 1e-12);
-    }
 }

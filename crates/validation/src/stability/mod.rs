@@ -19,6 +19,7 @@ mod orbit;
 mod singular;
 mod stiff;
 
+use crate::fixtures::relative_energy_error;
 use lagrange::integrate::Stats;
 use lagrange::{Method, Output, State, System, Trajectory};
 use lagrange_scenes::{Params, Scene};
@@ -294,12 +295,6 @@ fn timed_simulate(
     let start = Instant::now();
     let result = system.simulate(initial, t_end, method, output);
     (result, start.elapsed().as_secs_f64())
-}
-
-/// `max_k |E_k − E_0| / |E_0|`.
-fn relative_energy_error(energy: &[f64]) -> f64 {
-    let e0 = energy[0];
-    energy.iter().map(|e| (e - e0).abs()).fold(0.0, f64::max) / e0.abs()
 }
 
 /// The scene's defaults with `changes` (parameter names; the values are valid by construction).

@@ -1,4 +1,5 @@
-//! Every tolerance of the integration tests, with where its size comes from.
+//! Every tolerance of the checks (the integration tests and the report's stability cases), with
+//! where its size comes from.
 
 /// Machine epsilon.
 pub const EPS: f64 = f64::EPSILON;
@@ -33,7 +34,7 @@ pub const FD_STEP: f64 = 6e-6;
 pub const LINEAR_STABILITY_LIMIT: f64 = 1e-9;
 
 /// A measured stability limit against the linear theory where the criterion or the problem is
-/// not exactly linear (the issue's 1 %): the spring pendulum swinging (its radial frequency moves
+/// not exactly linear (1 %): the spring pendulum swinging (its radial frequency moves
 /// by `O(θ̇²/ω²)`, 4e-3 at `k/m = 1e2`), rapier's oscillator (the criterion "energy grows two-fold
 /// between the first and last tenth of the run" triggers `O(1/N)` beyond the boundary), a
 /// growth threshold of 2 (`ln 2 / (14 N)` beyond it for RK4). Measured deviations: ≤ 2e-4.
