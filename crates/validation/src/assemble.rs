@@ -92,7 +92,7 @@ fn method_report(index: usize, family: &FamilyRuns, own_front: &Front) -> Method
                 Err(reason) => RunReport {
                     settings: settings_report(run.setting),
                     status: "failed",
-                    reason: Some(reason.clone()),
+                    reason: Some(reason.to_string()),
                     max_error: None,
                     final_error: None,
                     energy_error: None,

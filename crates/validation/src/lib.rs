@@ -10,6 +10,7 @@
 //! writing stay in the command line.
 
 pub mod assemble;
+mod error;
 pub mod fixtures;
 pub mod measure;
 pub mod pareto;
@@ -19,3 +20,5 @@ pub mod runs;
 pub mod schema;
 pub mod stability;
 pub mod tolerance;
+
+pub use error::{Error, scene};

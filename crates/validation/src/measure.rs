@@ -1,6 +1,7 @@
 //! One run of one method at one setting: its error against the reference at every saved time,
 //! its energy error and constraint violation where they mean something, and its wall time.
 
+use crate::Error;
 use crate::plan::Timing;
 use crate::reference::{Reference, max_or_nan};
 use lagrange::{Method, Output, State, System};
@@ -51,7 +52,7 @@ fn relative_energy_error(energy: f64, initial: f64) -> f64 {
 /// Run `once` (which returns the wall time of its timed part) `timing.warmup − 1` more times
 /// untimed, then up to `timing.repetitions` times timed, stopping once the timed runs add up to
 /// `timing.budget` (at least one); the minimum and the number of timed runs.
-fn time(timing: &Timing, mut once: impl FnMut() -> Result<f64, String>) -> Result<(f64, usize), String> {
+fn time(timing: &Timing, mut once: impl FnMut() -> Result<f64, Error>) -> Result<(f64, usize), Error> {
     for _ in 1..timing.warmup {
         once()?;
     }
@@ -80,10 +81,10 @@ pub fn reduced(
     method: Method,
     reference: &Reference,
     timing: &Timing,
-) -> Result<Measured, String> {
+) -> Result<Measured, Error> {
     let t_end = times.last().copied().unwrap_or(initial.t);
     let output = Output::Times(times.to_vec());
-    let trajectory = system.simulate(initial, t_end, method, &output).map_err(|e| e.to_string())?;
+    let trajectory = system.simulate(initial, t_end, method, &output)?;
     let errors = (0..trajectory.len()).map(|k| reference.error(k, trajectory.q(k))).collect();
     let energy_error = system.conserves_energy().then(|| {
         let initial_energy = trajectory.energy[0];
@@ -91,7 +92,7 @@ pub fn reduced(
     });
     let (wall_time, timed_repetitions) = time(timing, || {
         let start = Instant::now();
-        let trajectory = system.simulate(black_box(initial), t_end, method, &output).map_err(|e| e.to_string())?;
+        let trajectory = system.simulate(black_box(initial), t_end, method, &output)?;
         let seconds = start.elapsed().as_secs_f64();
         black_box(trajectory);
         Ok(seconds)
@@ -107,10 +108,10 @@ pub fn reduced(
 }
 
 /// Advance `simulation` through `times`, timing only the `advance_to` calls.
-fn advance(simulation: &mut dyn MaximalSimulation, times: &[f64]) -> Result<f64, String> {
+fn advance(simulation: &mut dyn MaximalSimulation, times: &[f64]) -> Result<f64, Error> {
     let start = Instant::now();
     for &t in times {
-        simulation.advance_to(t).map_err(|e| e.to_string())?;
+        simulation.advance_to(t)?;
     }
     Ok(start.elapsed().as_secs_f64())
 }
@@ -132,21 +133,20 @@ pub fn maximal(
     times: &[f64],
     reference: &Reference,
     timing: &Timing,
-) -> Result<Measured, String> {
+) -> Result<Measured, Error> {
     let params = &built.params;
     let mut simulation = built.simulation;
-    let text = |e: lagrange::Error| e.to_string();
-    let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies()).map_err(text)?;
+    let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies())?;
     let mut q_previous = initial.q.clone();
     let (mut errors, mut energy_error, mut violation) = (Vec::with_capacity(times.len()), 0.0, None::<f64>);
     for (k, &t) in times.iter().enumerate() {
-        simulation.advance_to(t).map_err(text)?;
+        simulation.advance_to(t)?;
         let bodies = simulation.bodies();
-        let (q, _) = maps::generalized(scene, params, t, &bodies, &q_previous).map_err(text)?;
+        let (q, _) = maps::generalized(scene, params, t, &bodies, &q_previous)?;
         errors.push(reference.error(k, &q));
         q_previous = q;
         if conserves_energy {
-            let energy = maps::energy(scene, params, t, &bodies).map_err(text)?;
+            let energy = maps::energy(scene, params, t, &bodies)?;
             energy_error = max_or_nan(energy_error, relative_energy_error(energy, initial_energy));
         }
         if let Some(v) = simulation.constraint_violation() {
@@ -155,7 +155,7 @@ pub fn maximal(
     }
     let steps = simulation.steps();
     let (wall_time, timed_repetitions) = time(timing, || {
-        let mut built = build(engine, scene, requested, initial, settings).map_err(|e| e.to_string())?;
+        let mut built = build(engine, scene, requested, initial, settings)?;
         advance(built.simulation.as_mut(), times)
     })?;
     Ok(Measured {

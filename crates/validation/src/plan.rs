@@ -1,6 +1,7 @@
 //! What the report runs: the horizon, the saved times, the sweep of every method family, and
 //! how runs are timed — one plan for the full report, a smaller one for `--quick`.
 
+use crate::Error;
 use lagrange_maximal::Engine;
 
 /// Interval between saved times (s). Every fixed step of the sweeps is `0.05 · 2⁻ᵏ` or
@@ -179,15 +180,15 @@ impl Plan {
     ///
     /// # Errors
     /// A horizon that is not a positive multiple of [`SAMPLE_INTERVAL`].
-    pub fn new(quick: bool, horizon: Option<f64>) -> Result<Plan, String> {
+    pub fn new(quick: bool, horizon: Option<f64>) -> Result<Plan, Error> {
         let horizon = horizon.unwrap_or(if quick { QUICK_HORIZON } else { FULL_HORIZON });
         let count = (horizon / SAMPLE_INTERVAL).round();
         let on_grid = (horizon / SAMPLE_INTERVAL - count).abs() <= 1e-9 * count.max(1.0);
         if !(horizon.is_finite() && horizon > 0.0 && count >= 1.0 && on_grid) {
-            return Err(format!("--t-end must be a positive multiple of {SAMPLE_INTERVAL} s, got {horizon}"));
+            return Err(Error::HorizonNotOnGrid { horizon, interval: SAMPLE_INTERVAL });
         }
         if count > 1e5 {
-            return Err(format!("--t-end {horizon} s is too long for a report (at most {} s)", 1e5 * SAMPLE_INTERVAL));
+            return Err(Error::HorizonTooLong { horizon, limit: 1e5 * SAMPLE_INTERVAL });
         }
         let times = (0..=count as usize).map(|k| k as f64 * SAMPLE_INTERVAL).collect();
         let halvings = |k: usize| (0..k).map(|j| SAMPLE_INTERVAL / f64::powi(2.0, j as i32)).collect();

@@ -1,6 +1,7 @@
 //! The reference trajectory every run of a scene is measured against: the scene's closed form
 //! where it has one, otherwise a tight-tolerance reduced solution.
 
+use crate::Error;
 use crate::plan::REFERENCE_TOLERANCE;
 use lagrange::{Method, Output, State, Tolerances};
 use lagrange_scenes::{Params, Scene};
@@ -49,8 +50,8 @@ impl Reference {
     ///
     /// # Errors
     /// Invalid parameters, or a failing reference run.
-    pub fn new(scene: &dyn Scene, params: &Params, initial: &State, times: &[f64]) -> Result<Reference, String> {
-        let context = |e: lagrange::Error| format!("{}: reference: {e}", scene.id());
+    pub fn new(scene: &dyn Scene, params: &Params, initial: &State, times: &[f64]) -> Result<Reference, Error> {
+        let context = |source| Error::Reference { scene: scene.id().to_string(), source };
         let mut exact = Vec::with_capacity(times.len());
         for &t in times {
             match scene.exact_solution(params, initial, t).map_err(context)? {
@@ -93,7 +94,7 @@ impl References {
         params: &Params,
         initial: &State,
         times: &[f64],
-    ) -> Result<&Reference, String> {
+    ) -> Result<&Reference, Error> {
         let index = match self.known.iter().position(|r| &r.params == params) {
             Some(index) => index,
             None => {

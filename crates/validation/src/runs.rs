@@ -2,6 +2,7 @@
 //! (and whether a rapier build honours substeps), then every run, measured against the
 //! reference of the problem it actually simulates.
 
+use crate::Error;
 use crate::measure::{self, Measured};
 use crate::plan::{CARTESIAN_CHECK_TOLERANCE, Family, Plan, Setting};
 use crate::reference::{Reference, ReferenceKind, References};
@@ -40,9 +41,9 @@ impl ScenePlan {
     ///
     /// # Errors
     /// Invalid default parameters or state (a bug in the scene).
-    pub fn new(scene: &'static dyn Scene, plan: &Plan) -> Result<ScenePlan, String> {
+    pub fn new(scene: &'static dyn Scene, plan: &Plan) -> Result<ScenePlan, Error> {
         let params = scene.default_params();
-        let initial = scene.default_state(&params).map_err(|e| format!("{}: {e}", scene.id()))?;
+        let initial = scene.default_state(&params).map_err(|e| Error::scene(scene.id(), e))?;
         let families = Family::ALL
             .into_iter()
             .map(|family| {
@@ -98,7 +99,7 @@ pub struct Run {
     /// The setting.
     pub setting: Setting,
     /// The measurement, or the failure as a sentence.
-    pub outcome: Result<Measured, String>,
+    pub outcome: Result<Measured, Error>,
 }
 
 /// Every run of one family.
@@ -134,12 +135,12 @@ impl SceneRuns {
     ///
     /// # Errors
     /// A failing scene build or reference (runs that fail are recorded, not errors).
-    pub fn execute(scene_plan: &ScenePlan, plan: &Plan, mut progress: impl FnMut(&str)) -> Result<SceneRuns, String> {
+    pub fn execute(scene_plan: &ScenePlan, plan: &Plan, mut progress: impl FnMut(&str)) -> Result<SceneRuns, Error> {
         let ScenePlan { scene, params, initial, .. } = scene_plan;
         let scene = *scene;
         let id = scene.id();
-        let system = scene.build(params).map_err(|e| format!("{id}: {e}"))?;
-        let coordinates = scene.coordinates(params).map_err(|e| format!("{id}: {e}"))?;
+        let system = scene.build(params).map_err(|e| Error::scene(id, e))?;
+        let coordinates = scene.coordinates(params).map_err(|e| Error::scene(id, e))?;
         let conserves_energy = system.conserves_energy();
         let mut references = References::default();
         let reference = references.get(scene, params, initial, &plan.times)?.clone();
@@ -160,13 +161,12 @@ impl SceneRuns {
                     }
                     family => {
                         result.reference = Some(reference.kind);
-                        let method = reduced_method(family, setting);
-                        measure::reduced(system.as_ref(), initial, &plan.times, method, &reference, &plan.timing)
+                        reduced_method(family, setting).and_then(|method| {
+                            measure::reduced(system.as_ref(), initial, &plan.times, method, &reference, &plan.timing)
+                        })
                     }
                 };
-                let outcome = outcome.and_then(|m| {
-                    if m.is_finite() { Ok(m) } else { Err("the run blew up (non-finite error)".to_string()) }
-                });
+                let outcome = outcome.and_then(|m| if m.is_finite() { Ok(m) } else { Err(Error::NonFinite) });
                 result.runs.push(Run { setting, outcome });
             }
             families.push(result);
@@ -184,10 +184,10 @@ fn run_maximal(
     conserves_energy: bool,
     references: &mut References,
     result: &mut FamilyRuns,
-) -> Result<Measured, String> {
+) -> Result<Measured, Error> {
     let ScenePlan { scene, params, initial, .. } = scene_plan;
     let settings = maximal_settings(setting);
-    let built = build(engine, scene.id(), params, initial, &settings).map_err(|e| e.to_string())?;
+    let built = build(engine, scene.id(), params, initial, &settings)?;
     let reference = references.get(*scene, &built.params, initial, &plan.times)?;
     result.deviations.clone_from(&built.deviations);
     result.reference = Some(reference.kind);
@@ -203,14 +203,16 @@ fn maximal_settings(setting: Setting) -> Settings {
     }
 }
 
-fn reduced_method(family: Family, setting: Setting) -> Method {
+/// The reduced method of `family` at `setting`.
+///
+/// # Errors
+/// [`Error::NoSuchSetting`] when the family does not take the setting (a bug in the plan): the
+/// run is recorded as failed, never silently replaced by another method.
+fn reduced_method(family: Family, setting: Setting) -> Result<Method, Error> {
     match (family, setting) {
-        (Family::Rk4, Setting::Step { dt }) => Method::Rk4 { dt },
-        (Family::Variational, Setting::Step { dt }) => Method::Variational { dt },
-        (_, Setting::Tolerance { tol }) => Method::Adaptive { tol: Tolerances::uniform(tol) },
-        (_, setting) => {
-            debug_assert!(false, "{family:?} has no setting {setting:?}");
-            Method::Adaptive { tol: Tolerances::uniform(1e-8) }
-        }
+        (Family::Rk4, Setting::Step { dt }) => Ok(Method::Rk4 { dt }),
+        (Family::Variational, Setting::Step { dt }) => Ok(Method::Variational { dt }),
+        (Family::Adaptive, Setting::Tolerance { tol }) => Ok(Method::Adaptive { tol: Tolerances::uniform(tol) }),
+        (family, setting) => Err(Error::NoSuchSetting { family: family.name(), setting: setting.describe() }),
     }
 }

@@ -236,7 +236,7 @@ fn invalid_parameters(tally: &mut Tally, scene: &dyn Scene) {
     }
 }
 
-fn bad_input(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
+fn bad_input(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error> {
     case.setup = "Per scene: the defaults and every mass scaled by 1e-6 and 1e6; at three random states (fixed seed) \
                   and at q = 1e300, q̇ = 1e200, q = 0: accelerations, reaction forces, mass matrix, momenta, energy; \
                   at NaN q, ∞ q̇, NaN t and a short q: the same, which must be errors; 0.1 s runs with every method \
@@ -251,7 +251,7 @@ fn bad_input(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
     result
 }
 
-fn run_scenes(case: &mut CaseBuilder) -> Result<(), String> {
+fn run_scenes(case: &mut CaseBuilder) -> Result<(), crate::Error> {
     for (index, scene) in lagrange_scenes::all().iter().enumerate() {
         let start = Instant::now();
         let mut tally = Tally::default();
@@ -261,7 +261,7 @@ fn run_scenes(case: &mut CaseBuilder) -> Result<(), String> {
                 tally.not_named.push(format!("build [{label}]: valid parameters rejected"));
                 continue;
             };
-            let default = scene.default_state(&params).map_err(|e| e.to_string())?;
+            let default = scene.default_state(&params)?;
             for (state_label, state, overflowing) in states(&default, &mut random) {
                 evaluate(&mut tally, system.as_mut(), &state, overflowing, &state_label);
             }

@@ -1,6 +1,7 @@
 //! Chaos: how long runs at neighbouring tolerances agree, against the Lyapunov exponent.
 
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find};
+use crate::Error;
 use lagrange::{Method, Output, State, System, Tolerances, Trajectory};
 use std::time::Instant;
 
@@ -27,15 +28,15 @@ fn agreement_time(a: &Trajectory, b: &Trajectory, horizon: f64) -> f64 {
 }
 
 /// Benettin's largest Lyapunov exponent: separation 1e-8 renormalized every `segment`.
-fn lyapunov(system: &dyn System, initial: &State, segment: f64, segments: usize) -> Result<f64, String> {
+fn lyapunov(system: &dyn System, initial: &State, segment: f64, segments: usize) -> Result<f64, Error> {
     let method = Method::Adaptive { tol: Tolerances::uniform(1e-13) };
     let d0 = 1e-8;
     let (mut a, mut b) = (initial.clone(), initial.clone());
     b.q[0] += d0;
     let mut sum = 0.0;
-    let last = |s: &State, t: f64| -> Result<State, String> {
-        let run = system.simulate(s, t, method, &Output::Ends).map_err(|e| e.to_string())?;
-        run.last_state().ok_or_else(|| "empty run".to_string())
+    let last = |s: &State, t: f64| -> Result<State, Error> {
+        let run = system.simulate(s, t, method, &Output::Ends)?;
+        run.last_state().ok_or(Error::Missing("empty run"))
     };
     for _ in 0..segments {
         let t = a.t + segment;
@@ -54,7 +55,7 @@ fn lyapunov(system: &dyn System, initial: &State, segment: f64, segments: usize)
     Ok(sum / (segment * segments as f64))
 }
 
-fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let horizon = effort.pick(60.0, 40.0);
     let decades: Vec<i32> = effort.pick((4..=13).collect(), (4..=11).collect());
     let initial = State::new(0.0, [2.0, 2.0], [0.0, 0.0]);
@@ -66,13 +67,13 @@ fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
         effort.pick(100, 50)
     );
     let scene = find("double_pendulum")?;
-    let system = scene.build(&scene.default_params()).map_err(|e| e.to_string())?;
+    let system = scene.build(&scene.default_params())?;
     let mut runs = Vec::new();
     for &d in &decades {
         let tol = 10f64.powi(-d);
         let start = Instant::now();
         let method = Method::Adaptive { tol: Tolerances::uniform(tol) };
-        let run = system.simulate(&initial, horizon, method, &Output::Every(0.01)).map_err(|e| e.to_string())?;
+        let run = system.simulate(&initial, horizon, method, &Output::Every(0.01))?;
         runs.push((tol, run, start.elapsed().as_secs_f64()));
     }
     let mut points = Vec::new();

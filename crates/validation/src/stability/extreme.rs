@@ -4,6 +4,7 @@ use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, relative_energy_error, scene_params,
     timed_simulate,
 };
+use crate::Error;
 use crate::fixtures::{condition_number, max_abs, max_abs_diff, phase};
 use crate::tolerance::conditioned;
 use lagrange::{Method, Model, Output, Simulation, State, System, Tolerances};
@@ -35,10 +36,10 @@ fn constant_acceleration_bound(kappa: f64, steps: usize) -> f64 {
 }
 
 /// `(params, system)` of a scene with changes.
-fn setup(id: &str, changes: &[(&str, f64)]) -> Result<(Params, Box<dyn System>), String> {
+fn setup(id: &str, changes: &[(&str, f64)]) -> Result<(Params, Box<dyn System>), Error> {
     let scene = find(id)?;
     let params = scene_params(scene, changes)?;
-    let system = scene.build(&params).map_err(|e| format!("{id}: {e}"))?;
+    let system = scene.build(&params).map_err(|e| Error::scene(id, e))?;
     Ok((params, system))
 }
 
@@ -85,7 +86,7 @@ fn rapier_error(
     }
 }
 
-fn extreme(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+fn extreme(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     case.setup = "Wedge (M = 1): m ∈ {1e-6, 1e6} at α = π/6, and m ∈ {1e-6, 1, 1e6} at α = 1e-6 and π/2 − 1e-6, from \
                   rest for 1 s (dt = 0.01). Atwood (a = 0.5): m1 = m2 = 1 with I = 0.1 and I = 1e8 a² for 100 s with \
                   every method; (m1, m2, I) = (2, 1, 1e8 a²), (1e-6, 1, 0.1), (1e6, 1, 0.1), (1, 1e6, 0.1) from \
@@ -102,7 +103,7 @@ fn extreme(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
     Ok(())
 }
 
-fn wedge(case: &mut CaseBuilder) -> Result<(), String> {
+fn wedge(case: &mut CaseBuilder) -> Result<(), Error> {
     let scene = find("wedge")?;
     let mut cases: Vec<(f64, f64)> = vec![(1e-6, PI / 6.0), (1e6, PI / 6.0)];
     for angle in [1e-6, FRAC_PI_2 - 1e-6] {
@@ -112,8 +113,8 @@ fn wedge(case: &mut CaseBuilder) -> Result<(), String> {
     for (ratio, angle) in cases {
         let changes = [("wedge_mass", 1.0), ("block_mass", ratio), ("angle", angle)];
         let (params, mut system) = setup("wedge", &changes)?;
-        let kappa = condition_number(2, system.mass_matrix(0.0, &initial.q, &initial.qdot).map_err(|e| e.to_string())?);
-        let exact = scene.exact_solution(&params, &initial, 1.0).map_err(|e| e.to_string())?.ok_or("no closed form")?;
+        let kappa = condition_number(2, system.mass_matrix(0.0, &initial.q, &initial.qdot)?);
+        let exact = scene.exact_solution(&params, &initial, 1.0)?.ok_or(Error::Missing("no closed form"))?;
         let label = format!("m/M = {ratio:.0e}, α = {angle:.6}");
         for method in
             [Method::Rk4 { dt: 0.01 }, Method::Gauss { dt: 0.01 }, Method::Implicit { tol: Tolerances::uniform(1e-10) }]
@@ -130,8 +131,8 @@ fn wedge(case: &mut CaseBuilder) -> Result<(), String> {
             let bound = constant_acceleration_bound(kappa, 100);
             let m = match run {
                 Ok(t) => {
-                    let got = phase(&t.last_state().ok_or("empty run")?);
-                    let p_x = system.momenta(1.0, t.q(1), t.qdot(1)).map_err(|e| e.to_string())?[0];
+                    let got = phase(&t.last_state().ok_or(Error::Missing("empty run"))?);
+                    let p_x = system.momenta(1.0, t.q(1), t.qdot(1))?[0];
                     m.value(max_abs_diff(&got, &phase(&exact)) / max_abs(&phase(&exact)))
                         .cost(Cost::of(&t.stats, wall))
                         .note(format!("κ(M) = {kappa:.2e}; horizontal momentum p_x = {p_x:.2e} (exactly 0 initially)"))
@@ -147,13 +148,13 @@ fn wedge(case: &mut CaseBuilder) -> Result<(), String> {
     Ok(())
 }
 
-fn atwood(case: &mut CaseBuilder) -> Result<(), String> {
+fn atwood(case: &mut CaseBuilder) -> Result<(), Error> {
     let scene = find("atwood")?;
     let quarter = 0.25; // a² for the default radius a = 0.5
     for inertia in [0.1, 1e8 * quarter] {
         let changes = [("mass_1", 1.0), ("mass_2", 1.0), ("pulley_inertia", inertia)];
         let (params, system) = setup("atwood", &changes)?;
-        let initial = scene.default_state(&params).map_err(|e| e.to_string())?;
+        let initial = scene.default_state(&params)?;
         let label = format!("m1 = m2, I = {inertia:.1e}");
         let methods = [
             Method::Rk4 { dt: 0.01 },
@@ -229,8 +230,7 @@ fn atwood(case: &mut CaseBuilder) -> Result<(), String> {
     for (m1, m2, inertia) in cases {
         let changes = [("mass_1", m1), ("mass_2", m2), ("pulley_inertia", inertia)];
         let (params, system) = setup("atwood", &changes)?;
-        let exact =
-            phase(&scene.exact_solution(&params, &initial, 1.0).map_err(|e| e.to_string())?.ok_or("no closed form")?);
+        let exact = phase(&scene.exact_solution(&params, &initial, 1.0)?.ok_or(Error::Missing("no closed form"))?);
         let label = format!("m1 = {m1:.0e}, m2 = {m2:.0e}, I = {inertia:.1e}");
         for method in [Method::Rk4 { dt: 0.01 }, Method::Gauss { dt: 0.01 }, Method::Variational { dt: 0.01 }] {
             let (run, wall) = timed_simulate(system.as_ref(), &initial, 1.0, method, &Output::Ends);
@@ -244,7 +244,7 @@ fn atwood(case: &mut CaseBuilder) -> Result<(), String> {
             .method_settings(method, 1.0);
             let m = match run {
                 Ok(t) => {
-                    let got = phase(&t.last_state().ok_or("empty run")?);
+                    let got = phase(&t.last_state().ok_or(Error::Missing("empty run"))?);
                     m.value(max_abs_diff(&got, &exact) / max_abs(&exact)).cost(Cost::of(&t.stats, wall))
                 }
                 Err(e) => m.failed(e),
@@ -257,11 +257,11 @@ fn atwood(case: &mut CaseBuilder) -> Result<(), String> {
     Ok(())
 }
 
-fn cart_pendulum(case: &mut CaseBuilder) -> Result<(), String> {
+fn cart_pendulum(case: &mut CaseBuilder) -> Result<(), Error> {
     for ratio in [1e-6, 1e6] {
         let changes = [("cart_mass", 1.0), ("bob_mass", ratio), ("rod_length", 1.0)];
         let (params, mut system) = setup("cart_pendulum", &changes)?;
-        let cart = lagrange_scenes::cart_pendulum::CartPendulum::from_params(&params).map_err(|e| e.to_string())?;
+        let cart = lagrange_scenes::cart_pendulum::CartPendulum::from_params(&params)?;
         let omega = cart.small_oscillation_frequency();
         let period = 2.0 * PI / omega;
         let label = format!("m/M = {ratio:.0e}");
@@ -299,7 +299,7 @@ fn cart_pendulum(case: &mut CaseBuilder) -> Result<(), String> {
         // Horizontal momentum under the variational integrator.
         let moving = State::new(0.0, [0.0, 0.5], [0.3, -1.0]);
         let steps = 20_000;
-        let p0 = system.momenta(0.0, &moving.q, &moving.qdot).map_err(|e| e.to_string())?[0];
+        let p0 = system.momenta(0.0, &moving.q, &moving.qdot)?[0];
         let method = Method::Variational { dt };
         let (run, wall) =
             timed_simulate(system.as_ref(), &moving, steps as f64 * dt, method, &Output::Every(100.0 * dt));
@@ -312,7 +312,7 @@ fn cart_pendulum(case: &mut CaseBuilder) -> Result<(), String> {
             Ok(t) => {
                 let mut drift: f64 = 0.0;
                 for k in 0..t.len() {
-                    let p = system.momenta(t.t[k], t.q(k), t.qdot(k)).map_err(|e| e.to_string())?[0];
+                    let p = system.momenta(t.t[k], t.q(k), t.qdot(k))?[0];
                     drift = drift.max((p - p0).abs());
                 }
                 m.value(drift / scale).cost(Cost::of(&t.stats, wall))
@@ -327,11 +327,11 @@ fn cart_pendulum(case: &mut CaseBuilder) -> Result<(), String> {
     Ok(())
 }
 
-fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let all = [[1.0, 1e2, 1e4, 1e6], [1e6, 1e4, 1e2, 1.0], [1.0, 1e6, 1.0, 1e6]];
     let horizon = effort.pick(10.0, 2.0);
     for masses in all {
-        let tree = hanging_rods(&masses, 1.0, 9.81).map_err(|e| e.to_string())?;
+        let tree = hanging_rods(&masses, 1.0, 9.81)?;
         let label = format!("masses {masses:?}");
         let scene = "local:chain";
         let parameters: Vec<(String, f64)> =
@@ -340,12 +340,12 @@ fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
             m.parameters.extend(parameters.iter().cloned());
             m
         };
-        let mut fast = Simulation::new(Model::new(tree.clone()).map_err(|e| e.to_string())?);
-        let mut generic = Simulation::new(Model::new_generic(tree).map_err(|e| e.to_string())?);
+        let mut fast = Simulation::new(Model::new(tree.clone())?);
+        let mut generic = Simulation::new(Model::new_generic(tree)?);
         let (q, qdot) = ([0.5, 1.0, -0.3, 2.0], [0.3, -1.0, 2.0, 0.5]);
-        let a = fast.accelerations(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
-        let b = generic.accelerations(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
-        let mass = generic.mass_matrix(0.0, &q, &qdot).map_err(|e| e.to_string())?.to_vec();
+        let a = fast.accelerations(0.0, &q, &qdot)?.to_vec();
+        let b = generic.accelerations(0.0, &q, &qdot)?.to_vec();
+        let mass = generic.mass_matrix(0.0, &q, &qdot)?.to_vec();
         let kappa = condition_number(4, &mass);
         case.push(
             with_masses(Measurement::new(

@@ -2,6 +2,7 @@
 //! their energy drifts.
 
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, timed_simulate};
+use crate::Error;
 use lagrange::integrate::stability as theory;
 use lagrange::{Method, Output, State};
 use lagrange_maximal::{Engine, Settings, build, maps};
@@ -54,7 +55,7 @@ fn energy_rows(case: &mut CaseBuilder, base: &Measurement, energy: &[f64], bound
     case.push(if bound.is_none() { m.check(Check::AtMost, None, Some(1.5)) } else { m });
 }
 
-fn gauss_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+fn gauss_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let steps: usize = effort.pick(10_000_000, 100_000);
     let dt = 0.01;
     case.setup = format!(
@@ -67,7 +68,7 @@ fn gauss_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> 
         ("harmonic_oscillator", State::new(0.0, [0.1], [0.0]), Some(4.0 * f64::EPSILON * steps as f64)),
     ] {
         let scene = find(id)?;
-        let system = scene.build(&scene.default_params()).map_err(|e| e.to_string())?;
+        let system = scene.build(&scene.default_params())?;
         let method = Method::Gauss { dt };
         let t_end = steps as f64 * dt;
         let every = (steps / 1000) as f64 * dt;
@@ -81,7 +82,7 @@ fn gauss_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> 
     Ok(())
 }
 
-fn rapier_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+fn rapier_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let dt = 0.01;
     let runs: [(Engine, usize); 2] = [
         (Engine::RapierImpulse, effort.pick(10_000_000, 100_000)),
@@ -96,7 +97,7 @@ fn rapier_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), String>
     );
     let scene = find("harmonic_oscillator")?;
     let params = scene.default_params();
-    let initial = scene.default_state(&params).map_err(|e| e.to_string())?;
+    let initial = scene.default_state(&params)?;
     let band = theory::symplectic_euler_energy_band(10f64.sqrt() * dt);
     for (engine, steps) in runs {
         let settings = Settings { dt, substeps: 1, tolerance: 1e-12 };

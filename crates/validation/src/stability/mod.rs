@@ -11,6 +11,8 @@
 //! it is checked against where one exists, pass or fail, and the cost (steps, evaluations,
 //! Jacobians, factorizations, wall time).
 
+use crate::Error;
+use crate::scene as find;
 mod bad_input;
 mod chaos;
 mod extreme;
@@ -100,7 +102,8 @@ pub enum Check {
     AtLeast,
     /// `value == theory` exactly.
     Exact,
-    /// The run must end in a typed error (`status` = `failed`); the value, if any, is where.
+    /// The run must end in the engine's error of the expected variant (`expected_error`): any
+    /// other error, or a value, fails.
     TypedError,
     /// A finite value (`status` = `ok`, `value` not null).
     Finite,
@@ -108,6 +111,43 @@ pub enum Check {
     FiniteOrTypedError,
     /// Reported only.
     None,
+}
+
+/// The variant of an engine error (`lagrange::Error`), as recorded and as expected by a
+/// [`Check::TypedError`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ErrorKind {
+    /// `InvalidParameter`.
+    InvalidParameter,
+    /// `DimensionMismatch`.
+    DimensionMismatch,
+    /// `SingularMassMatrix`.
+    SingularMassMatrix,
+    /// `NonFinite`.
+    NonFinite,
+    /// `Diverged`.
+    Diverged,
+    /// `InvalidSetting`.
+    InvalidSetting,
+    /// Any other variant (a failing integration: step-size underflow, too many steps, …).
+    Other,
+}
+
+impl ErrorKind {
+    /// The variant of `error`.
+    pub fn of(error: &lagrange::Error) -> ErrorKind {
+        use lagrange::Error as E;
+        match error {
+            E::InvalidParameter { .. } => ErrorKind::InvalidParameter,
+            E::DimensionMismatch { .. } => ErrorKind::DimensionMismatch,
+            E::SingularMassMatrix { .. } => ErrorKind::SingularMassMatrix,
+            E::NonFinite { .. } => ErrorKind::NonFinite,
+            E::Diverged { .. } => ErrorKind::Diverged,
+            E::InvalidSetting { .. } => ErrorKind::InvalidSetting,
+            _ => ErrorKind::Other,
+        }
+    }
 }
 
 /// The settings of a measurement's run (null where they do not apply).
@@ -181,6 +221,12 @@ pub struct Measurement {
     pub status: &'static str,
     /// The error of a failed run, or a remark.
     pub note: Option<String>,
+    /// The variant of the engine error the run ended in, where it ended in one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<ErrorKind>,
+    /// The variant a [`Check::TypedError`] expects.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected_error: Option<ErrorKind>,
     /// What the run cost.
     pub cost: Cost,
 }
@@ -202,6 +248,8 @@ impl Measurement {
             pass: None,
             status: "ok",
             note: None,
+            error: None,
+            expected_error: None,
             cost: Cost::default(),
         }
     }
@@ -261,6 +309,12 @@ impl Measurement {
         self
     }
 
+    /// Check that the run ended in the engine's error `kind` ([`Check::TypedError`]).
+    fn expect_error(mut self, kind: ErrorKind) -> Self {
+        self.expected_error = Some(kind);
+        self.check(Check::TypedError, None, None)
+    }
+
     /// Check against `theory` with `check` and `bound`, and record whether it passed.
     fn check(mut self, check: Check, theory: Option<f64>, bound: Option<f64>) -> Self {
         self.check = check;
@@ -268,7 +322,9 @@ impl Measurement {
         self.bound = bound;
         self.pass = match (check, self.value, theory, bound) {
             (Check::None, ..) => None,
-            (Check::TypedError, ..) => Some(self.status == "failed"),
+            (Check::TypedError, ..) => {
+                Some(self.status == "failed" && self.error.is_some() && self.error == self.expected_error)
+            }
             (Check::Finite, ..) => Some(self.status == "ok" && self.value.is_some()),
             (Check::FiniteOrTypedError, ..) => Some(self.status == "failed" || self.value.is_some()),
             (_, None, ..) => Some(false),
@@ -298,17 +354,12 @@ fn timed_simulate(
 }
 
 /// The scene's defaults with `changes` (parameter names; the values are valid by construction).
-fn scene_params(scene: &dyn Scene, changes: &[(&str, f64)]) -> Result<Params, String> {
+fn scene_params(scene: &dyn Scene, changes: &[(&str, f64)]) -> Result<Params, Error> {
     let mut params = scene.default_params();
     for &(name, value) in changes {
-        params.set(name, value).map_err(|e| format!("{}: {e}", scene.id()))?;
+        params.set(name, value).map_err(|e| Error::scene(scene.id(), e))?;
     }
     Ok(params)
-}
-
-/// The registered scene `id`.
-fn find(id: &str) -> Result<&'static dyn Scene, String> {
-    lagrange_scenes::find(id).ok_or_else(|| format!("scene {id} is not registered"))
 }
 
 /// A case under construction.
@@ -347,7 +398,7 @@ struct CaseSpec {
     title: &'static str,
     scenes: &'static [&'static str],
     theory: &'static str,
-    run: fn(&mut CaseBuilder, Effort) -> Result<(), String>,
+    run: fn(&mut CaseBuilder, Effort) -> Result<(), Error>,
 }
 
 /// Every case, in report order.
@@ -377,7 +428,7 @@ fn selected(case: &CaseSpec, scenes: &[&str]) -> bool {
 ///
 /// # Errors
 /// A case that cannot be set up (a bug in the case: its scenes and parameters are fixed).
-pub fn run(effort: Effort, scenes: &[&str], mut progress: impl FnMut(&str)) -> Result<StabilityReport, String> {
+pub fn run(effort: Effort, scenes: &[&str], mut progress: impl FnMut(&str)) -> Result<StabilityReport, Error> {
     let start = Instant::now();
     let mut cases = Vec::new();
     for spec in CASES.iter().filter(|c| selected(c, scenes)) {
@@ -391,7 +442,7 @@ pub fn run(effort: Effort, scenes: &[&str], mut progress: impl FnMut(&str)) -> R
             setup: String::new(),
             measurements: Vec::new(),
         };
-        (spec.run)(&mut case, effort).map_err(|e| format!("stability case {}: {e}", spec.id))?;
+        (spec.run)(&mut case, effort).map_err(|e| Error::Case { case: spec.id, source: Box::new(e) })?;
         cases.push(case.finish(case_start.elapsed().as_secs_f64()));
     }
     let all = cases.iter().flat_map(|c| &c.measurements);

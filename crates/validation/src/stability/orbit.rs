@@ -2,6 +2,7 @@
 //! fixed-step methods given the same work.
 
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find, relative_energy_error, timed_simulate};
+use crate::Error;
 use lagrange::{Method, Output, State, Tolerances};
 
 pub const KEPLER: CaseSpec = CaseSpec {
@@ -19,7 +20,7 @@ pub const KEPLER: CaseSpec = CaseSpec {
 
 const ECCENTRICITY: f64 = 0.99;
 
-fn kepler(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+fn kepler(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let orbits: f64 = effort.pick(100.0, 10.0);
     let tol = 1e-13;
     case.setup = format!(
@@ -29,12 +30,12 @@ fn kepler(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
     );
     let scene = find("kepler")?;
     let params = scene.default_params();
-    let system = scene.build(&params).map_err(|e| e.to_string())?;
-    let kepler = lagrange_scenes::kepler::Kepler::from_params(&params).map_err(|e| e.to_string())?;
+    let system = scene.build(&params)?;
+    let kepler = lagrange_scenes::kepler::Kepler::from_params(&params)?;
     let (a, e) = (100.0, ECCENTRICITY);
     let r = a * (1.0 + e);
     let initial = State::new(0.0, [r, 0.0], [0.0, ((1.0 - e) / r).sqrt() / r]);
-    let period = kepler.orbit(&initial.q, &initial.qdot).period.ok_or("unbound orbit")?;
+    let period = kepler.orbit(&initial.q, &initial.qdot).period.ok_or(Error::Missing("unbound orbit"))?;
     let t_end = orbits * period;
     let times: Vec<f64> = (0..=(2.0 * orbits) as usize).map(|k| k as f64 * period / 2.0).collect();
     let method = Method::Adaptive { tol: Tolerances::uniform(tol) };
@@ -65,8 +66,8 @@ fn kepler(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
         Some(0.0),
         Some(1.5e-8),
     ));
-    let exact = scene.exact_solution(&params, &initial, t_end).map_err(|e| e.to_string())?.ok_or("no closed form")?;
-    let last = run.last_state().ok_or("empty run")?;
+    let exact = scene.exact_solution(&params, &initial, t_end)?.ok_or(Error::Missing("no closed form"))?;
+    let last = run.last_state().ok_or(Error::Missing("empty run"))?;
     case.push(
         base("relative error of r at the last aphelion vs Kepler's equation")
             .value((last.q[0] / exact.q[0] - 1.0).abs())

@@ -2,8 +2,10 @@
 //! error — never a NaN.
 
 use super::{
-    CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find, relative_energy_error, scene_params, timed_simulate,
+    CaseBuilder, CaseSpec, Check, Cost, Effort, ErrorKind, Measurement, find, relative_energy_error, scene_params,
+    timed_simulate,
 };
+use crate::fixtures::max_abs;
 use lagrange::{Error, Method, Output, State, Tolerances};
 use lagrange_scenes::kepler::Kepler;
 
@@ -24,17 +26,17 @@ pub const SINGULAR: CaseSpec = CaseSpec {
 };
 
 /// How an evaluation ended: `value` (finite), `non-finite value` (a defect), or the error.
-fn outcome(result: Result<Vec<f64>, Error>) -> (Option<f64>, &'static str, String) {
+fn outcome(result: Result<Vec<f64>, Error>) -> (Option<f64>, &'static str, String, Option<ErrorKind>) {
     match result {
         Ok(values) if values.iter().all(|v| v.is_finite()) => {
-            (Some(values.iter().fold(0.0_f64, |m, v| m.max(v.abs()))), "ok", "finite".to_string())
+            (Some(max_abs(&values)), "ok", "finite".to_string(), None)
         }
-        Ok(values) => (None, "ok", format!("non-finite value returned: {values:?}")),
-        Err(error) => (None, "failed", error.to_string()),
+        Ok(values) => (None, "ok", format!("non-finite value returned: {values:?}"), None),
+        Err(error) => (None, "failed", error.to_string(), Some(ErrorKind::of(&error))),
     }
 }
 
-fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
+fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error> {
     case.setup =
         "Double pendulum (l = 1, m₂ = 1) at θ₁ = θ₂ ∈ {0, 0.7, π} with q̇ = (1, −2), m₁ ∈ {1, 1e-6}; m₁ = 1e-12 \
                   at θ = (0.7, 0.7) and (0.7, 0.7 + 1e-8). Kepler, isotropic oscillator and spring pendulum at \
@@ -45,13 +47,12 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
     let scene = find("double_pendulum")?;
     for m1 in [1.0, 1e-6] {
         let params = scene_params(scene, &[("mass_1", m1)])?;
-        let mut system = scene.build(&params).map_err(|e| e.to_string())?;
+        let mut system = scene.build(&params)?;
         for angle in [0.0, 0.7, std::f64::consts::PI] {
             let (q, qdot) = ([angle, angle], [1.0, -2.0]);
             let expected = scene
-                .closed_form_accelerations(&params, 0.0, &q, &qdot)
-                .map_err(|e| e.to_string())?
-                .ok_or("no closed form")?;
+                .closed_form_accelerations(&params, 0.0, &q, &qdot)?
+                .ok_or(crate::Error::Missing("no closed form"))?;
             let m = Measurement::new(
                 format!("m₁ = {m1:.0e}, θ₁ = θ₂ = {angle:.3}"),
                 "double_pendulum",
@@ -77,9 +78,9 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
         }
     }
     let params = scene_params(scene, &[("mass_1", 1e-12)])?;
-    let mut system = scene.build(&params).map_err(|e| e.to_string())?;
+    let mut system = scene.build(&params)?;
     for q in [[0.7, 0.7], [0.7, 0.7 + 1e-8]] {
-        let (value, status, note) = outcome(system.accelerations(0.0, &q, &[1.0, -2.0]).map(<[f64]>::to_vec));
+        let (value, status, note, error) = outcome(system.accelerations(0.0, &q, &[1.0, -2.0]).map(<[f64]>::to_vec));
         let mut m = Measurement::new(
             format!("m₁ = 1e-12, θ = ({}, {})", q[0], q[1]),
             "double_pendulum",
@@ -90,28 +91,32 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
         .note(note);
         m.value = value;
         m.status = status;
-        case.push(m.check(Check::TypedError, None, None));
+        m.error = error;
+        case.push(m.expect_error(ErrorKind::SingularMassMatrix));
     }
     // Polar coordinates at the origin.
     for id in ["kepler", "isotropic_oscillator", "spring_pendulum"] {
         let scene = find(id)?;
-        let mut system = scene.build(&scene.default_params()).map_err(|e| e.to_string())?;
+        let mut system = scene.build(&scene.default_params())?;
         for r in [0.0, 1e-300, 1e-160, 1e-10] {
             let (q, qdot) = ([r, 0.3], [1.0, 0.5]);
-            let (value, status, note) = outcome(system.accelerations(0.0, &q, &qdot).map(<[f64]>::to_vec));
+            let (value, status, note, error) = outcome(system.accelerations(0.0, &q, &qdot).map(<[f64]>::to_vec));
             let mut m = Measurement::new(format!("r = {r:.0e}"), id, "engine", "q̈ (largest |component|)").note(note);
             m.value = value;
             m.status = status;
-            // At the origin itself, a typed error; at r = 1e-10, a finite value.
+            m.error = error;
+            // At the origin itself, the singular mass matrix (θ's entry m r² vanishes); at
+            // r = 1e-10, a finite value.
             case.push(match r {
-                0.0 => m.check(Check::TypedError, None, None),
+                0.0 => m.expect_error(ErrorKind::SingularMassMatrix),
                 1e-10 => m.check(Check::Finite, None, None),
                 _ => m.check(Check::FiniteOrTypedError, None, None),
             });
-            let (value, status, note) = outcome(system.energy(0.0, &q, &qdot).map(|e| vec![e]));
+            let (value, status, note, error) = outcome(system.energy(0.0, &q, &qdot).map(|e| vec![e]));
             let mut m = Measurement::new(format!("r = {r:.0e}"), id, "engine", "energy (|value|)").note(note);
             m.value = value;
             m.status = status;
+            m.error = error;
             // A value must be finite or an error (never ±∞/NaN as a value).
             case.push(m.check(Check::FiniteOrTypedError, None, None));
         }
@@ -119,9 +124,9 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
     // Radial infall.
     let scene = find("kepler")?;
     let params = scene.default_params();
-    let system = scene.build(&params).map_err(|e| e.to_string())?;
+    let system = scene.build(&params)?;
     let initial = State::new(0.0, [1.0, 0.0], [0.0, 0.0]);
-    let collision = Kepler::from_params(&params).map_err(|e| e.to_string())?.radial_infall_time(1.0);
+    let collision = Kepler::from_params(&params)?.radial_infall_time(1.0);
     let methods = [
         Method::Rk4 { dt: 0.01 },
         Method::Adaptive { tol: Tolerances::uniform(1e-8) },

@@ -6,6 +6,7 @@ use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, relative_energy_error, scene_params,
     timed_simulate,
 };
+use crate::Error;
 use lagrange::integrate::stability::{self as theory, bisect_limit};
 use lagrange::{Method, Output, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build, maps};
@@ -52,10 +53,10 @@ fn stiffnesses(effort: Effort) -> Vec<f64> {
 }
 
 /// A scene's system with `changes`.
-fn system(id: &str, changes: &[(&str, f64)]) -> Result<(Params, Box<dyn System>), String> {
+fn system(id: &str, changes: &[(&str, f64)]) -> Result<(Params, Box<dyn System>), Error> {
     let scene = find(id)?;
     let params = scene_params(scene, changes)?;
-    let system = scene.build(&params).map_err(|e| format!("{id}: {e}"))?;
+    let system = scene.build(&params).map_err(|e| Error::scene(id, e))?;
     Ok((params, system))
 }
 
@@ -97,7 +98,7 @@ fn rapier_bounded(engine: Engine, scene: &str, params: &Params, initial: &State,
     last <= 2.0 * first
 }
 
-fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
+fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let ks = stiffnesses(effort);
     let horizon = effort.pick(2.0, 1.0);
     case.setup = format!(
@@ -131,9 +132,9 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
         // RK4 on the spring pendulum, swinging.
         let (_, mut pendulum) = system("spring_pendulum", &[("stiffness", k)])?;
         let r_eq = 1.0 + 9.81 / k;
-        let e_eq = pendulum.energy(0.0, &[r_eq, 0.0], &[0.0, 0.0]).map_err(|e| e.to_string())?;
+        let e_eq = pendulum.energy(0.0, &[r_eq, 0.0], &[0.0, 0.0])?;
         let swinging = State::new(0.0, [r_eq + 1e-3, 0.3], [0.0, 0.0]);
-        let e0 = pendulum.energy(0.0, &swinging.q, &swinging.qdot).map_err(|e| e.to_string())? - e_eq;
+        let e0 = pendulum.energy(0.0, &swinging.q, &swinging.qdot)? - e_eq;
         let start = Instant::now();
         let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-10, |dt| {
             let steps = 2.0 * PROBE_STEPS as f64;
@@ -172,7 +173,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
         let theta0: f64 = 1.0;
         let released = State::new(0.0, [1.0 + 9.81 * theta0.cos() / k, theta0], [0.0, 0.0]);
         let tol = 1e-6;
-        let e_release = pendulum.energy(0.0, &released.q, &released.qdot).map_err(|e| e.to_string())? - e_eq;
+        let e_release = pendulum.energy(0.0, &released.q, &released.qdot)? - e_eq;
         for method in
             [Method::Implicit { tol: Tolerances::uniform(tol) }, Method::Adaptive { tol: Tolerances::uniform(tol) }]
         {
@@ -249,13 +250,12 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), String> {
     Ok(())
 }
 
-fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), String> {
+fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), Error> {
     let (k, c) = (1e6, 1e6);
     let (fast, slow) = theory::damped_roots(k, c);
     let changes = [("stiffness", k), ("damping", c)];
     let (params, system) = system("harmonic_oscillator", &changes)?;
-    let oscillator =
-        lagrange_scenes::harmonic_oscillator::HarmonicOscillator::from_params(&params).map_err(|e| e.to_string())?;
+    let oscillator = lagrange_scenes::harmonic_oscillator::HarmonicOscillator::from_params(&params)?;
     let initial = State::new(0.0, [0.1], [0.0]);
     let horizon = 1.0;
     case.setup = format!(

@@ -36,8 +36,12 @@ pub fn run(args: &Args) -> Result<(), String> {
     let start = Instant::now();
     let options = Options::new(args)?;
     let plan = &options.plan;
-    let scene_plans: Vec<ScenePlan> =
-        options.scenes.iter().map(|&scene| ScenePlan::new(scene, plan)).collect::<Result<_, _>>()?;
+    let scene_plans: Vec<ScenePlan> = options
+        .scenes
+        .iter()
+        .map(|&scene| ScenePlan::new(scene, plan))
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
     let bar = progress_bar(scene_plans.iter().map(ScenePlan::runs).sum());
     let mut scenes = Vec::with_capacity(scene_plans.len());
     let mut files = 0;
@@ -46,7 +50,8 @@ pub fn run(args: &Args) -> Result<(), String> {
         let runs = SceneRuns::execute(scene_plan, plan, |label| {
             bar.set_message(label.to_string());
             bar.inc(1);
-        })?;
+        })
+        .map_err(|e| e.to_string())?;
         let id = scene_plan.scene.id();
         let names = Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg") };
         plots::work_precision(&options.out.join(&names.work_precision), &runs, plan.horizon)?;
@@ -63,7 +68,8 @@ pub fn run(args: &Args) -> Result<(), String> {
     let stability = stability::run(effort, &ids, |id| {
         bar.set_message(format!("stability: {id}"));
         bar.inc(1);
-    })?;
+    })
+    .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
     let report = Report {
         schema_version: SCHEMA_VERSION,

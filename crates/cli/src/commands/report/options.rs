@@ -44,7 +44,7 @@ impl Options {
     /// # Errors
     /// An unknown scene, a bad horizon, or an output directory that cannot be created or written.
     pub fn new(args: &Args) -> Result<Options, String> {
-        let plan = Plan::new(args.quick, args.t_end)?;
+        let plan = Plan::new(args.quick, args.t_end).map_err(|e| e.to_string())?;
         for id in &args.scenes {
             args::scene(id)?;
         }
