@@ -3,9 +3,10 @@
 //! rapier (an independent engine, first order in its substep, so tested by convergence).
 
 use lagrange::State;
-use lagrange_maximal::compare::{Comparison, compare};
 use lagrange_maximal::{BuildError, Engine, Settings, build, maps};
 use lagrange_scenes::{Params, Scene, all, find};
+use lagrange_validation::Error;
+use lagrange_validation::compare::{Comparison, compare};
 
 fn scene(id: &str) -> &'static dyn Scene {
     find(id).unwrap_or_else(|| panic!("scene {id} is registered"))
@@ -40,7 +41,7 @@ fn run(
     state: &State,
     settings: &Settings,
     t_end: f64,
-) -> Result<Comparison, BuildError> {
+) -> Result<Comparison, Error> {
     compare(engine, scene, params, state, settings, t_end, t_end / 20.0)
 }
 
@@ -113,7 +114,7 @@ fn rapier_converges_to_the_reduced_solution_at_first_order() {
                         substeps.push(dt);
                         first.get_or_insert(c);
                     }
-                    Err(BuildError::Unbuildable { reason, .. }) => {
+                    Err(Error::Build(BuildError::Unbuildable { reason, .. })) => {
                         assert!(
                             !reason.is_empty() && !reason.contains("not implemented"),
                             "{} {engine}: {reason}",

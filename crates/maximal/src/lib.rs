@@ -15,7 +15,6 @@
 //! [`build`] makes any engine's simulation of any scene, or says why it cannot.
 
 pub mod cartesian;
-pub mod compare;
 mod engine;
 pub mod maps;
 pub mod rapier;

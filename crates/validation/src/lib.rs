@@ -2,7 +2,7 @@
 //!
 //! The validation report's machinery, reusable by the `lagrange` command line, the tests and
 //! the benches: what runs ([`plan`]), the references every run is measured against
-//! ([`reference`]), the measurement of one run ([`measure`]), the sweeps of a scene
+//! ([`reference`]), the measurement of one run ([`measure`], whose loop also serves [`compare`]), the sweeps of a scene
 //! ([`runs`]), the work-precision fronts and their comparison ([`pareto`]), the assembly of a
 //! scene's report ([`assemble`]) into the serialized [`schema`], and the stability suite with
 //! its theory ([`stability`]); the helpers every check shares ([`fixtures`]) and the tolerances
@@ -10,6 +10,7 @@
 //! writing stay in the command line.
 
 pub mod assemble;
+pub mod compare;
 mod error;
 pub mod fixtures;
 pub mod measure;

@@ -1,11 +1,17 @@
 //! One run of one method at one setting: its error against the reference at every saved time,
 //! its energy error and constraint violation where they mean something, and its wall time.
+//!
+//! A maximal engine is measured by ONE loop, [`track`] (advance → read back → error, energy,
+//! violation, time, and whatever else the caller reads at each sample), used by the report's
+//! [`maximal`] and by [`crate::compare`].
 
 use crate::Error;
+use crate::fixtures::nan_max;
 use crate::plan::Timing;
-use crate::reference::{Reference, max_or_nan};
+use crate::reference::Reference;
 use lagrange::{Method, Output, State, System};
-use lagrange_maximal::{Built, Engine, MaximalSimulation, Settings, build, maps};
+use lagrange_maximal::{BodyState, Built, Engine, MaximalSimulation, Settings, build, maps};
+use lagrange_scenes::Params;
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -29,7 +35,7 @@ pub struct Measured {
 impl Measured {
     /// Largest error over the saved times.
     pub fn max_error(&self) -> f64 {
-        self.errors.iter().copied().fold(0.0, max_or_nan)
+        self.errors.iter().copied().fold(0.0, nan_max)
     }
 
     /// Error at the last saved time.
@@ -88,7 +94,7 @@ pub fn reduced(
     let errors = (0..trajectory.len()).map(|k| reference.error(k, trajectory.q(k))).collect();
     let energy_error = system.conserves_energy().then(|| {
         let initial_energy = trajectory.energy[0];
-        trajectory.energy.iter().map(|&e| relative_energy_error(e, initial_energy)).fold(0.0, max_or_nan)
+        trajectory.energy.iter().map(|&e| relative_energy_error(e, initial_energy)).fold(0.0, nan_max)
     });
     let (wall_time, timed_repetitions) = time(timing, || {
         let start = Instant::now();
@@ -136,34 +142,91 @@ pub fn maximal(
 ) -> Result<Measured, Error> {
     let params = &built.params;
     let mut simulation = built.simulation;
-    let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies())?;
-    let mut q_previous = initial.q.clone();
-    let (mut errors, mut energy_error, mut violation) = (Vec::with_capacity(times.len()), 0.0, None::<f64>);
-    for (k, &t) in times.iter().enumerate() {
-        simulation.advance_to(t)?;
-        let bodies = simulation.bodies();
-        let (q, _) = maps::generalized(scene, params, t, &bodies, &q_previous)?;
-        errors.push(reference.error(k, &q));
-        q_previous = q;
-        if conserves_energy {
-            let energy = maps::energy(scene, params, t, &bodies)?;
-            energy_error = max_or_nan(energy_error, relative_energy_error(energy, initial_energy));
-        }
-        if let Some(v) = simulation.constraint_violation() {
-            violation = Some(max_or_nan(violation.unwrap_or(0.0), v));
-        }
-    }
-    let steps = simulation.steps();
+    let error = |k: usize, q: &[f64]| reference.error(k, q);
+    let pass = track(simulation.as_mut(), scene, params, initial, times, conserves_energy, error, |_| Ok(()))?;
+    let (errors, energy_error, violation) = (pass.errors, pass.energy_error, pass.constraint_violation);
+    let steps = pass.steps;
     let (wall_time, timed_repetitions) = time(timing, || {
         let mut built = build(engine, scene, requested, initial, settings)?;
         advance(built.simulation.as_mut(), times)
     })?;
-    Ok(Measured {
+    Ok(Measured { errors, energy_error, constraint_violation: violation, steps, wall_time, timed_repetitions })
+}
+
+/// What one pass of a maximal engine through the sample times measured ([`track`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pass {
+    /// The error at each sample time, as the caller's `error` computed it.
+    pub errors: Vec<f64>,
+    /// `max |E − E₀| / |E₀|` (or `|E − E₀|` when `E₀ = 0`) of the engine's bodies over the
+    /// samples, where the scene conserves energy (NaN-aware).
+    pub energy_error: Option<f64>,
+    /// Largest constraint violation over the samples, where the engine measures one (NaN-aware).
+    pub constraint_violation: Option<f64>,
+    /// Steps the engine took.
+    pub steps: usize,
+    /// Wall time of the `advance_to` calls alone (s).
+    pub advance_time: f64,
+}
+
+/// One sample of a [`track`] pass, for the caller's own readings.
+pub struct Sample<'a> {
+    /// Its time.
+    pub t: f64,
+    /// The generalized coordinates read back from the bodies.
+    pub q: &'a [f64],
+    /// The generalized velocities read back from the bodies.
+    pub qdot: &'a [f64],
+    /// The engine's bodies.
+    pub bodies: &'a [BodyState],
+    /// The engine, for its constraint forces.
+    pub simulation: &'a mut dyn MaximalSimulation,
+}
+
+/// The measurement loop of a maximal engine: advance `simulation` (built for `scene` with
+/// `params`) to each of `times`, read the bodies back into generalized coordinates, and measure
+/// the error `error(k, q)` against the caller's reference, the energy error (when
+/// `conserves_energy`), the constraint violation, and the time of the advances; `each` reads
+/// what else the caller needs at every sample.
+///
+/// # Errors
+/// A failing advance, read-back or energy, or an error of `each`.
+pub fn track(
+    simulation: &mut dyn MaximalSimulation,
+    scene: &str,
+    params: &Params,
+    initial: &State,
+    times: &[f64],
+    conserves_energy: bool,
+    error: impl Fn(usize, &[f64]) -> f64,
+    mut each: impl FnMut(Sample<'_>) -> Result<(), Error>,
+) -> Result<Pass, Error> {
+    let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies())?;
+    let mut q_previous = initial.q.clone();
+    let (mut errors, mut energy_error, mut violation) = (Vec::with_capacity(times.len()), 0.0, None::<f64>);
+    let mut advance_time = 0.0;
+    for (k, &t) in times.iter().enumerate() {
+        let start = Instant::now();
+        simulation.advance_to(t)?;
+        advance_time += start.elapsed().as_secs_f64();
+        let bodies = simulation.bodies();
+        let (q, qdot) = maps::generalized(scene, params, t, &bodies, &q_previous)?;
+        errors.push(error(k, &q));
+        if conserves_energy {
+            let energy = maps::energy(scene, params, t, &bodies)?;
+            energy_error = nan_max(energy_error, relative_energy_error(energy, initial_energy));
+        }
+        if let Some(v) = simulation.constraint_violation() {
+            violation = Some(nan_max(violation.unwrap_or(0.0), v));
+        }
+        each(Sample { t, q: &q, qdot: &qdot, bodies: &bodies, simulation: &mut *simulation })?;
+        q_previous = q;
+    }
+    Ok(Pass {
         errors,
         energy_error: conserves_energy.then_some(energy_error),
         constraint_violation: violation,
-        steps,
-        wall_time,
-        timed_repetitions,
+        steps: simulation.steps(),
+        advance_time,
     })
 }

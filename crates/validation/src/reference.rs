@@ -2,6 +2,7 @@
 //! where it has one, otherwise a tight-tolerance reduced solution.
 
 use crate::Error;
+use crate::fixtures::max_abs_diff;
 use crate::plan::REFERENCE_TOLERANCE;
 use lagrange::{Method, Output, State, Tolerances};
 use lagrange_scenes::{Params, Scene};
@@ -72,7 +73,7 @@ impl Reference {
 
     /// `‖q − q_ref‖∞` at saved time `k`.
     pub fn error(&self, k: usize, q: &[f64]) -> f64 {
-        q.iter().zip(&self.q[k]).map(|(a, b)| (a - b).abs()).fold(0.0, max_or_nan)
+        max_abs_diff(q, &self.q[k])
     }
 }
 
@@ -104,9 +105,4 @@ impl References {
         };
         Ok(&self.known[index])
     }
-}
-
-/// `max(a, b)`, but NaN when either is (`f64::max` would drop a NaN and hide a blow-up).
-pub fn max_or_nan(a: f64, b: f64) -> f64 {
-    if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) }
 }

@@ -1,8 +1,9 @@
 //! `lagrange compare`: the reduced solver and the maximal-coordinate engines side by side.
 
 use crate::args;
-use lagrange_maximal::compare::{Comparison, compare};
 use lagrange_maximal::{BuildError, Engine, Settings};
+use lagrange_validation::Error;
+use lagrange_validation::compare::{Comparison, compare};
 use serde::Serialize;
 
 /// Arguments of `lagrange compare`.
@@ -59,7 +60,7 @@ struct Row {
 }
 
 impl Row {
-    fn from(engine: Engine, result: Result<Comparison, BuildError>) -> Result<Row, String> {
+    fn from(engine: Engine, result: Result<Comparison, Error>) -> Result<Row, String> {
         let empty = |reason: Option<String>| Row {
             engine: engine.name(),
             unbuildable: reason,
@@ -75,8 +76,8 @@ impl Row {
             microseconds_per_step: None,
         };
         match result {
-            Err(BuildError::Unbuildable { reason, .. }) => Ok(empty(Some(reason))),
-            Err(BuildError::Invalid(e)) => Err(format!("{engine}: {e}")),
+            Err(Error::Build(BuildError::Unbuildable { reason, .. })) => Ok(empty(Some(reason))),
+            Err(e) => Err(format!("{engine}: {e}")),
             Ok(c) => Ok(Row {
                 deviations: c.deviations,
                 max_error: Some(c.max_error),

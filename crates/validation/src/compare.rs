@@ -1,14 +1,15 @@
 //! The reduced solver and a maximal engine side by side on one scene: trajectory error,
-//! energy and momentum drift, constraint violation, constraint-force error, cost.
+//! energy and momentum drift, constraint violation, constraint-force error, cost — measured by
+//! the report's own loop ([`measure::track`]) against a reduced reference at
+//! [`REFERENCE_TOLERANCE`].
 
-use crate::{BuildError, Engine, Settings, build, maps};
+use crate::Error;
+use crate::fixtures::{max_abs, max_abs_diff, nan_max};
+use crate::measure::{self, Sample};
+use crate::plan::REFERENCE_TOLERANCE;
 use lagrange::{Method, Output, State, Tolerances};
+use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::{Params, Scene};
-use std::time::Instant;
-
-/// Tolerance of the reduced reference solution: far below any maximal engine's error
-/// (the Cartesian engine runs at 1e-12 by default).
-pub const REFERENCE_TOLERANCE: f64 = 1e-13;
 
 /// The outcome of one comparison.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,15 +48,12 @@ pub struct Comparison {
     pub seconds_per_step: f64,
 }
 
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0, |m, x| m.max(x.abs()))
-}
-
 /// Run `scene` from `initial` to `t_end` in `engine` and in the reduced solver, sampling every
 /// `every` seconds (rounded to whole rapier steps), and compare.
 ///
 /// # Errors
-/// [`BuildError::Unbuildable`] when the engine cannot build the scene; any error of either run.
+/// [`Error::Build`] with `BuildError::Unbuildable` when the engine cannot build the scene; any
+/// error of either run.
 pub fn compare(
     engine: Engine,
     scene: &dyn Scene,
@@ -64,7 +62,7 @@ pub fn compare(
     settings: &Settings,
     t_end: f64,
     every: f64,
-) -> Result<Comparison, BuildError> {
+) -> Result<Comparison, Error> {
     let id = scene.id();
     let built = build(engine, id, params, initial, settings)?;
     let params = &built.params;
@@ -86,67 +84,54 @@ pub fn compare(
     let cyclic: Vec<usize> =
         reduced.cyclic_coordinates().iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| j).collect();
     let p0 = reduced.momenta(initial.t, &initial.q, &initial.qdot)?.to_vec();
-    let e0 = maps::energy(id, params, initial.t, &simulation.bodies())?;
-    let mut errors = Vec::with_capacity(times.len());
-    let (mut energy_drift, mut momentum_drift, mut violation, mut force_error): (f64, f64, Option<f64>, Option<f64>) =
-        (0.0, 0.0, None, None);
+    let (mut momentum_drift, mut force_error) = (0.0, None::<f64>);
     let masses: Vec<f64> = maps::bodies(id, params)?.iter().map(|b| b.mass).collect();
     let g = maps::gravity(params);
-    let mut q_previous = initial.q.clone();
-    let mut wall = 0.0;
-    for (k, &t) in times.iter().enumerate() {
-        let start = Instant::now();
-        simulation.advance_to(t)?;
-        wall += start.elapsed().as_secs_f64();
-        let bodies = simulation.bodies();
-        let (q, qdot) = maps::generalized(id, params, t, &bodies, &q_previous)?;
-        errors.push(q.iter().zip(reference.q(k)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
-        q_previous.clone_from(&q);
-        energy_drift = energy_drift.max((maps::energy(id, params, t, &bodies)? - e0).abs());
+    let comparable = !reduced.has_generalized_force();
+    let error = |k: usize, q: &[f64]| max_abs_diff(q, reference.q(k));
+    let pass = measure::track(simulation.as_mut(), id, params, initial, &times, conserves, error, |sample| {
+        let Sample { t, q, qdot, bodies, simulation } = sample;
         if !cyclic.is_empty() {
-            let p = reduced.momenta(t, &q, &qdot)?;
+            let p = reduced.momenta(t, q, qdot)?;
             for &j in &cyclic {
-                momentum_drift = momentum_drift.max((p[j] - p0[j]).abs());
+                momentum_drift = nan_max(momentum_drift, (p[j] - p0[j]).abs());
             }
         }
-        if let Some(v) = simulation.constraint_violation() {
-            violation = Some(violation.unwrap_or(0.0).max(v));
-        }
-        let comparable = !reduced.has_generalized_force();
         if let Some(forces) = simulation.constraint_forces().filter(|_| comparable) {
-            let expected = reduced.reaction_forces(t, &q, &qdot)?.map(<[f64]>::to_vec).unwrap_or_default();
+            let expected = reduced.reaction_forces(t, q, qdot)?.map(<[f64]>::to_vec).unwrap_or_default();
             if expected.len() == forces.len() {
                 // Relative to the forces acting on the bodies (reactions, weights, potential
                 // forces): a reaction that vanishes (a free particle) is compared with the
                 // forces that move it, not with its own round-off.
                 let mut potential_force = vec![0.0; forces.len()];
-                maps::potential(id, params, t, &bodies, Some(&mut potential_force))?;
+                maps::potential(id, params, t, bodies, Some(&mut potential_force))?;
                 let weight = masses.iter().fold(0.0_f64, |m, mass| m.max(mass * g));
                 let scale = max_abs(&expected).max(max_abs(&potential_force)).max(weight).max(f64::MIN_POSITIVE);
-                let residual = forces.iter().zip(&expected).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-                force_error = Some(force_error.unwrap_or(0.0).max(residual / scale));
+                force_error = Some(nan_max(force_error.unwrap_or(0.0), max_abs_diff(&forces, &expected) / scale));
             }
         }
-    }
+        Ok(())
+    })?;
     let reference_energy_drift = conserves.then(|| {
         let h0 = reference.energy[0];
-        reference.energy.iter().map(|h| (h - h0).abs()).fold(0.0, f64::max) / h0.abs().max(f64::MIN_POSITIVE)
+        reference.energy.iter().fold(0.0, |m, h| nan_max(m, (h - h0).abs())) / h0.abs().max(f64::MIN_POSITIVE)
     });
-    let steps = simulation.steps();
+    let errors = pass.errors;
+    let steps = pass.steps;
     Ok(Comparison {
         engine,
         settings: *settings,
         deviations: built.deviations,
-        max_error: errors.iter().cloned().fold(0.0, f64::max),
+        max_error: errors.iter().copied().fold(0.0, nan_max),
         final_error: errors.last().copied().unwrap_or(0.0),
         times,
         errors,
-        energy_drift: conserves.then(|| energy_drift / e0.abs().max(f64::MIN_POSITIVE)),
+        energy_drift: pass.energy_error,
         reference_energy_drift,
         momentum_drift: (!cyclic.is_empty()).then_some(momentum_drift),
-        constraint_violation: violation,
+        constraint_violation: pass.constraint_violation,
         force_error,
         steps,
-        seconds_per_step: if steps > 0 { wall / steps as f64 } else { 0.0 },
+        seconds_per_step: if steps > 0 { pass.advance_time / steps as f64 } else { 0.0 },
     })
 }
