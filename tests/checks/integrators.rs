@@ -2,13 +2,10 @@
 //! steps, and the closed-form periods of the lecture's systems.
 
 use lagrange::{Method, Output, State, Tolerances};
-use lagrange_scenes::{Scene, find};
 use lagrange_tests::max_abs_diff;
 use std::f64::consts::PI;
 
-fn scene(id: &str) -> &'static dyn Scene {
-    find(id).unwrap_or_else(|| panic!("scene {id} is registered"))
-}
+use lagrange_tests::scene;
 
 /// Final `(q, q̇)` of a run of the default scene.
 fn final_state(id: &str, initial: &State, t_end: f64, method: Method) -> Vec<f64> {

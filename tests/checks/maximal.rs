@@ -4,13 +4,11 @@
 
 use lagrange::State;
 use lagrange_maximal::{BuildError, Engine, Settings, build, maps};
-use lagrange_scenes::{Params, Scene, all, find};
+use lagrange_scenes::{Params, Scene, all};
 use lagrange_validation::Error;
 use lagrange_validation::compare::{Comparison, compare};
 
-fn scene(id: &str) -> &'static dyn Scene {
-    find(id).unwrap_or_else(|| panic!("scene {id} is registered"))
-}
+use lagrange_tests::scene;
 
 /// Default parameters and state, plus the variants a formulation must also handle.
 fn cases(scene: &dyn Scene) -> Vec<(String, Params, State)> {

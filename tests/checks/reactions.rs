@@ -2,14 +2,10 @@
 //! rope tensions, the wedge's normal force, the cart pendulum's rod tension; and no reaction
 //! where nothing constrains the body (the Kepler particle).
 
-use lagrange_scenes::{
-    Scene, atwood::Atwood, cart_pendulum::CartPendulum, double_atwood::DoubleAtwood, find, wedge::Wedge,
-};
+use lagrange_scenes::{atwood::Atwood, cart_pendulum::CartPendulum, double_atwood::DoubleAtwood, wedge::Wedge};
 use lagrange_tests::{max_abs, rng, sampling, tolerance};
 
-fn scene(id: &str) -> &'static dyn Scene {
-    find(id).unwrap_or_else(|| panic!("scene {id} is registered"))
-}
+use lagrange_tests::scene;
 
 /// Check the engine's reaction on each body against `expected` (F_x, F_y, τ), where given,
 /// at random states.

@@ -6,3 +6,11 @@ pub mod sampling;
 
 pub use lagrange_validation::fixtures::{condition_number, max_abs, max_abs_diff, rng};
 pub use lagrange_validation::tolerance;
+
+use lagrange_scenes::Scene;
+
+/// The registered scene `id` (through the validation library's one lookup); panics on an
+/// unknown id, which in a test is a bug of the test.
+pub fn scene(id: &str) -> &'static dyn Scene {
+    lagrange_validation::scene(id).unwrap_or_else(|e| panic!("{e}"))
+}

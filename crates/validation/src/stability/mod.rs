@@ -414,6 +414,34 @@ const CASES: [CaseSpec; 9] = [
     bad_input::BAD_INPUT,
 ];
 
+/// The ids of every case, in report order.
+pub fn case_ids() -> impl Iterator<Item = &'static str> {
+    CASES.iter().map(|c| c.id)
+}
+
+/// Run the one case `id` (the tests run each case of the quick set this way).
+///
+/// # Errors
+/// [`Error::Missing`] for an unknown case id; a case that cannot be set up.
+pub fn run_case(id: &str, effort: Effort) -> Result<Case, Error> {
+    let spec = CASES.iter().find(|c| c.id == id).ok_or(Error::Missing("no such stability case"))?;
+    run_spec(spec, effort)
+}
+
+fn run_spec(spec: &CaseSpec, effort: Effort) -> Result<Case, Error> {
+    let case_start = Instant::now();
+    let mut case = CaseBuilder {
+        id: spec.id,
+        title: spec.title,
+        scenes: spec.scenes.to_vec(),
+        theory: spec.theory,
+        setup: String::new(),
+        measurements: Vec::new(),
+    };
+    (spec.run)(&mut case, effort).map_err(|e| Error::Case { case: spec.id, source: Box::new(e) })?;
+    Ok(case.finish(case_start.elapsed().as_secs_f64()))
+}
+
 /// The ids of the cases that run on any of `scenes` (all when `scenes` is empty).
 pub fn case_count(scenes: &[&str]) -> usize {
     CASES.iter().filter(|c| selected(c, scenes)).count()
@@ -433,17 +461,7 @@ pub fn run(effort: Effort, scenes: &[&str], mut progress: impl FnMut(&str)) -> R
     let mut cases = Vec::new();
     for spec in CASES.iter().filter(|c| selected(c, scenes)) {
         progress(spec.id);
-        let case_start = Instant::now();
-        let mut case = CaseBuilder {
-            id: spec.id,
-            title: spec.title,
-            scenes: spec.scenes.to_vec(),
-            theory: spec.theory,
-            setup: String::new(),
-            measurements: Vec::new(),
-        };
-        (spec.run)(&mut case, effort).map_err(|e| Error::Case { case: spec.id, source: Box::new(e) })?;
-        cases.push(case.finish(case_start.elapsed().as_secs_f64()));
+        cases.push(run_spec(spec, effort)?);
     }
     let all = cases.iter().flat_map(|c| &c.measurements);
     let (mut passed, mut failed, mut unchecked) = (0, 0, 0);
