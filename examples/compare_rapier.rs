@@ -3,8 +3,9 @@
 //! impulse and multibody joints, f64 and f32), at rapier's `dt = 1/240` with 4 substeps.
 //!
 //! `cargo run --release -p lagrange-examples --example compare_rapier`
-use lagrange_maximal::compare::compare;
 use lagrange_maximal::{BuildError, Engine, Settings};
+use lagrange_validation::Error;
+use lagrange_validation::compare::compare;
 
 const LECTURE: [&str; 8] = [
     "cart_pendulum",
@@ -17,12 +18,12 @@ const LECTURE: [&str; 8] = [
     "wedge",
 ];
 
-fn main() -> Result<(), BuildError> {
+fn main() -> Result<(), Error> {
     let settings = Settings::default();
     println!("max ‖q − q_exact‖∞ over 10 s against the reduced solution (tol 1e-13); energy: max |ΔE|/|E₀|\n");
     println!("{:<22} {:<21} {:>10} {:>10}  notes", "scene", "engine", "max error", "energy");
     for id in LECTURE {
-        let scene = lagrange_scenes::find(id).expect("a registered scene");
+        let scene = lagrange_validation::scene(id)?;
         let params = scene.default_params();
         let initial = scene.default_state(&params)?;
         for engine in Engine::ALL {
@@ -37,7 +38,7 @@ fn main() -> Result<(), BuildError> {
                         c.deviations.join("; ")
                     );
                 }
-                Err(BuildError::Unbuildable { reason, .. }) => {
+                Err(Error::Build(BuildError::Unbuildable { reason, .. })) => {
                     println!("{id:<22} {:<21} {:>10} {:>10}  not buildable: {reason}", engine.name(), "—", "—")
                 }
                 Err(e) => return Err(e),
