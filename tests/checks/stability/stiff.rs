@@ -16,6 +16,7 @@ use lagrange::integrate::stability::{
 };
 use lagrange::{Method, Output, State, Tolerances};
 use lagrange_maximal::{Engine, Settings, maps};
+use lagrange_scenes::SceneType;
 use lagrange_tests::tolerance::{LINEAR_STABILITY_LIMIT, STABILITY_LIMIT, gauss_energy_per_step};
 
 /// `k/m` of the stiff springs: 1e2 … 1e12 (m = 1).

@@ -5,6 +5,7 @@ use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find, relative_energy_error, scene_params, timed_simulate,
 };
 use lagrange::{Error, Method, Output, State, Tolerances};
+use lagrange_scenes::SceneType;
 use lagrange_scenes::kepler::Kepler;
 
 pub const SINGULAR: CaseSpec = CaseSpec {
