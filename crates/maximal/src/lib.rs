@@ -19,6 +19,7 @@ pub mod compare;
 mod engine;
 pub mod maps;
 pub mod rapier;
+mod scenes;
 
 pub use engine::{BodyState, BuildError, Built, Engine, MaximalSimulation, Settings};
 

@@ -27,9 +27,9 @@
 //! `Φ̇ = 0` (`ż ← ż − Φ_zᵀ (Φ_z Φ_zᵀ)⁻¹ (Φ_z ż + Φ_t)`), and the integrator restarts there. The
 //! constraint forces are `−Φ_zᵀ λ`, comparable to [`lagrange::reaction_forces`].
 
-mod constraints;
+pub(crate) mod constraints;
 mod simulation;
-mod system;
+pub(crate) mod system;
 #[cfg(test)]
 mod tests;
 
@@ -45,8 +45,7 @@ use system::CartesianSystem;
 ///
 /// # Errors
 /// As [`crate::build`]: [`BuildError::Invalid`] for invalid parameters, an unknown scene, a
-/// state of the wrong size, a bad tolerance, or a singular KKT matrix at the start;
-/// [`BuildError::Unbuildable`] for a scene whose constraints are not written here.
+/// state of the wrong size, a bad tolerance, or a singular KKT matrix at the start.
 pub fn build(scene: &str, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
     let system = CartesianSystem::new(scene, params)?;
     let states = maps::body_states(scene, params, initial)?;

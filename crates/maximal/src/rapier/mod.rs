@@ -25,8 +25,8 @@
 //! stabilization sweeps off, speed caps off (see `world.rs`'s integration parameters).
 
 mod double;
-mod plan;
-mod scenes;
+pub(crate) mod plan;
+pub(crate) mod scenes;
 mod single;
 #[cfg(test)]
 mod tests;
