@@ -35,7 +35,7 @@ pub const PARAMS: &[ParamSpec] = &[
 /// joint along x from the ground, the bob on a revolute joint at the cart's centre with the
 /// absolute angle `θ` ([`AngleReference::World`](lagrange::tree::AngleReference); the cart never
 /// turns, so it is also the angle relative to the cart), `(0, r)` in the bob's frame; so
-/// [`Model::new`] computes `q̈` with the articulated-body algorithm.
+/// [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params), which validate the
 /// parameters and build the body list; the fields are public for reading (changing one

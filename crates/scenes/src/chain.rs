@@ -23,9 +23,9 @@ pub const PARAMS: &[ParamSpec] = &[
 /// The chain describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): rod `i` hangs from
 /// rod `i − 1` (rod 1 from the ground) by a revolute joint whose coordinate is the absolute angle
 /// `θ_i` ([`AngleReference::World`](lagrange::tree::AngleReference)), at `(0, −l/2)` in the rod
-/// above and `(0, l/2)` in its own centre-of-mass frame. So [`Model::new`] checks the tree against
+/// above and `(0, l/2)` in its own centre-of-mass frame. So [`Model::new`](lagrange::Model::new) checks the tree against
 /// the poses above and computes `q̈` with the articulated-body algorithm, `O(N)`;
-/// [`Model::new_generic`] assembles `M` from the poses instead.
+/// [`Model::new_generic`](lagrange::Model::new_generic) assembles `M` from the poses instead.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).

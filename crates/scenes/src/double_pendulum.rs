@@ -46,7 +46,7 @@ pub const PARAMS: &[ParamSpec] = &[
 /// It describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): bob 1 hangs from the
 /// origin, bob 2 from bob 1's centre, each by a revolute joint with the absolute angle `θ_i`
 /// ([`AngleReference::World`](lagrange::tree::AngleReference)) at `(0, l_i)` in the bob's frame;
-/// so [`Model::new`] computes `q̈` with the articulated-body algorithm.
+/// so [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).

@@ -67,6 +67,31 @@
 //! # Ok::<(), lagrange::Error>(())
 //! ```
 
+/// Call the macro `$callback` with every scene type, in registry order (the lecture's systems
+/// followed by those beyond it): the one list of scenes, from which [`all`], [`find`], [`ids`]
+/// and [`visit_mechanism`](crate::visit_mechanism) are generated, and which other crates use to
+/// dispatch to their own per-scene descriptions (`$callback!(Type, Type, …)`, each a path).
+#[macro_export]
+macro_rules! for_each_scene {
+    ($callback:ident) => {
+        $callback! {
+            $crate::CartPendulum,
+            $crate::HarmonicOscillator,
+            $crate::Kepler,
+            $crate::IsotropicOscillator,
+            $crate::Atwood,
+            $crate::DoubleAtwood,
+            $crate::DoubleDoubleAtwood,
+            $crate::Wedge,
+            $crate::DoublePendulum,
+            $crate::Chain,
+            $crate::SpringPendulum,
+            $crate::DrivenPendulum,
+            $crate::ChargedParticle
+        }
+    };
+}
+
 mod checks;
 mod params;
 mod scene;

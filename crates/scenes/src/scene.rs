@@ -1,6 +1,6 @@
 //! The scene interfaces: [`SceneType`], implemented by every typed scene, and the object-safe
 //! [`Scene`] that a generic adapter derives from it for code that picks scenes by id at run
-//! time; the registry of all scenes, generated from the one list in [`for_each_scene!`].
+//! time; the registry of all scenes, generated from the one list in [`for_each_scene!`](crate::for_each_scene).
 
 use crate::checks::{check_dimensions, check_state};
 use crate::{ClosedForm, MechanismVisitor, ParamSpec, Params};
@@ -233,31 +233,6 @@ impl<T: SceneType> Scene for Registered<T> {
     }
 }
 
-/// Call the macro `$callback` with every scene type, in registry order (the lecture's systems
-/// followed by those beyond it): the one list of scenes, from which [`all`], [`find`], [`ids`]
-/// and [`visit_mechanism`](crate::visit_mechanism) are generated, and which other crates use to
-/// dispatch to their own per-scene descriptions (`$callback!(Type, Type, …)`, each a path).
-#[macro_export]
-macro_rules! for_each_scene {
-    ($callback:ident) => {
-        $callback! {
-            $crate::CartPendulum,
-            $crate::HarmonicOscillator,
-            $crate::Kepler,
-            $crate::IsotropicOscillator,
-            $crate::Atwood,
-            $crate::DoubleAtwood,
-            $crate::DoubleDoubleAtwood,
-            $crate::Wedge,
-            $crate::DoublePendulum,
-            $crate::Chain,
-            $crate::SpringPendulum,
-            $crate::DrivenPendulum,
-            $crate::ChargedParticle
-        }
-    };
-}
-
 macro_rules! registry {
     ($($scene:ty),*) => {
         /// Every scene, in registry order.
@@ -265,7 +240,7 @@ macro_rules! registry {
     };
 }
 
-for_each_scene!(registry);
+crate::for_each_scene!(registry);
 
 /// Every scene: `cart_pendulum`, `harmonic_oscillator`, `kepler`, `isotropic_oscillator`,
 /// `atwood`, `double_atwood`, `double_double_atwood`, `wedge`, `double_pendulum`, `chain`,
