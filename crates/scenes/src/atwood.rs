@@ -4,7 +4,7 @@ use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
 
@@ -127,22 +127,16 @@ impl Mechanism for Atwood {
     }
 }
 
-impl ClosedForm for Atwood {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for Atwood {
     const ID: &'static str = "atwood";
     const TITLE: &'static str = "Atwood machine with a massive pulley";
     const REFERENCE: &'static str = "SYSTEMS.md §4; lecture 27, example: Atwood machine";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The Atwood machine with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity] = params.values_of(PARAMS)?;
         Self::new(mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity)

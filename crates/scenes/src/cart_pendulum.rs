@@ -4,7 +4,7 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -195,22 +195,16 @@ impl Mechanism for CartPendulum {
     }
 }
 
-impl ClosedForm for CartPendulum {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for CartPendulum {
     const ID: &'static str = "cart_pendulum";
     const TITLE: &'static str = "Pendulum on a movable support (cart)";
     const REFERENCE: &'static str = "SYSTEMS.md §1; lecture 27, example: pendulum attached to a movable support";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The cart pendulum with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [cart_mass, bob_mass, rod_length, gravity, bob_inertia] = params.values_of(PARAMS)?;
         Self::with_bob_inertia(cart_mass, bob_mass, rod_length, gravity, bob_inertia)

@@ -2,7 +2,7 @@
 
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use nalgebra::{DMatrix, DVector};
@@ -154,22 +154,16 @@ impl Mechanism for Chain {
     }
 }
 
-impl ClosedForm for Chain {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for Chain {
     const ID: &'static str = "chain";
     const TITLE: &'static str = "Hanging chain of N rigid links";
     const REFERENCE: &'static str = "beyond the lecture; closed form derived in chain.rs";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The chain with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [links, link_mass, link_length, gravity] = params.values_of(PARAMS)?;
         // Check the count as a real number before it becomes an integer (2.5 must not become 2).

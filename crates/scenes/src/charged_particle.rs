@@ -4,7 +4,7 @@
 use crate::checks::fixed;
 use crate::params::check_all;
 use crate::scene::raw_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Coordinate, Error, Lagrangian, Scalar, State};
 
 /// Parameters: mass `m`, charge `e`, field `B`.
@@ -94,12 +94,6 @@ impl Lagrangian for ChargedParticle {
     }
 }
 
-impl ClosedForm for ChargedParticle {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for ChargedParticle {
     const ID: &'static str = "charged_particle";
     const TITLE: &'static str = "Charged particle in a uniform magnetic field";
@@ -107,10 +101,10 @@ impl SceneType for ChargedParticle {
         "beyond the lecture (velocity-dependent potential, raw Lagrangian); Goldstein, Classical Mechanics, §1.5";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The charged particle with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass, charge, field] = params.values_of(PARAMS)?;
         Self::new(mass, charge, field)

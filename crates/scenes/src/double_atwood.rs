@@ -4,7 +4,7 @@ use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: masses `m1`, `m2`, `m3`, rope lengths `l`, `l'`, movable-pulley mass `m_p`, `g`.
@@ -166,12 +166,6 @@ impl Mechanism for DoubleAtwood {
     }
 }
 
-impl ClosedForm for DoubleAtwood {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for DoubleAtwood {
     const ID: &'static str = "double_atwood";
     const TITLE: &'static str = "Double Atwood machine";
@@ -179,10 +173,10 @@ impl SceneType for DoubleAtwood {
         "SYSTEMS.md §5; lecture 27, example: double Atwood machine (massive pulley beyond the lecture)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The double Atwood machine with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity] =
             params.values_of(PARAMS)?;

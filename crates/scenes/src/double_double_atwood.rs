@@ -5,7 +5,7 @@ use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: masses `m2`–`m5`, rope lengths `l`, `l'`, `l''`, pulley masses `m_A`, `m_B`, `g`.
@@ -206,22 +206,16 @@ impl Mechanism for DoubleDoubleAtwood {
     }
 }
 
-impl ClosedForm for DoubleDoubleAtwood {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for DoubleDoubleAtwood {
     const ID: &'static str = "double_double_atwood";
     const TITLE: &'static str = "Double-double Atwood machine";
     const REFERENCE: &'static str = "SYSTEMS.md §6; lecture 27, homework remark (massive pulleys beyond the lecture)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The machine with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g] = params.values_of(PARAMS)?;
         Self::new(m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g)

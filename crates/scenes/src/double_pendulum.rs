@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -213,12 +213,6 @@ impl Mechanism for DoublePendulum {
     }
 }
 
-impl ClosedForm for DoublePendulum {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for DoublePendulum {
     const ID: &'static str = "double_pendulum";
     const TITLE: &'static str = "Double pendulum";
@@ -226,10 +220,10 @@ impl SceneType for DoublePendulum {
         "beyond the lecture; closed forms derived in double_pendulum.rs (cf. Taylor, Classical Mechanics, §11.4)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The double pendulum with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass_1, mass_2, length_1, length_2, gravity, inertia_1, inertia_2] = params.values_of(PARAMS)?;
         Self::with_inertia(mass_1, mass_2, length_1, length_2, gravity, [inertia_1, inertia_2])

@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: mass `m`, rod length `l`, drive amplitude `A`, drive frequency `ω`, `g`.
@@ -94,12 +94,6 @@ impl Mechanism for DrivenPendulum {
     }
 }
 
-impl ClosedForm for DrivenPendulum {
-    fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(t, q, qdot));
-    }
-}
-
 impl SceneType for DrivenPendulum {
     const ID: &'static str = "driven_pendulum";
     const TITLE: &'static str = "Pendulum with a horizontally driven support";
@@ -107,10 +101,10 @@ impl SceneType for DrivenPendulum {
         "beyond the lecture (rheonomic constraint); closed form derived in driven_pendulum.rs";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The driven pendulum with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(t, q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass, length, amplitude, drive_frequency, gravity] = params.values_of(PARAMS)?;
         Self::new(mass, length, amplitude, drive_frequency, gravity)

@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::check_all;
 use crate::scene::body_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: mass `m`, stiffness `k`, damping `c`.
@@ -134,12 +134,6 @@ impl Mechanism for HarmonicOscillator {
     }
 }
 
-impl ClosedForm for HarmonicOscillator {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for HarmonicOscillator {
     const ID: &'static str = "harmonic_oscillator";
     const TITLE: &'static str = "Harmonic oscillator (optionally damped)";
@@ -147,10 +141,10 @@ impl SceneType for HarmonicOscillator {
         "SYSTEMS.md §2; lecture 27, example: harmonic oscillator (damping beyond the lecture)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The oscillator with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass, stiffness, damping] = params.values_of(PARAMS)?;
         Self::new(mass, stiffness, damping)

@@ -4,7 +4,7 @@
 use crate::checks::fixed;
 use crate::params::check_all;
 use crate::scene::body_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -133,22 +133,16 @@ impl Mechanism for IsotropicOscillator {
     }
 }
 
-impl ClosedForm for IsotropicOscillator {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for IsotropicOscillator {
     const ID: &'static str = "isotropic_oscillator";
     const TITLE: &'static str = "Central force: isotropic oscillator (V = k r²/2)";
     const REFERENCE: &'static str = "SYSTEMS.md §3b; lecture 27, example: central force";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The oscillator with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass, stiffness] = params.values_of(PARAMS)?;
         Self::new(mass, stiffness)

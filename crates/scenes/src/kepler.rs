@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::check_all;
 use crate::scene::body_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{PI, TAU};
 
@@ -215,22 +215,16 @@ impl Mechanism for Kepler {
     }
 }
 
-impl ClosedForm for Kepler {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for Kepler {
     const ID: &'static str = "kepler";
     const TITLE: &'static str = "Central force: Kepler problem (V = −k/r)";
     const REFERENCE: &'static str = "SYSTEMS.md §3a; lecture 27, example: central force";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The Kepler problem with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass, strength] = params.values_of(PARAMS)?;
         Self::new(mass, strength)

@@ -79,7 +79,7 @@ pub trait Scene: Send + Sync {
 }
 
 /// A scene as one type: its identity, its parameter table and constructor from parameters, its
-/// default state, its closed forms ([`ClosedForm`]) and exact solution, and how the engine runs
+/// default state, its closed-form accelerations and exact solution, and how the engine runs
 /// it. Implemented by every typed scene ([`CartPendulum`](crate::CartPendulum), …); the
 /// object-safe [`Scene`] is derived from it ([`scene_of`]), and the registry lists the types
 /// once ([`for_each_scene!`]).
@@ -92,7 +92,7 @@ pub trait Scene: Send + Sync {
 /// [`generalized_coordinates`]: SceneType::generalized_coordinates
 /// [`into_system`]: SceneType::into_system
 /// [`visit`]: SceneType::visit
-pub trait SceneType: ClosedForm + Clone + Send + Sync + Sized + 'static {
+pub trait SceneType: Clone + Send + Sync + Sized + 'static {
     /// Short identifier (`cart_pendulum`), unique in [`all`].
     const ID: &'static str;
     /// Human-readable title.
@@ -102,12 +102,20 @@ pub trait SceneType: ClosedForm + Clone + Send + Sync + Sized + 'static {
     /// The parameter specifications, in order.
     const PARAMS: &'static [ParamSpec];
 
-    /// The scene with the values in `params`.
+    /// The scene with the values in `params` (read by name, checked as by the typed
+    /// constructor).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first parameter outside its domain, or a
     /// parameter missing from `params` (a set built for another scene).
     fn from_params(params: &Params) -> Result<Self, Error>;
+
+    /// Write the hand-coded closed-form `q̈(t, q, q̇)` into `qddot` (no automatic
+    /// differentiation, no engine); also the scene's [`ClosedForm`].
+    ///
+    /// # Panics
+    /// If a slice does not have the scene's number of coordinates.
+    fn closed_form(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]);
 
     /// The scene's default initial state (at `t = 0`).
     fn default_state(&self) -> State;
@@ -169,6 +177,12 @@ macro_rules! raw_scene {
 
 pub(crate) use {body_scene, raw_scene};
 
+impl<T: SceneType> ClosedForm for T {
+    fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        self.closed_form(t, q, qdot, qddot);
+    }
+}
+
 /// The object-safe [`Scene`] of a [`SceneType`]: every method builds the typed scene from the
 /// parameters (validating them) and asks it.
 struct Registered<T>(PhantomData<fn() -> T>);
@@ -222,7 +236,7 @@ impl<T: SceneType> Scene for Registered<T> {
         let n = scene.generalized_coordinates().len();
         check_dimensions(n, q, qdot)?;
         let mut qddot = vec![0.0; n];
-        scene.closed_form_into(t, q, qdot, &mut qddot);
+        scene.closed_form(t, q, qdot, &mut qddot);
         Ok(Some(qddot))
     }
 

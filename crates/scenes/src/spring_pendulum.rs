@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: mass `m`, stiffness `k`, rest length `L0`, `g`.
@@ -94,22 +94,16 @@ impl Mechanism for SpringPendulum {
     }
 }
 
-impl ClosedForm for SpringPendulum {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for SpringPendulum {
     const ID: &'static str = "spring_pendulum";
     const TITLE: &'static str = "Elastic (spring) pendulum";
     const REFERENCE: &'static str = "beyond the lecture; closed form derived in spring_pendulum.rs";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The spring pendulum with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [mass, stiffness, rest_length, gravity] = params.values_of(PARAMS)?;
         Self::new(mass, stiffness, rest_length, gravity)

@@ -4,7 +4,7 @@ use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
 use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{ClosedForm, Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
@@ -125,22 +125,16 @@ impl Mechanism for Wedge {
     }
 }
 
-impl ClosedForm for Wedge {
-    fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-}
-
 impl SceneType for Wedge {
     const ID: &'static str = "wedge";
     const TITLE: &'static str = "Block on a movable frictionless wedge";
     const REFERENCE: &'static str = "SYSTEMS.md §7; lecture 27, example: block on a movable wedge";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
-    /// The wedge with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+    }
+
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [wedge_mass, block_mass, angle, incline_length, gravity] = params.values_of(PARAMS)?;
         Self::new(wedge_mass, block_mass, angle, incline_length, gravity)

@@ -1,4 +1,5 @@
-//! The holonomic constraints `Φ(z, t) = 0` of every scene, written by hand as the joints,
+//! The building blocks of the holonomic constraints `Φ(z, t) = 0` (rails, ropes, pins, rods),
+//! from which each scene's file in `src/scenes/` writes its constraints by hand as the joints,
 //! ropes, rails and inclines act on the bodies — independently of the reduced model's poses.
 //!
 //! `z` holds every body's pose `(x_b, y_b, φ_b)`, body-major, in the reduced model's body order.

@@ -3,8 +3,8 @@
 //!
 //! The state is every body's full pose `z = (x_b, y_b, φ_b)` (3B coordinates, bodies in the
 //! reduced model's order) and its velocity `ż`. Each scene's joints, ropes, rails and inclines
-//! are written by hand as holonomic constraints `Φ(z, t) = 0` (m equations; see
-//! `constraints.rs`), generic over the scalar, and the equations of motion are
+//! are written by hand as holonomic constraints `Φ(z, t) = 0` (m equations; each
+//! scene's file in `src/scenes/`, from the building blocks of `constraints.rs`), generic over the scalar, and the equations of motion are
 //!
 //! ```text
 //! M z̈ + Φ_zᵀ λ = F,        Φ_z z̈ = −γ_Φ,        γ_Φ = d²/ds² Φ(z + s ż, t + s) = (Φ_z ż)_z ż + 2 Φ_zt ż + Φ_tt,
