@@ -9,6 +9,7 @@ use lagrange::integrate::Rk4;
 use lagrange::{Dynamics, Model};
 use lagrange_benches::{format_ns, mean_ns};
 use lagrange_maximal::{Engine, Settings, build};
+use lagrange_scenes::SceneType;
 use lagrange_scenes::chain::Chain;
 use std::hint::black_box;
 use std::time::Duration;

@@ -6,6 +6,7 @@
 
 use lagrange::integrate::{Dopri5, Gauss4, Rk4, Sdirk4, Variational};
 use lagrange::{Dynamics, Mechanism, Model, RawModel, State, Tolerances};
+use lagrange_scenes::SceneType;
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

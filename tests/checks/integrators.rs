@@ -2,6 +2,7 @@
 //! steps, and the closed-form periods of the lecture's systems.
 
 use lagrange::{Method, Output, State, Tolerances};
+use lagrange_scenes::SceneType;
 use lagrange_tests::max_abs_diff;
 use std::f64::consts::PI;
 

@@ -2,6 +2,7 @@
 //! rope tensions, the wedge's normal force, the cart pendulum's rod tension; and no reaction
 //! where nothing constrains the body (the Kepler particle).
 
+use lagrange_scenes::SceneType;
 use lagrange_scenes::{atwood::Atwood, cart_pendulum::CartPendulum, double_atwood::DoubleAtwood, wedge::Wedge};
 use lagrange_tests::{max_abs, rng, sampling, tolerance};
 

@@ -11,13 +11,16 @@
 //!   and with multibody joints.
 //!
 //! Both start from the reduced model's body states ([`maps::body_states`]) and are read back
-//! into generalized coordinates by scene-specific inverse maps ([`maps::generalized`]).
+//! into generalized coordinates by scene-specific inverse maps ([`maps::generalized`]). Each
+//! scene's maximal description (inverse map, Cartesian constraints, rapier construction) is one
+//! file in `src/scenes/`, found through the scene's type and the scenes crate's registry.
 //! [`build`] makes any engine's simulation of any scene, or says why it cannot.
 
 pub mod cartesian;
 mod engine;
 pub mod maps;
 pub mod rapier;
+mod scenes;
 
 pub use engine::{BodyState, BuildError, Built, Engine, MaximalSimulation, Settings};
 

@@ -4,8 +4,9 @@
 //! potential on its bodies.
 
 use crate::BodyState;
+use crate::scenes::{MaximalScene, MaximalVisitor};
 use lagrange::num_dual::Dual64;
-use lagrange::{Body, Error, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Error, Mechanism, Pose, State};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, visit_mechanism};
 use std::f64::consts::PI;
 
@@ -66,55 +67,8 @@ pub fn body_states(scene: &str, params: &Params, state: &State) -> Result<Vec<Bo
     }
 }
 
-/// `q = g(z)`: the generalized coordinates of a scene from its body poses, by hand for each
-/// scene (independent of the reduced model's poses).
-fn inverse<S: Scalar>(scene: &str, params: &Params, t: S, z: &[[S; 3]]) -> Result<Vec<S>, Error> {
-    let p = |name: &str| params.get(name);
-    let angle_from_down = |dx: S, dy: S| dx.atan2(-dy);
-    Ok(match scene {
-        // cart, bob: X = x_cart, θ = angle of the rod from the downward vertical.
-        "cart_pendulum" => vec![z[0][0], angle_from_down(z[1][0] - z[0][0], z[1][1] - z[0][1])],
-        "harmonic_oscillator" => vec![z[0][0]],
-        // Plane polar coordinates of the particle.
-        "kepler" | "isotropic_oscillator" => {
-            vec![(z[0][0] * z[0][0] + z[0][1] * z[0][1]).sqrt(), z[0][1].atan2(z[0][0])]
-        }
-        // Depth of m1 below the axle.
-        "atwood" => vec![-z[0][1]],
-        // Bodies m1, m2, m3, movable pulley P: x = depth of m1, x' = depth of m2 below P.
-        "double_atwood" => vec![-z[0][1], z[3][1] - z[1][1]],
-        // Bodies A, B, m2, m3, m4, m5: x = depth of A, x' = m2 below B, x'' = m4 below A.
-        "double_double_atwood" => vec![-z[0][1], z[1][1] - z[2][1], z[0][1] - z[4][1]],
-        // Wedge at (x, 0); x' = distance of the block from the top corner along the slope
-        // direction (cos α, −sin α), the corner being at (x, L sin α).
-        "wedge" => {
-            let (sin, cos) = p("angle").sin_cos();
-            let length = p("incline_length");
-            vec![z[0][0], (z[1][0] - z[0][0]) * cos - (z[1][1] - length * sin) * sin]
-        }
-        "double_pendulum" => {
-            vec![angle_from_down(z[0][0], z[0][1]), angle_from_down(z[1][0] - z[0][0], z[1][1] - z[0][1])]
-        }
-        // Each link's orientation is its angle from the downward vertical.
-        "chain" => z.iter().map(|link| link[2]).collect(),
-        "spring_pendulum" => vec![(z[0][0] * z[0][0] + z[0][1] * z[0][1]).sqrt(), angle_from_down(z[0][0], z[0][1])],
-        // Support at (A sin ωt, 0).
-        "driven_pendulum" => {
-            let support = (t * p("drive_frequency")).sin() * p("amplitude");
-            vec![angle_from_down(z[0][0] - support, z[0][1])]
-        }
-        "charged_particle" => vec![z[0][0], z[0][1]],
-        other => {
-            return Err(Error::InvalidParameter {
-                name: "scene".into(),
-                value: f64::NAN,
-                why: format!("no inverse map for scene `{other}`"),
-            });
-        }
-    })
-}
-
-/// `(q, q̇)` of a scene from body states: `q = g(z)`, `q̇ = (∂g/∂z) ż + ∂g/∂t` (one dual pass).
+/// `(q, q̇)` of a scene from body states: `q = g(z)` (the scene's inverse map, written by hand
+/// independently of the reduced model's poses), `q̇ = (∂g/∂z) ż + ∂g/∂t` (one dual pass).
 /// Angles are unwrapped to the branch nearest `reference` (the previous read-back, or the
 /// initial state).
 ///
@@ -129,7 +83,14 @@ pub fn generalized(
 ) -> Result<(Vec<f64>, Vec<f64>), Error> {
     let z: Vec<[Dual64; 3]> =
         bodies.iter().map(|b| std::array::from_fn(|c| Dual64::new(b.pose[c], b.velocity[c]))).collect();
-    let q = inverse(scene, params, Dual64::new(t, 1.0), &z)?;
+    struct Inverse<'a>(Dual64, &'a [[Dual64; 3]]);
+    impl MaximalVisitor for Inverse<'_> {
+        type Output = Vec<Dual64>;
+        fn visit<T: MaximalScene>(self, scene: T) -> Vec<Dual64> {
+            scene.generalized(self.0, self.1)
+        }
+    }
+    let q = crate::scenes::visit(scene, params, Inverse(Dual64::new(t, 1.0), &z))?;
     let coordinates = lagrange_scenes::find(scene).map(|s| s.coordinates(params)).transpose()?.unwrap_or_default();
     let mut values: Vec<f64> = q.iter().map(|v| v.re).collect();
     for (i, c) in coordinates.iter().enumerate() {
@@ -153,12 +114,10 @@ pub fn energy(scene: &str, params: &Params, t: f64, states: &[BodyState]) -> Res
         let v = s.velocity;
         energy += 0.5 * b.mass * (v[0] * v[0] + v[1] * v[1]) + 0.5 * b.inertia * v[2] * v[2] + b.mass * g * s.pose[1];
     }
-    if scene == "charged_particle" {
-        // The magnetic force does no work: the energy is kinetic.
-        return Ok(energy);
-    }
-    let (value, _) = potential(scene, params, t, states, None)?;
-    Ok(energy + value)
+    // A scene without a potential (the charged particle: the magnetic force does no work) has
+    // kinetic and gravitational energy only.
+    let (value, has_potential) = potential(scene, params, t, states, None)?;
+    Ok(if has_potential { energy + value } else { energy })
 }
 
 /// The scene's potential `V` at body states and, with `gradient`, `∂V/∂p_b` (3B): minus the

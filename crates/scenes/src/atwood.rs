@@ -1,10 +1,11 @@
 //! Atwood machine with a massive pulley (SYSTEMS.md §4; lecture 27).
 
-use crate::checks::{check_dimensions, check_state, fixed};
+use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
+use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
 
 /// Parameters: masses `m1`, `m2`, pulley inertia `I`, pulley radius `a`, rope length `l`, `g`.
@@ -73,15 +74,6 @@ impl Atwood {
         })
     }
 
-    /// The Atwood machine with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity] = params.values_of(PARAMS)?;
-        Self::new(mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity)
-    }
-
     /// The constant `ẍ = (m1 − m2) g / (m1 + m2 + I/a²)` (SYSTEMS.md §4, "Closed form"; the
     /// lecture's result). Positive when `m1` descends.
     pub fn acceleration(&self) -> f64 {
@@ -135,66 +127,42 @@ impl Mechanism for Atwood {
     }
 }
 
-/// The [`Atwood`] machine as a [`Scene`] (`atwood`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct AtwoodScene;
+impl SceneType for Atwood {
+    const ID: &'static str = "atwood";
+    const TITLE: &'static str = "Atwood machine with a massive pulley";
+    const REFERENCE: &'static str = "SYSTEMS.md §4; lecture 27, example: Atwood machine";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for AtwoodScene {
-    fn id(&self) -> &'static str {
-        "atwood"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Atwood machine with a massive pulley"
-    }
-
-    fn reference(&self) -> &'static str {
-        "SYSTEMS.md §4; lecture 27, example: Atwood machine"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(Atwood::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity] = params.values_of(PARAMS)?;
+        Self::new(mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity)
     }
 
     /// `x = 1`, at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [1.0], [0.0]))
-    }
-
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(Atwood::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = Atwood::from_params(params)?;
-        check_dimensions(1, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    fn default_state(&self) -> State {
+        State::new(0.0, [1.0], [0.0])
     }
 
     /// Uniform acceleration: `x = x₀ + ẋ₀ τ + ½ ẍ τ²`.
-    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
-        let scene = Atwood::from_params(params)?;
-        check_state(1, initial)?;
-        Ok(Some(uniformly_accelerated(initial, &[scene.acceleration()], t)))
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        Some(uniformly_accelerated(initial, &[self.acceleration()], t))
     }
+
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{
         ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
     };
+    use lagrange::{Model, Simulation, System};
 
     fn states() -> Vec<State> {
         vec![
@@ -208,19 +176,19 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = AtwoodScene.default_params();
-        assert_engine_matches_closed_form(&AtwoodScene, &params, &states());
+        let mut params = scene_of::<Atwood>().default_params();
+        assert_engine_matches_closed_form(scene_of::<Atwood>(), &params, &states());
         for (key, value) in [("I", 0.0), ("m2", 3.5), ("a", 0.2), ("g", 1.6)] {
             params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(&AtwoodScene, &params, &states());
+            assert_engine_matches_closed_form(scene_of::<Atwood>(), &params, &states());
         }
     }
 
     #[test]
     fn exact_solution_is_consistent() {
-        let params = AtwoodScene.default_params();
+        let params = scene_of::<Atwood>().default_params();
         for initial in [State::new(0.0, [1.0], [0.0]), State::new(2.0, [-0.5], [0.8])] {
-            assert_exact_solution_consistent(&AtwoodScene, &params, &initial, &[0.5, 3.0]);
+            assert_exact_solution_consistent(scene_of::<Atwood>(), &params, &initial, &[0.5, 3.0]);
         }
     }
 

@@ -1,11 +1,12 @@
 //! Pendulum on a movable support: a cart on a frictionless rail with a pendulum hanging from it
 //! (SYSTEMS.md §1; lecture 27, the first example).
 
-use crate::checks::{check_dimensions, fixed};
+use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
-use crate::{Domain, ParamSpec, Params, Scene};
+use crate::scene::body_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: cart mass `M`, bob mass `m`, rod length `r`, gravity `g`, bob inertia `I_b`.
 pub const PARAMS: &[ParamSpec] = &[
@@ -34,7 +35,7 @@ pub const PARAMS: &[ParamSpec] = &[
 /// joint along x from the ground, the bob on a revolute joint at the cart's centre with the
 /// absolute angle `θ` ([`AngleReference::World`](lagrange::tree::AngleReference); the cart never
 /// turns, so it is also the angle relative to the cart), `(0, r)` in the bob's frame; so
-/// [`Model::new`] computes `q̈` with the articulated-body algorithm.
+/// [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params), which validate the
 /// parameters and build the body list; the fields are public for reading (changing one
@@ -95,15 +96,6 @@ impl CartPendulum {
             bodies,
             tree,
         })
-    }
-
-    /// The cart pendulum with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [cart_mass, bob_mass, rod_length, gravity, bob_inertia] = params.values_of(PARAMS)?;
-        Self::with_bob_inertia(cart_mass, bob_mass, rod_length, gravity, bob_inertia)
     }
 
     /// `(Ẍ, θ̈)` in closed form (SYSTEMS.md §1, "Closed form (exact, any amplitude)"):
@@ -203,63 +195,35 @@ impl Mechanism for CartPendulum {
     }
 }
 
-/// The [`CartPendulum`] as a [`Scene`] (`cart_pendulum`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct CartPendulumScene;
+impl SceneType for CartPendulum {
+    const ID: &'static str = "cart_pendulum";
+    const TITLE: &'static str = "Pendulum on a movable support (cart)";
+    const REFERENCE: &'static str = "SYSTEMS.md §1; lecture 27, example: pendulum attached to a movable support";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for CartPendulumScene {
-    fn id(&self) -> &'static str {
-        "cart_pendulum"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Pendulum on a movable support (cart)"
-    }
-
-    fn reference(&self) -> &'static str {
-        "SYSTEMS.md §1; lecture 27, example: pendulum attached to a movable support"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(CartPendulum::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [cart_mass, bob_mass, rod_length, gravity, bob_inertia] = params.values_of(PARAMS)?;
+        Self::with_bob_inertia(cart_mass, bob_mass, rod_length, gravity, bob_inertia)
     }
 
     /// `X = 0`, `θ = 0.5`, at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [0.0, 0.5], [0.0, 0.0]))
+    fn default_state(&self) -> State {
+        State::new(0.0, [0.0, 0.5], [0.0, 0.0])
     }
 
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(CartPendulum::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = CartPendulum::from_params(params)?;
-        check_dimensions(2, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
-    }
-
-    /// None: the motion has no closed form.
-    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
-        CartPendulum::from_params(params)?;
-        Ok(None)
-    }
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form};
+    use lagrange::{Model, Simulation, System};
 
     fn states() -> Vec<State> {
         vec![
@@ -273,12 +237,12 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = CartPendulumScene.default_params();
-        assert_engine_matches_closed_form(&CartPendulumScene, &params, &states());
+        let mut params = scene_of::<CartPendulum>().default_params();
+        assert_engine_matches_closed_form(scene_of::<CartPendulum>(), &params, &states());
         params.set("M", 0.3).unwrap();
         params.set("r", 1.7).unwrap();
         params.set("g", 3.0).unwrap();
-        assert_engine_matches_closed_form(&CartPendulumScene, &params, &states());
+        assert_engine_matches_closed_form(scene_of::<CartPendulum>(), &params, &states());
     }
 
     /// The engine's reaction force on the bob is the rod tension along `(−sinθ, cosθ)`, and the
@@ -286,7 +250,7 @@ mod tests {
     #[test]
     fn rod_tension_and_momentum_match_the_engine() {
         let scene = CartPendulum::new(2.0, 1.0, 1.3, 9.81).unwrap();
-        let mut system = CartPendulumScene.build(&CartPendulumScene.default_params()).unwrap();
+        let mut system = scene_of::<CartPendulum>().build(&scene_of::<CartPendulum>().default_params()).unwrap();
         let mut system_r = Simulation::new(Model::new(scene.clone()).unwrap());
         for state in states() {
             let tension = scene.rod_tension(&state.q, &state.qdot);

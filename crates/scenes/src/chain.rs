@@ -1,10 +1,10 @@
 //! A hanging chain of `N` uniform rigid links (beyond the lecture).
 
-use crate::checks::check_dimensions;
 use crate::params::{GRAVITY, check_all};
-use crate::{Domain, ParamSpec, Params, Scene};
+use crate::scene::body_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use nalgebra::{DMatrix, DVector};
 
 /// Parameters: number of links `N`, link mass `m`, link length `l`, `g`.
@@ -23,9 +23,9 @@ pub const PARAMS: &[ParamSpec] = &[
 /// The chain describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): rod `i` hangs from
 /// rod `i − 1` (rod 1 from the ground) by a revolute joint whose coordinate is the absolute angle
 /// `θ_i` ([`AngleReference::World`](lagrange::tree::AngleReference)), at `(0, −l/2)` in the rod
-/// above and `(0, l/2)` in its own centre-of-mass frame. So [`Model::new`] checks the tree against
+/// above and `(0, l/2)` in its own centre-of-mass frame. So [`Model::new`](lagrange::Model::new) checks the tree against
 /// the poses above and computes `q̈` with the articulated-body algorithm, `O(N)`;
-/// [`Model::new_generic`] assembles `M` from the poses instead.
+/// [`Model::new_generic`](lagrange::Model::new_generic) assembles `M` from the poses instead.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
@@ -78,17 +78,6 @@ impl Chain {
         check_all(PARAMS, &[links as f64, link_mass, link_length, gravity])?;
         let tree = hanging_rods(&vec![link_mass; links], link_length, gravity)?;
         Ok(Self { links, link_mass, link_length, gravity, tree })
-    }
-
-    /// The chain with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [links, link_mass, link_length, gravity] = params.values_of(PARAMS)?;
-        // Check the count as a real number before it becomes an integer (2.5 must not become 2).
-        check_all(PARAMS, &[links, link_mass, link_length, gravity])?;
-        Self::new(links as usize, link_mass, link_length, gravity)
     }
 
     /// `S_ij = Σ_k a_ki a_kj` (0-based `i`, `j`), where `a_ki` = 1 if rod `i` is above rod `k`,
@@ -165,64 +154,37 @@ impl Mechanism for Chain {
     }
 }
 
-/// The [`Chain`] as a [`Scene`] (`chain`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct ChainScene;
+impl SceneType for Chain {
+    const ID: &'static str = "chain";
+    const TITLE: &'static str = "Hanging chain of N rigid links";
+    const REFERENCE: &'static str = "beyond the lecture; closed form derived in chain.rs";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for ChainScene {
-    fn id(&self) -> &'static str {
-        "chain"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Hanging chain of N rigid links"
-    }
-
-    fn reference(&self) -> &'static str {
-        "beyond the lecture; closed form derived in chain.rs"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(Chain::from_params(params)?.coordinates().to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [links, link_mass, link_length, gravity] = params.values_of(PARAMS)?;
+        // Check the count as a real number before it becomes an integer (2.5 must not become 2).
+        check_all(PARAMS, &[links, link_mass, link_length, gravity])?;
+        Self::new(links as usize, link_mass, link_length, gravity)
     }
 
     /// Every `θ_i = 0.5`, at rest.
-    fn default_state(&self, params: &Params) -> Result<State, Error> {
-        let n = Chain::from_params(params)?.links;
-        Ok(State::new(0.0, vec![0.5; n], vec![0.0; n]))
+    fn default_state(&self) -> State {
+        State::new(0.0, vec![0.5; self.links], vec![0.0; self.links])
     }
 
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(Chain::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = Chain::from_params(params)?;
-        check_dimensions(scene.links, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot)))
-    }
-
-    /// None: the motion has no closed form.
-    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
-        Chain::from_params(params)?;
-        Ok(None)
-    }
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::assert_engine_matches_closed_form;
+    use lagrange::Model;
 
     /// Five fixed generic states of `n` links (angles and rates from a fixed formula).
     fn states(n: usize) -> Vec<State> {
@@ -241,12 +203,12 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form_for_several_lengths() {
-        let mut params = ChainScene.default_params();
+        let mut params = scene_of::<Chain>().default_params();
         for (links, mass, length) in [(4.0, 1.0, 1.0), (1.0, 2.0, 0.5), (2.0, 0.7, 1.3), (7.0, 1.5, 0.4)] {
             params.set("N", links).unwrap();
             params.set("m", mass).unwrap();
             params.set("l", length).unwrap();
-            assert_engine_matches_closed_form(&ChainScene, &params, &states(links as usize));
+            assert_engine_matches_closed_form(scene_of::<Chain>(), &params, &states(links as usize));
         }
     }
 
@@ -257,11 +219,11 @@ mod tests {
     #[test]
     fn engine_matches_closed_form_for_the_longest_chain() {
         let n = 256;
-        let mut params = ChainScene.default_params();
+        let mut params = scene_of::<Chain>().default_params();
         params.set("N", n as f64).unwrap();
         let q: Vec<f64> = (0..n).map(|i| 0.5 + 0.3 * (i as f64).sin()).collect();
         let qdot: Vec<f64> = (0..n).map(|i| 0.2 * (0.7 * i as f64).cos()).collect();
-        let mut system = ChainScene.build(&params).unwrap();
+        let mut system = scene_of::<Chain>().build(&params).unwrap();
         let got = system.accelerations(0.0, &q, &qdot).unwrap().to_vec();
         let expected = Chain::from_params(&params).unwrap().closed_form_accelerations(&q, &qdot);
         let tolerance = 10.0 * 6.0 * (n * n) as f64 * f64::EPSILON * crate::testing::max_abs(&expected);

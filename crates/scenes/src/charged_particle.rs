@@ -1,10 +1,11 @@
 //! A charged particle in a uniform magnetic field: a velocity-dependent potential, given as a
 //! raw Lagrangian (beyond the lecture).
 
-use crate::checks::{check_dimensions, check_state, fixed};
+use crate::checks::fixed;
 use crate::params::check_all;
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Coordinate, Error, Lagrangian, RawModel, Scalar, Simulation, State, System};
+use crate::scene::raw_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Coordinate, Error, Lagrangian, Scalar, State};
 
 /// Parameters: mass `m`, charge `e`, field `B`.
 pub const PARAMS: &[ParamSpec] = &[
@@ -37,15 +38,6 @@ impl ChargedParticle {
     pub fn new(mass: f64, charge: f64, field: f64) -> Result<Self, Error> {
         check_all(PARAMS, &[mass, charge, field])?;
         Ok(Self { mass, charge, field, coordinates: [Coordinate::length("x"), Coordinate::length("y")] })
-    }
-
-    /// The charged particle with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, charge, field] = params.values_of(PARAMS)?;
-        Self::new(mass, charge, field)
     }
 
     /// The cyclotron (signed angular) frequency `ω_c = e B / m` (rad/s).
@@ -102,64 +94,40 @@ impl Lagrangian for ChargedParticle {
     }
 }
 
-/// The [`ChargedParticle`] as a [`Scene`] (`charged_particle`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct ChargedParticleScene;
+impl SceneType for ChargedParticle {
+    const ID: &'static str = "charged_particle";
+    const TITLE: &'static str = "Charged particle in a uniform magnetic field";
+    const REFERENCE: &'static str =
+        "beyond the lecture (velocity-dependent potential, raw Lagrangian); Goldstein, Classical Mechanics, §1.5";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for ChargedParticleScene {
-    fn id(&self) -> &'static str {
-        "charged_particle"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Charged particle in a uniform magnetic field"
-    }
-
-    fn reference(&self) -> &'static str {
-        "beyond the lecture (velocity-dependent potential, raw Lagrangian); Goldstein, Classical Mechanics, §1.5"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(ChargedParticle::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, charge, field] = params.values_of(PARAMS)?;
+        Self::new(mass, charge, field)
     }
 
     /// `x = 1`, `y = 0`, `ẋ = 0`, `ẏ = 1`.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [1.0, 0.0], [0.0, 1.0]))
-    }
-
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(RawModel::new(ChargedParticle::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = ChargedParticle::from_params(params)?;
-        check_dimensions(2, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    fn default_state(&self) -> State {
+        State::new(0.0, [1.0, 0.0], [0.0, 1.0])
     }
 
     /// Uniform circular motion; see [`ChargedParticle::motion`].
-    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
-        let scene = ChargedParticle::from_params(params)?;
-        check_state(2, initial)?;
-        let (q, qdot) = scene.motion(&initial.q, &initial.qdot, t - initial.t);
-        Ok(Some(State::new(t, q, qdot)))
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        let (q, qdot) = self.motion(&initial.q, &initial.qdot, t - initial.t);
+        Some(State::new(t, q, qdot))
     }
+
+    raw_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
     use std::f64::consts::TAU;
 
@@ -175,21 +143,21 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = ChargedParticleScene.default_params();
-        assert_engine_matches_closed_form(&ChargedParticleScene, &params, &states());
+        let mut params = scene_of::<ChargedParticle>().default_params();
+        assert_engine_matches_closed_form(scene_of::<ChargedParticle>(), &params, &states());
         for (key, value) in [("B", -2.5), ("e", 0.3), ("m", 4.0)] {
             params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(&ChargedParticleScene, &params, &states());
+            assert_engine_matches_closed_form(scene_of::<ChargedParticle>(), &params, &states());
         }
     }
 
     #[test]
     fn exact_solution_is_consistent_for_both_signs_and_zero_field() {
         for field in [1.0, -2.0, 0.0, 1e-9] {
-            let mut params = ChargedParticleScene.default_params();
+            let mut params = scene_of::<ChargedParticle>().default_params();
             params.set("B", field).unwrap();
             for initial in [State::new(0.0, [1.0, 0.0], [0.0, 1.0]), State::new(0.7, [-0.5, 2.0], [0.4, -1.3])] {
-                assert_exact_solution_consistent(&ChargedParticleScene, &params, &initial, &[0.3, 2.0, 9.0]);
+                assert_exact_solution_consistent(scene_of::<ChargedParticle>(), &params, &initial, &[0.3, 2.0, 9.0]);
             }
         }
     }

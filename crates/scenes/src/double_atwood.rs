@@ -1,10 +1,11 @@
 //! Double Atwood machine, optionally with a massive movable pulley (SYSTEMS.md §5; lecture 27).
 
-use crate::checks::{check_dimensions, check_state, fixed};
+use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
+use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: masses `m1`, `m2`, `m3`, rope lengths `l`, `l'`, movable-pulley mass `m_p`, `g`.
 pub const PARAMS: &[ParamSpec] = &[
@@ -86,16 +87,6 @@ impl DoubleAtwood {
         })
     }
 
-    /// The double Atwood machine with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity] =
-            params.values_of(PARAMS)?;
-        Self::new(mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity)
-    }
-
     /// The constant mass matrix `M = [[m1 + m2 + m3 + m_p, m3 − m2], [m3 − m2, m2 + m3]]`, from
     /// `T = ½ m1 ẋ² + ½ m2 (ẋ' − ẋ)² + ½ m3 (ẋ + ẋ')² + ½ m_p ẋ²` (SYSTEMS.md §5 plus the pulley).
     pub fn mass_matrix(&self) -> [[f64; 2]; 2] {
@@ -175,66 +166,44 @@ impl Mechanism for DoubleAtwood {
     }
 }
 
-/// The [`DoubleAtwood`] machine as a [`Scene`] (`double_atwood`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct DoubleAtwoodScene;
+impl SceneType for DoubleAtwood {
+    const ID: &'static str = "double_atwood";
+    const TITLE: &'static str = "Double Atwood machine";
+    const REFERENCE: &'static str =
+        "SYSTEMS.md §5; lecture 27, example: double Atwood machine (massive pulley beyond the lecture)";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for DoubleAtwoodScene {
-    fn id(&self) -> &'static str {
-        "double_atwood"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Double Atwood machine"
-    }
-
-    fn reference(&self) -> &'static str {
-        "SYSTEMS.md §5; lecture 27, example: double Atwood machine (massive pulley beyond the lecture)"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(DoubleAtwood::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity] =
+            params.values_of(PARAMS)?;
+        Self::new(mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity)
     }
 
     /// `x = 2`, `x' = 1`, at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [2.0, 1.0], [0.0, 0.0]))
-    }
-
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(DoubleAtwood::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = DoubleAtwood::from_params(params)?;
-        check_dimensions(2, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    fn default_state(&self) -> State {
+        State::new(0.0, [2.0, 1.0], [0.0, 0.0])
     }
 
     /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
-        let scene = DoubleAtwood::from_params(params)?;
-        check_state(2, initial)?;
-        Ok(Some(uniformly_accelerated(initial, &scene.acceleration(), t)))
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        Some(uniformly_accelerated(initial, &self.acceleration(), t))
     }
+
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{
         ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
     };
+    use lagrange::{Model, Simulation, System};
 
     fn states() -> Vec<State> {
         vec![
@@ -248,11 +217,11 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form_with_massless_and_massive_pulley() {
-        let mut params = DoubleAtwoodScene.default_params();
-        assert_engine_matches_closed_form(&DoubleAtwoodScene, &params, &states());
+        let mut params = scene_of::<DoubleAtwood>().default_params();
+        assert_engine_matches_closed_form(scene_of::<DoubleAtwood>(), &params, &states());
         for (key, value) in [("m_p", 0.7), ("m1", 0.5), ("m3", 4.0), ("m_p", 0.0)] {
             params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(&DoubleAtwoodScene, &params, &states());
+            assert_engine_matches_closed_form(scene_of::<DoubleAtwood>(), &params, &states());
         }
     }
 
@@ -276,11 +245,11 @@ mod tests {
 
     #[test]
     fn exact_solution_is_consistent() {
-        let mut params = DoubleAtwoodScene.default_params();
+        let mut params = scene_of::<DoubleAtwood>().default_params();
         for m_p in [0.0, 0.4] {
             params.set("m_p", m_p).unwrap();
             for initial in [State::new(0.0, [2.0, 1.0], [0.0, 0.0]), State::new(1.0, [1.0, 0.5], [0.3, -0.2])] {
-                assert_exact_solution_consistent(&DoubleAtwoodScene, &params, &initial, &[0.5, 2.0]);
+                assert_exact_solution_consistent(scene_of::<DoubleAtwood>(), &params, &initial, &[0.5, 2.0]);
             }
         }
     }

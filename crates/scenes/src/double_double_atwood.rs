@@ -1,11 +1,12 @@
 //! Double-double Atwood machine: two movable pulleys, each with two masses (SYSTEMS.md §6; the
 //! lecture's homework remark).
 
-use crate::checks::{check_dimensions, check_state, fixed};
+use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
+use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: masses `m2`–`m5`, rope lengths `l`, `l'`, `l''`, pulley masses `m_A`, `m_B`, `g`.
 pub const PARAMS: &[ParamSpec] = &[
@@ -109,15 +110,6 @@ impl DoubleDoubleAtwood {
         })
     }
 
-    /// The machine with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g] = params.values_of(PARAMS)?;
-        Self::new(m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g)
-    }
-
     /// The constant mass matrix, from
     /// `T = ½ (m_A + m_B) ẋ² + ½ m2 (ẋ' − ẋ)² + ½ m3 (ẋ + ẋ')² + ½ m4 (ẋ + ẋ'')² + ½ m5 (ẋ − ẋ'')²`
     /// (SYSTEMS.md §6's `T` plus the pulleys, which move with `ẋ_A = ẋ`, `ẋ_B = −ẋ`):
@@ -214,66 +206,42 @@ impl Mechanism for DoubleDoubleAtwood {
     }
 }
 
-/// The [`DoubleDoubleAtwood`] machine as a [`Scene`] (`double_double_atwood`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct DoubleDoubleAtwoodScene;
+impl SceneType for DoubleDoubleAtwood {
+    const ID: &'static str = "double_double_atwood";
+    const TITLE: &'static str = "Double-double Atwood machine";
+    const REFERENCE: &'static str = "SYSTEMS.md §6; lecture 27, homework remark (massive pulleys beyond the lecture)";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for DoubleDoubleAtwoodScene {
-    fn id(&self) -> &'static str {
-        "double_double_atwood"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Double-double Atwood machine"
-    }
-
-    fn reference(&self) -> &'static str {
-        "SYSTEMS.md §6; lecture 27, homework remark (massive pulleys beyond the lecture)"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(DoubleDoubleAtwood::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g] = params.values_of(PARAMS)?;
+        Self::new(m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g)
     }
 
     /// `x = 2`, `x' = 1`, `x'' = 1`, at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [2.0, 1.0, 1.0], [0.0, 0.0, 0.0]))
-    }
-
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(DoubleDoubleAtwood::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = DoubleDoubleAtwood::from_params(params)?;
-        check_dimensions(3, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    fn default_state(&self) -> State {
+        State::new(0.0, [2.0, 1.0, 1.0], [0.0, 0.0, 0.0])
     }
 
     /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
-        let scene = DoubleDoubleAtwood::from_params(params)?;
-        check_state(3, initial)?;
-        Ok(Some(uniformly_accelerated(initial, &scene.acceleration(), t)))
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        Some(uniformly_accelerated(initial, &self.acceleration(), t))
     }
+
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{
         ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
     };
+    use lagrange::Model;
 
     fn states() -> Vec<State> {
         vec![
@@ -286,7 +254,7 @@ mod tests {
     }
 
     fn with_pulley_masses(m_a: f64, m_b: f64) -> Params {
-        let mut params = DoubleDoubleAtwoodScene.default_params();
+        let mut params = scene_of::<DoubleDoubleAtwood>().default_params();
         params.set("m_A", m_a).unwrap();
         params.set("m_B", m_b).unwrap();
         params
@@ -295,7 +263,11 @@ mod tests {
     #[test]
     fn engine_matches_closed_form_with_massless_and_massive_pulleys() {
         for (m_a, m_b) in [(0.0, 0.0), (0.6, 0.0), (0.0, 0.9), (0.3, 1.2)] {
-            assert_engine_matches_closed_form(&DoubleDoubleAtwoodScene, &with_pulley_masses(m_a, m_b), &states());
+            assert_engine_matches_closed_form(
+                scene_of::<DoubleDoubleAtwood>(),
+                &with_pulley_masses(m_a, m_b),
+                &states(),
+            );
         }
     }
 
@@ -343,7 +315,7 @@ mod tests {
         for (m_a, m_b) in [(0.0, 0.0), (0.3, 1.2)] {
             let params = with_pulley_masses(m_a, m_b);
             let initial = State::new(0.5, [2.0, 1.0, 1.0], [0.1, 0.0, -0.3]);
-            assert_exact_solution_consistent(&DoubleDoubleAtwoodScene, &params, &initial, &[0.5, 2.0]);
+            assert_exact_solution_consistent(scene_of::<DoubleDoubleAtwood>(), &params, &initial, &[0.5, 2.0]);
         }
     }
 }

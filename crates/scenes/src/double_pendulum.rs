@@ -1,10 +1,11 @@
 //! Double pendulum: two point masses on massless rods (beyond the lecture).
 
-use crate::checks::{check_dimensions, fixed};
+use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
-use crate::{Domain, ParamSpec, Params, Scene};
+use crate::scene::body_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: masses `m1`, `m2`, rod lengths `l1`, `l2`, `g`, bob inertias `I1`, `I2`.
 pub const PARAMS: &[ParamSpec] = &[
@@ -45,7 +46,7 @@ pub const PARAMS: &[ParamSpec] = &[
 /// It describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): bob 1 hangs from the
 /// origin, bob 2 from bob 1's centre, each by a revolute joint with the absolute angle `θ_i`
 /// ([`AngleReference::World`](lagrange::tree::AngleReference)) at `(0, l_i)` in the bob's frame;
-/// so [`Model::new`] computes `q̈` with the articulated-body algorithm.
+/// so [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
@@ -108,15 +109,6 @@ impl DoublePendulum {
             bodies,
             tree,
         })
-    }
-
-    /// The double pendulum with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass_1, mass_2, length_1, length_2, gravity, inertia_1, inertia_2] = params.values_of(PARAMS)?;
-        Self::with_inertia(mass_1, mass_2, length_1, length_2, gravity, [inertia_1, inertia_2])
     }
 
     /// `(θ̈₁, θ̈₂)` in closed form. Lagrange's equations (divided by `l1` and `m2 l2`), with
@@ -221,62 +213,34 @@ impl Mechanism for DoublePendulum {
     }
 }
 
-/// The [`DoublePendulum`] as a [`Scene`] (`double_pendulum`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct DoublePendulumScene;
+impl SceneType for DoublePendulum {
+    const ID: &'static str = "double_pendulum";
+    const TITLE: &'static str = "Double pendulum";
+    const REFERENCE: &'static str =
+        "beyond the lecture; closed forms derived in double_pendulum.rs (cf. Taylor, Classical Mechanics, §11.4)";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for DoublePendulumScene {
-    fn id(&self) -> &'static str {
-        "double_pendulum"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Double pendulum"
-    }
-
-    fn reference(&self) -> &'static str {
-        "beyond the lecture; closed forms derived in double_pendulum.rs (cf. Taylor, Classical Mechanics, §11.4)"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(DoublePendulum::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass_1, mass_2, length_1, length_2, gravity, inertia_1, inertia_2] = params.values_of(PARAMS)?;
+        Self::with_inertia(mass_1, mass_2, length_1, length_2, gravity, [inertia_1, inertia_2])
     }
 
     /// `θ₁ = θ₂ = 0.5`, at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [0.5, 0.5], [0.0, 0.0]))
+    fn default_state(&self) -> State {
+        State::new(0.0, [0.5, 0.5], [0.0, 0.0])
     }
 
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(DoublePendulum::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = DoublePendulum::from_params(params)?;
-        check_dimensions(2, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
-    }
-
-    /// None: the motion is chaotic and has no closed form.
-    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
-        DoublePendulum::from_params(params)?;
-        Ok(None)
-    }
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::assert_engine_matches_closed_form;
 
     fn states() -> Vec<State> {
@@ -291,11 +255,11 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = DoublePendulumScene.default_params();
-        assert_engine_matches_closed_form(&DoublePendulumScene, &params, &states());
+        let mut params = scene_of::<DoublePendulum>().default_params();
+        assert_engine_matches_closed_form(scene_of::<DoublePendulum>(), &params, &states());
         for (key, value) in [("m1", 0.3), ("l2", 1.7), ("m2", 2.5), ("l1", 0.6)] {
             params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(&DoublePendulumScene, &params, &states());
+            assert_engine_matches_closed_form(scene_of::<DoublePendulum>(), &params, &states());
         }
     }
 

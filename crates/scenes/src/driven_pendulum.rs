@@ -1,9 +1,10 @@
 //! Pendulum whose support is driven horizontally: a rheonomic constraint (beyond the lecture).
 
-use crate::checks::{check_dimensions, fixed};
+use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::scene::body_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: mass `m`, rod length `l`, drive amplitude `A`, drive frequency `ω`, `g`.
 pub const PARAMS: &[ParamSpec] = &[
@@ -55,15 +56,6 @@ impl DrivenPendulum {
         })
     }
 
-    /// The driven pendulum with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, length, amplitude, drive_frequency, gravity] = params.values_of(PARAMS)?;
-        Self::new(mass, length, amplitude, drive_frequency, gravity)
-    }
-
     /// `θ̈ = −(g/l) sinθ + (A ω² sin ωt / l) cosθ`: from
     /// `L = ½ m (A² ω² cos² ωt + 2 A ω cos ωt l θ̇ cosθ + l² θ̇²) + m g l cosθ`, the support's
     /// acceleration `−A ω² sin ωt` acts on the bob as the inertial force `m A ω² sin ωt` along x
@@ -102,62 +94,34 @@ impl Mechanism for DrivenPendulum {
     }
 }
 
-/// The [`DrivenPendulum`] as a [`Scene`] (`driven_pendulum`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct DrivenPendulumScene;
+impl SceneType for DrivenPendulum {
+    const ID: &'static str = "driven_pendulum";
+    const TITLE: &'static str = "Pendulum with a horizontally driven support";
+    const REFERENCE: &'static str =
+        "beyond the lecture (rheonomic constraint); closed form derived in driven_pendulum.rs";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for DrivenPendulumScene {
-    fn id(&self) -> &'static str {
-        "driven_pendulum"
+    fn closed_form(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(t, q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Pendulum with a horizontally driven support"
-    }
-
-    fn reference(&self) -> &'static str {
-        "beyond the lecture (rheonomic constraint); closed form derived in driven_pendulum.rs"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(DrivenPendulum::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, length, amplitude, drive_frequency, gravity] = params.values_of(PARAMS)?;
+        Self::new(mass, length, amplitude, drive_frequency, gravity)
     }
 
     /// `θ = 0.2`, at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [0.2], [0.0]))
+    fn default_state(&self) -> State {
+        State::new(0.0, [0.2], [0.0])
     }
 
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(DrivenPendulum::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = DrivenPendulum::from_params(params)?;
-        check_dimensions(1, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(t, q, qdot).to_vec()))
-    }
-
-    /// None: the motion has no closed form.
-    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
-        DrivenPendulum::from_params(params)?;
-        Ok(None)
-    }
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::assert_engine_matches_closed_form;
 
     fn states() -> Vec<State> {
@@ -172,20 +136,20 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = DrivenPendulumScene.default_params();
-        assert_engine_matches_closed_form(&DrivenPendulumScene, &params, &states());
+        let mut params = scene_of::<DrivenPendulum>().default_params();
+        assert_engine_matches_closed_form(scene_of::<DrivenPendulum>(), &params, &states());
         for (key, value) in [("A", -0.5), ("ω", 7.0), ("l", 0.3), ("ω", 0.0)] {
             params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(&DrivenPendulumScene, &params, &states());
+            assert_engine_matches_closed_form(scene_of::<DrivenPendulum>(), &params, &states());
         }
     }
 
     #[test]
     fn the_drive_makes_the_system_non_autonomous() {
-        let system = DrivenPendulumScene.build(&DrivenPendulumScene.default_params()).unwrap();
+        let system = scene_of::<DrivenPendulum>().build(&scene_of::<DrivenPendulum>().default_params()).unwrap();
         assert!(!system.conserves_energy());
-        let mut still = DrivenPendulumScene.default_params();
+        let mut still = scene_of::<DrivenPendulum>().default_params();
         still.set("A", 0.0).unwrap();
-        assert!(DrivenPendulumScene.build(&still).unwrap().conserves_energy());
+        assert!(scene_of::<DrivenPendulum>().build(&still).unwrap().conserves_energy());
     }
 }

@@ -1,9 +1,10 @@
 //! Harmonic oscillator, optionally with linear damping (SYSTEMS.md §2; lecture 27).
 
-use crate::checks::{check_dimensions, check_state, fixed};
+use crate::checks::fixed;
 use crate::params::check_all;
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::scene::body_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: mass `m`, stiffness `k`, damping `c`.
 pub const PARAMS: &[ParamSpec] = &[
@@ -44,15 +45,6 @@ impl HarmonicOscillator {
             coordinates: [Coordinate::length("x")],
             bodies: [Body::point("mass", mass)],
         })
-    }
-
-    /// The oscillator with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, stiffness, damping] = params.values_of(PARAMS)?;
-        Self::new(mass, stiffness, damping)
     }
 
     /// `ẍ = −(k x + c ẋ)/m` (SYSTEMS.md §2 with the damping force added).
@@ -142,64 +134,40 @@ impl Mechanism for HarmonicOscillator {
     }
 }
 
-/// The [`HarmonicOscillator`] as a [`Scene`] (`harmonic_oscillator`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct HarmonicOscillatorScene;
+impl SceneType for HarmonicOscillator {
+    const ID: &'static str = "harmonic_oscillator";
+    const TITLE: &'static str = "Harmonic oscillator (optionally damped)";
+    const REFERENCE: &'static str =
+        "SYSTEMS.md §2; lecture 27, example: harmonic oscillator (damping beyond the lecture)";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for HarmonicOscillatorScene {
-    fn id(&self) -> &'static str {
-        "harmonic_oscillator"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Harmonic oscillator (optionally damped)"
-    }
-
-    fn reference(&self) -> &'static str {
-        "SYSTEMS.md §2; lecture 27, example: harmonic oscillator (damping beyond the lecture)"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(HarmonicOscillator::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, stiffness, damping] = params.values_of(PARAMS)?;
+        Self::new(mass, stiffness, damping)
     }
 
     /// `x = 0.1`, at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [0.1], [0.0]))
-    }
-
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(HarmonicOscillator::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = HarmonicOscillator::from_params(params)?;
-        check_dimensions(1, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    fn default_state(&self) -> State {
+        State::new(0.0, [0.1], [0.0])
     }
 
     /// See [`HarmonicOscillator::motion`].
-    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
-        let scene = HarmonicOscillator::from_params(params)?;
-        check_state(1, initial)?;
-        let (x, v) = scene.motion(initial.q[0], initial.qdot[0], t - initial.t);
-        Ok(Some(State::new(t, [x], [v])))
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        let (x, v) = self.motion(initial.q[0], initial.qdot[0], t - initial.t);
+        Some(State::new(t, [x], [v]))
     }
+
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
 
     fn states() -> Vec<State> {
@@ -220,10 +188,10 @@ mod tests {
     #[test]
     fn engine_matches_closed_form_with_and_without_damping() {
         for c in damping_cases() {
-            let mut params = HarmonicOscillatorScene.default_params();
+            let mut params = scene_of::<HarmonicOscillator>().default_params();
             params.set("c", c).unwrap();
-            assert_engine_matches_closed_form(&HarmonicOscillatorScene, &params, &states());
-            let system = HarmonicOscillatorScene.build(&params).unwrap();
+            assert_engine_matches_closed_form(scene_of::<HarmonicOscillator>(), &params, &states());
+            let system = scene_of::<HarmonicOscillator>().build(&params).unwrap();
             assert_eq!(system.conserves_energy(), c == 0.0, "c = {c}");
         }
     }
@@ -231,10 +199,10 @@ mod tests {
     #[test]
     fn exact_solution_in_every_damping_regime() {
         for c in damping_cases() {
-            let mut params = HarmonicOscillatorScene.default_params();
+            let mut params = scene_of::<HarmonicOscillator>().default_params();
             params.set("c", c).unwrap();
             for initial in [State::new(0.0, [0.1], [0.0]), State::new(0.4, [-0.3], [1.1])] {
-                assert_exact_solution_consistent(&HarmonicOscillatorScene, &params, &initial, &[0.3, 1.7, 4.0]);
+                assert_exact_solution_consistent(scene_of::<HarmonicOscillator>(), &params, &initial, &[0.3, 1.7, 4.0]);
             }
         }
     }

@@ -1,10 +1,11 @@
 //! Central force with the isotropic-oscillator potential `V = ½ k r²` (SYSTEMS.md §3b;
 //! lecture 27).
 
-use crate::checks::{check_dimensions, check_state, fixed};
+use crate::checks::fixed;
 use crate::params::check_all;
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::scene::body_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Parameters: mass `m`, stiffness `k`.
@@ -41,15 +42,6 @@ impl IsotropicOscillator {
             coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
             bodies: [Body::point("particle", mass)],
         })
-    }
-
-    /// The oscillator with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, stiffness] = params.values_of(PARAMS)?;
-        Self::new(mass, stiffness)
     }
 
     /// `r̈ = r θ̇² − (k/m) r`, `θ̈ = −2 ṙ θ̇ / r` (SYSTEMS.md §3b, "Equations").
@@ -141,64 +133,39 @@ impl Mechanism for IsotropicOscillator {
     }
 }
 
-/// The [`IsotropicOscillator`] as a [`Scene`] (`isotropic_oscillator`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct IsotropicOscillatorScene;
+impl SceneType for IsotropicOscillator {
+    const ID: &'static str = "isotropic_oscillator";
+    const TITLE: &'static str = "Central force: isotropic oscillator (V = k r²/2)";
+    const REFERENCE: &'static str = "SYSTEMS.md §3b; lecture 27, example: central force";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for IsotropicOscillatorScene {
-    fn id(&self) -> &'static str {
-        "isotropic_oscillator"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Central force: isotropic oscillator (V = k r²/2)"
-    }
-
-    fn reference(&self) -> &'static str {
-        "SYSTEMS.md §3b; lecture 27, example: central force"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(IsotropicOscillator::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, stiffness] = params.values_of(PARAMS)?;
+        Self::new(mass, stiffness)
     }
 
     /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 0.5`.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [1.0, 0.0], [0.0, 0.5]))
-    }
-
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(IsotropicOscillator::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = IsotropicOscillator::from_params(params)?;
-        check_dimensions(2, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    fn default_state(&self) -> State {
+        State::new(0.0, [1.0, 0.0], [0.0, 0.5])
     }
 
     /// See [`IsotropicOscillator::motion`].
-    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
-        let scene = IsotropicOscillator::from_params(params)?;
-        check_state(2, initial)?;
-        let (q, qdot) = scene.motion(&initial.q, &initial.qdot, t - initial.t);
-        Ok(Some(State::new(t, q, qdot)))
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        let (q, qdot) = self.motion(&initial.q, &initial.qdot, t - initial.t);
+        Some(State::new(t, q, qdot))
     }
+
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
 
     fn states() -> Vec<State> {
@@ -213,16 +180,16 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = IsotropicOscillatorScene.default_params();
-        assert_engine_matches_closed_form(&IsotropicOscillatorScene, &params, &states());
+        let mut params = scene_of::<IsotropicOscillator>().default_params();
+        assert_engine_matches_closed_form(scene_of::<IsotropicOscillator>(), &params, &states());
         params.set("m", 0.4).unwrap();
         params.set("k", 3.0).unwrap();
-        assert_engine_matches_closed_form(&IsotropicOscillatorScene, &params, &states());
+        assert_engine_matches_closed_form(scene_of::<IsotropicOscillator>(), &params, &states());
     }
 
     #[test]
     fn exact_solution_is_consistent_including_negative_r_and_radial_motion() {
-        let mut params = IsotropicOscillatorScene.default_params();
+        let mut params = scene_of::<IsotropicOscillator>().default_params();
         params.set("k", 2.0).unwrap();
         let initials = [
             State::new(0.0, [1.0, 0.0], [0.0, 0.5]),
@@ -231,7 +198,12 @@ mod tests {
             State::new(0.0, [0.5, 1.0], [1.0, 0.0]),
         ];
         for initial in &initials {
-            assert_exact_solution_consistent(&IsotropicOscillatorScene, &params, initial, &[0.3, 1.1, 2.2, 9.0, 31.0]);
+            assert_exact_solution_consistent(
+                scene_of::<IsotropicOscillator>(),
+                &params,
+                initial,
+                &[0.3, 1.1, 2.2, 9.0, 31.0],
+            );
         }
     }
 

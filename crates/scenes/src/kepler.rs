@@ -1,9 +1,10 @@
 //! Central force with the Kepler potential `V = −k/r` (SYSTEMS.md §3a; lecture 27).
 
-use crate::checks::{check_dimensions, check_state, fixed};
+use crate::checks::fixed;
 use crate::params::check_all;
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::scene::body_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{PI, TAU};
 
 /// Parameters: mass `m`, force strength `k`.
@@ -59,15 +60,6 @@ impl Kepler {
             coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
             bodies: [Body::point("particle", mass)],
         })
-    }
-
-    /// The Kepler problem with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, strength] = params.values_of(PARAMS)?;
-        Self::new(mass, strength)
     }
 
     /// `r̈ = r θ̇² − k/(m r²)`, `θ̈ = −2 ṙ θ̇ / r` (SYSTEMS.md §3a, "Equations").
@@ -223,64 +215,39 @@ impl Mechanism for Kepler {
     }
 }
 
-/// The [`Kepler`] problem as a [`Scene`] (`kepler`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct KeplerScene;
+impl SceneType for Kepler {
+    const ID: &'static str = "kepler";
+    const TITLE: &'static str = "Central force: Kepler problem (V = −k/r)";
+    const REFERENCE: &'static str = "SYSTEMS.md §3a; lecture 27, example: central force";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for KeplerScene {
-    fn id(&self) -> &'static str {
-        "kepler"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Central force: Kepler problem (V = −k/r)"
-    }
-
-    fn reference(&self) -> &'static str {
-        "SYSTEMS.md §3a; lecture 27, example: central force"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(Kepler::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, strength] = params.values_of(PARAMS)?;
+        Self::new(mass, strength)
     }
 
     /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 1.2`: an ellipse with period ≈ 14.99 at the defaults.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [1.0, 0.0], [0.0, 1.2]))
-    }
-
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(Kepler::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = Kepler::from_params(params)?;
-        check_dimensions(2, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    fn default_state(&self) -> State {
+        State::new(0.0, [1.0, 0.0], [0.0, 1.2])
     }
 
     /// Bound orbits only; see [`Kepler::motion`].
-    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
-        let scene = Kepler::from_params(params)?;
-        check_state(2, initial)?;
-        let motion = scene.motion(&initial.q, &initial.qdot, t - initial.t);
-        Ok(motion.map(|(q, qdot)| State::new(t, q, qdot)))
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        let motion = self.motion(&initial.q, &initial.qdot, t - initial.t);
+        motion.map(|(q, qdot)| State::new(t, q, qdot))
     }
+
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
 
     fn states() -> Vec<State> {
@@ -295,11 +262,11 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = KeplerScene.default_params();
-        assert_engine_matches_closed_form(&KeplerScene, &params, &states());
+        let mut params = scene_of::<Kepler>().default_params();
+        assert_engine_matches_closed_form(scene_of::<Kepler>(), &params, &states());
         params.set("m", 2.5).unwrap();
         params.set("k", 0.3).unwrap();
-        assert_engine_matches_closed_form(&KeplerScene, &params, &states());
+        assert_engine_matches_closed_form(scene_of::<Kepler>(), &params, &states());
     }
 
     #[test]
@@ -318,7 +285,7 @@ mod tests {
 
     #[test]
     fn exact_solution_is_consistent_on_ellipses_of_every_eccentricity() {
-        let params = KeplerScene.default_params();
+        let params = scene_of::<Kepler>().default_params();
         let initials = [
             State::new(0.0, [1.0, 0.0], [0.0, 1.2]),
             State::new(0.3, [1.0, 2.0], [0.0, 1.0]),   // circular, e = 0
@@ -326,7 +293,7 @@ mod tests {
             State::new(1.0, [1.5, 4.0], [-0.3, 0.5]),
         ];
         for initial in &initials {
-            assert_exact_solution_consistent(&KeplerScene, &params, initial, &[0.4, 3.0, 11.0, 40.0]);
+            assert_exact_solution_consistent(scene_of::<Kepler>(), &params, initial, &[0.4, 3.0, 11.0, 40.0]);
         }
     }
 
@@ -335,14 +302,14 @@ mod tests {
     #[test]
     fn one_period_returns_to_the_start() {
         let scene = Kepler::new(1.3, 0.7).unwrap();
-        let mut params = KeplerScene.default_params();
+        let mut params = scene_of::<Kepler>().default_params();
         params.set("m", 1.3).unwrap();
         params.set("k", 0.7).unwrap();
         for (r_dot, theta_dot) in [(0.0, 0.6), (0.3, 0.2), (0.0, 0.0139), (-0.2, -0.8), (0.1, 0.01)] {
             let initial = State::new(0.5, [1.1, 0.4], [r_dot, theta_dot]);
             let orbit = scene.orbit(&initial.q, &initial.qdot);
             let period = orbit.period.unwrap();
-            let after = KeplerScene.exact_solution(&params, &initial, initial.t + period).unwrap().unwrap();
+            let after = scene_of::<Kepler>().exact_solution(&params, &initial, initial.t + period).unwrap().unwrap();
             let turn = TAU.copysign(theta_dot);
             let expected = [initial.q[0], initial.q[1] + turn, initial.qdot[0], initial.qdot[1]];
             let got = [after.q[0], after.q[1], after.qdot[0], after.qdot[1]];
@@ -367,10 +334,10 @@ mod tests {
 
     #[test]
     fn unbound_orbits_have_no_elliptic_solution() {
-        let params = KeplerScene.default_params();
+        let params = scene_of::<Kepler>().default_params();
         for qdot in [[0.0, 1.5], [1.0, 1.0], [0.0, 2.0_f64.sqrt()]] {
             let initial = State::new(0.0, [1.0, 0.0], qdot);
-            assert_eq!(KeplerScene.exact_solution(&params, &initial, 3.0), Ok(None), "q̇ = {qdot:?}");
+            assert_eq!(scene_of::<Kepler>().exact_solution(&params, &initial, 3.0), Ok(None), "q̇ = {qdot:?}");
         }
         let hyperbola = Kepler::new(1.0, 1.0).unwrap().orbit(&[1.0, 0.0], &[0.0, 1.5]);
         assert!(hyperbola.eccentricity > 1.0 && hyperbola.period.is_none() && hyperbola.semi_major_axis.is_none());

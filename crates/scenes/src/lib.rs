@@ -7,15 +7,15 @@
 //! engine) from `SYSTEMS.md` (the lecture's systems derived independently) or from a derivation
 //! in the scene's file, exact solutions where the motion has one, and conserved quantities.
 //!
-//! Each scene comes in two forms:
-//! * a typed struct (e.g. [`CartPendulum`]) with public fields named after the physics, a
-//!   validating constructor `new`, `from_params`, its parameter table `PARAMS`,
-//!   `closed_form_accelerations` and the extra closed forms, implementing
-//!   [`lagrange::Mechanism`] (or [`lagrange::Lagrangian`]);
-//! * a unit struct (e.g. [`CartPendulumScene`]) implementing the object-safe [`Scene`], for code
-//!   that picks scenes by id at run time ([`all`], [`find`], [`ids`]) with [`Params`] set by
-//!   parameter name or lecture symbol. Generic code that needs a scene's concrete mechanism
-//!   type runs through [`visit_mechanism`] with a [`MechanismVisitor`].
+//! Each scene is one type (e.g. [`CartPendulum`]) with public fields named after the physics, a
+//! validating constructor `new`, its parameter table `PARAMS` and extra closed forms, implementing
+//! [`lagrange::Mechanism`] (or [`lagrange::Lagrangian`]) and [`SceneType`]: id, title,
+//! parameters, `from_params`, default state, closed-form accelerations ([`ClosedForm`]) and exact
+//! solution. The scene types are listed once, in [`for_each_scene!`]; from that list come the
+//! object-safe [`Scene`]s for code that picks scenes by id at run time ([`all`], [`find`],
+//! [`ids`], [`scene_of`]) with [`Params`] set by parameter name or lecture symbol, and
+//! [`visit_mechanism`], which runs a [`MechanismVisitor`] on a scene's concrete mechanism type.
+//! A new scene is its file here and one line in that list.
 //!
 //! # Scenes
 //!
@@ -67,6 +67,31 @@
 //! # Ok::<(), lagrange::Error>(())
 //! ```
 
+/// Call the macro `$callback` with every scene type, in registry order (the lecture's systems
+/// followed by those beyond it): the one list of scenes, from which [`all`], [`find`], [`ids`]
+/// and [`visit_mechanism`](crate::visit_mechanism) are generated, and which other crates use to
+/// dispatch to their own per-scene descriptions (`$callback!(Type, Type, …)`, each a path).
+#[macro_export]
+macro_rules! for_each_scene {
+    ($callback:ident) => {
+        $callback! {
+            $crate::CartPendulum,
+            $crate::HarmonicOscillator,
+            $crate::Kepler,
+            $crate::IsotropicOscillator,
+            $crate::Atwood,
+            $crate::DoubleAtwood,
+            $crate::DoubleDoubleAtwood,
+            $crate::Wedge,
+            $crate::DoublePendulum,
+            $crate::Chain,
+            $crate::SpringPendulum,
+            $crate::DrivenPendulum,
+            $crate::ChargedParticle
+        }
+    };
+}
+
 mod checks;
 mod params;
 mod scene;
@@ -89,19 +114,19 @@ pub mod kepler;
 pub mod spring_pendulum;
 pub mod wedge;
 
-pub use atwood::{Atwood, AtwoodScene};
-pub use cart_pendulum::{CartPendulum, CartPendulumScene};
-pub use chain::{Chain, ChainScene};
-pub use charged_particle::{ChargedParticle, ChargedParticleScene};
-pub use double_atwood::{DoubleAtwood, DoubleAtwoodScene};
-pub use double_double_atwood::{DoubleDoubleAtwood, DoubleDoubleAtwoodScene};
-pub use double_pendulum::{DoublePendulum, DoublePendulumScene};
-pub use driven_pendulum::{DrivenPendulum, DrivenPendulumScene};
-pub use harmonic_oscillator::{HarmonicOscillator, HarmonicOscillatorScene};
-pub use isotropic_oscillator::{IsotropicOscillator, IsotropicOscillatorScene};
-pub use kepler::{Kepler, KeplerScene, Orbit};
+pub use atwood::Atwood;
+pub use cart_pendulum::CartPendulum;
+pub use chain::Chain;
+pub use charged_particle::ChargedParticle;
+pub use double_atwood::DoubleAtwood;
+pub use double_double_atwood::DoubleDoubleAtwood;
+pub use double_pendulum::DoublePendulum;
+pub use driven_pendulum::DrivenPendulum;
+pub use harmonic_oscillator::HarmonicOscillator;
+pub use isotropic_oscillator::IsotropicOscillator;
+pub use kepler::{Kepler, Orbit};
 pub use params::{Domain, ParamSpec, Params};
-pub use scene::{Scene, all, find, ids};
-pub use spring_pendulum::{SpringPendulum, SpringPendulumScene};
-pub use visit::{ClosedForm, MechanismVisitor, visit_mechanism};
-pub use wedge::{Wedge, WedgeScene};
+pub use scene::{Scene, SceneType, all, find, ids, scene_of};
+pub use spring_pendulum::SpringPendulum;
+pub use visit::{ClosedForm, MechanismVisitor, unknown_scene, visit_mechanism};
+pub use wedge::Wedge;

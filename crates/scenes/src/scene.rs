@@ -1,12 +1,11 @@
-//! The scene interface, object-safe so that scenes can be chosen by id at run time, and the
-//! registry of all scenes.
+//! The scene interfaces: [`SceneType`], implemented by every typed scene, and the object-safe
+//! [`Scene`] that a generic adapter derives from it for code that picks scenes by id at run
+//! time; the registry of all scenes, generated from the one list in [`for_each_scene!`](crate::for_each_scene).
 
-use crate::{
-    AtwoodScene, CartPendulumScene, ChainScene, ChargedParticleScene, DoubleAtwoodScene, DoubleDoubleAtwoodScene,
-    DoublePendulumScene, DrivenPendulumScene, HarmonicOscillatorScene, IsotropicOscillatorScene, KeplerScene,
-    ParamSpec, Params, SpringPendulumScene, WedgeScene,
-};
+use crate::checks::{check_dimensions, check_state};
+use crate::{ClosedForm, MechanismVisitor, ParamSpec, Params};
 use lagrange::{Coordinate, Error, State, System};
+use std::marker::PhantomData;
 
 /// A mechanical system with named parameters, a default initial state, a simulation built by
 /// the engine, and the hand-derived closed forms to check it against.
@@ -14,6 +13,8 @@ use lagrange::{Coordinate, Error, State, System};
 /// Every method that takes [`Params`] validates them (a value outside its domain, or a set
 /// built for another scene, is an [`Error::InvalidParameter`] naming the parameter); methods
 /// that take a state check its dimensions ([`Error::DimensionMismatch`]).
+///
+/// Every scene implements it through [`SceneType`]; [`scene_of`] gives the object.
 pub trait Scene: Send + Sync {
     /// Short identifier (`cart_pendulum`), unique in [`all`].
     fn id(&self) -> &'static str;
@@ -77,28 +78,189 @@ pub trait Scene: Send + Sync {
     fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error>;
 }
 
-/// Every scene, in the order of the lecture followed by the systems beyond it.
-static ALL: [&dyn Scene; 13] = [
-    &CartPendulumScene,
-    &HarmonicOscillatorScene,
-    &KeplerScene,
-    &IsotropicOscillatorScene,
-    &AtwoodScene,
-    &DoubleAtwoodScene,
-    &DoubleDoubleAtwoodScene,
-    &WedgeScene,
-    &DoublePendulumScene,
-    &ChainScene,
-    &SpringPendulumScene,
-    &DrivenPendulumScene,
-    &ChargedParticleScene,
-];
+/// A scene as one type: its identity, its parameter table and constructor from parameters, its
+/// default state, its closed-form accelerations and exact solution, and how the engine runs
+/// it. Implemented by every typed scene ([`CartPendulum`](crate::CartPendulum), …); the
+/// object-safe [`Scene`] is derived from it ([`scene_of`]), and the registry lists the types
+/// once ([`for_each_scene!`]).
+///
+/// The methods that describe the system to the engine ([`generalized_coordinates`],
+/// [`into_system`], [`visit`]) are written by one line, `body_scene!()` for a
+/// [`Mechanism`](lagrange::Mechanism) or `raw_scene!()` for a raw
+/// [`Lagrangian`](lagrange::Lagrangian).
+///
+/// [`generalized_coordinates`]: SceneType::generalized_coordinates
+/// [`into_system`]: SceneType::into_system
+/// [`visit`]: SceneType::visit
+pub trait SceneType: Clone + Send + Sync + Sized + 'static {
+    /// Short identifier (`cart_pendulum`), unique in [`all`].
+    const ID: &'static str;
+    /// Human-readable title.
+    const TITLE: &'static str;
+    /// Where the system and its closed forms come from.
+    const REFERENCE: &'static str;
+    /// The parameter specifications, in order.
+    const PARAMS: &'static [ParamSpec];
+
+    /// The scene with the values in `params` (read by name, checked as by the typed
+    /// constructor).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first parameter outside its domain, or a
+    /// parameter missing from `params` (a set built for another scene).
+    fn from_params(params: &Params) -> Result<Self, Error>;
+
+    /// Write the hand-coded closed-form `q̈(t, q, q̇)` into `qddot` (no automatic
+    /// differentiation, no engine); also the scene's [`ClosedForm`].
+    ///
+    /// # Panics
+    /// If a slice does not have the scene's number of coordinates.
+    fn closed_form(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]);
+
+    /// The scene's default initial state (at `t = 0`).
+    fn default_state(&self) -> State;
+
+    /// The exact state at time `t` of the motion starting at `initial` (whose dimensions the
+    /// caller has checked), where the motion has a closed form; `None` by default.
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        let _ = (initial, t);
+        None
+    }
+
+    /// The generalized coordinates.
+    fn generalized_coordinates(&self) -> &[Coordinate];
+
+    /// The engine's simulation of the scene.
+    ///
+    /// # Errors
+    /// Whatever the engine rejects.
+    fn into_system(self) -> Result<Box<dyn System>, Error>;
+
+    /// Run `visitor` on the scene as a [`Mechanism`](lagrange::Mechanism); `None` for a raw
+    /// [`Lagrangian`](lagrange::Lagrangian).
+    fn visit<V: MechanismVisitor>(self, visitor: V) -> Option<V::Output>;
+}
+
+/// The engine-facing methods of a [`SceneType`] that is a [`Mechanism`](lagrange::Mechanism).
+macro_rules! body_scene {
+    () => {
+        fn generalized_coordinates(&self) -> &[lagrange::Coordinate] {
+            lagrange::Mechanism::coordinates(self)
+        }
+
+        fn into_system(self) -> Result<Box<dyn lagrange::System>, lagrange::Error> {
+            Ok(Box::new(lagrange::Simulation::new(lagrange::Model::new(self)?)))
+        }
+
+        fn visit<V: $crate::MechanismVisitor>(self, visitor: V) -> Option<V::Output> {
+            Some(visitor.visit(self))
+        }
+    };
+}
+
+/// The engine-facing methods of a [`SceneType`] that is a raw [`Lagrangian`](lagrange::Lagrangian).
+macro_rules! raw_scene {
+    () => {
+        fn generalized_coordinates(&self) -> &[lagrange::Coordinate] {
+            lagrange::Lagrangian::coordinates(self)
+        }
+
+        fn into_system(self) -> Result<Box<dyn lagrange::System>, lagrange::Error> {
+            Ok(Box::new(lagrange::Simulation::new(lagrange::RawModel::new(self)?)))
+        }
+
+        fn visit<V: $crate::MechanismVisitor>(self, _visitor: V) -> Option<V::Output> {
+            None
+        }
+    };
+}
+
+pub(crate) use {body_scene, raw_scene};
+
+impl<T: SceneType> ClosedForm for T {
+    fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        self.closed_form(t, q, qdot, qddot);
+    }
+}
+
+/// The object-safe [`Scene`] of a [`SceneType`]: every method builds the typed scene from the
+/// parameters (validating them) and asks it.
+struct Registered<T>(PhantomData<fn() -> T>);
+
+impl<T: SceneType> Registered<T> {
+    const SCENE: &'static dyn Scene = &Registered::<T>(PhantomData);
+}
+
+/// The scene type `T` as a run-time [`Scene`].
+pub fn scene_of<T: SceneType>() -> &'static dyn Scene {
+    Registered::<T>::SCENE
+}
+
+impl<T: SceneType> Scene for Registered<T> {
+    fn id(&self) -> &'static str {
+        T::ID
+    }
+
+    fn title(&self) -> &'static str {
+        T::TITLE
+    }
+
+    fn reference(&self) -> &'static str {
+        T::REFERENCE
+    }
+
+    fn params(&self) -> &'static [ParamSpec] {
+        T::PARAMS
+    }
+
+    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
+        Ok(T::from_params(params)?.generalized_coordinates().to_vec())
+    }
+
+    fn default_state(&self, params: &Params) -> Result<State, Error> {
+        Ok(T::from_params(params)?.default_state())
+    }
+
+    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
+        T::from_params(params)?.into_system()
+    }
+
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        let scene = T::from_params(params)?;
+        let n = scene.generalized_coordinates().len();
+        check_dimensions(n, q, qdot)?;
+        let mut qddot = vec![0.0; n];
+        scene.closed_form(t, q, qdot, &mut qddot);
+        Ok(Some(qddot))
+    }
+
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        let scene = T::from_params(params)?;
+        check_state(scene.generalized_coordinates().len(), initial)?;
+        Ok(scene.exact_solution(initial, t))
+    }
+}
+
+macro_rules! registry {
+    ($($scene:ty),*) => {
+        /// Every scene, in registry order.
+        static ALL: &[&dyn Scene] = &[$(Registered::<$scene>::SCENE),*];
+    };
+}
+
+crate::for_each_scene!(registry);
 
 /// Every scene: `cart_pendulum`, `harmonic_oscillator`, `kepler`, `isotropic_oscillator`,
 /// `atwood`, `double_atwood`, `double_double_atwood`, `wedge`, `double_pendulum`, `chain`,
 /// `spring_pendulum`, `driven_pendulum`, `charged_particle`.
 pub fn all() -> &'static [&'static dyn Scene] {
-    &ALL
+    ALL
 }
 
 /// The scene with this id, if any.
@@ -241,7 +403,7 @@ mod tests {
 
     #[test]
     fn parameters_of_another_scene_are_an_error_not_a_panic() {
-        let foreign = crate::ChargedParticleScene.default_params();
+        let foreign = scene_of::<crate::ChargedParticle>().default_params();
         for scene in all().iter().filter(|s| s.id() != "charged_particle") {
             let error = scene.build(&foreign).err();
             assert!(matches!(error, Some(Error::InvalidParameter { .. })), "{}: {error:?}", scene.id());

@@ -1,9 +1,10 @@
 //! Elastic (spring) pendulum: a bob on a spring swinging under gravity (beyond the lecture).
 
-use crate::checks::{check_dimensions, fixed};
+use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::scene::body_scene;
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 /// Parameters: mass `m`, stiffness `k`, rest length `L0`, `g`.
 pub const PARAMS: &[ParamSpec] = &[
@@ -50,15 +51,6 @@ impl SpringPendulum {
         })
     }
 
-    /// The spring pendulum with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, stiffness, rest_length, gravity] = params.values_of(PARAMS)?;
-        Self::new(mass, stiffness, rest_length, gravity)
-    }
-
     /// `r̈ = r θ̇² + g cosθ − (k/m)(r − L0)`, `θ̈ = −(g sinθ + 2 ṙ θ̇)/r`, from
     /// `L = ½ m (ṙ² + r² θ̇²) + m g r cosθ − ½ k (r − L0)²` (derived as in SYSTEMS.md §3, with
     /// the gravity term of §1).
@@ -102,62 +94,33 @@ impl Mechanism for SpringPendulum {
     }
 }
 
-/// The [`SpringPendulum`] as a [`Scene`] (`spring_pendulum`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct SpringPendulumScene;
+impl SceneType for SpringPendulum {
+    const ID: &'static str = "spring_pendulum";
+    const TITLE: &'static str = "Elastic (spring) pendulum";
+    const REFERENCE: &'static str = "beyond the lecture; closed form derived in spring_pendulum.rs";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for SpringPendulumScene {
-    fn id(&self) -> &'static str {
-        "spring_pendulum"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Elastic (spring) pendulum"
-    }
-
-    fn reference(&self) -> &'static str {
-        "beyond the lecture; closed form derived in spring_pendulum.rs"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(SpringPendulum::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [mass, stiffness, rest_length, gravity] = params.values_of(PARAMS)?;
+        Self::new(mass, stiffness, rest_length, gravity)
     }
 
     /// `r = 1.1`, `θ = 0.5`, at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [1.1, 0.5], [0.0, 0.0]))
+    fn default_state(&self) -> State {
+        State::new(0.0, [1.1, 0.5], [0.0, 0.0])
     }
 
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(SpringPendulum::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = SpringPendulum::from_params(params)?;
-        check_dimensions(2, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
-    }
-
-    /// None: the motion has no closed form.
-    fn exact_solution(&self, params: &Params, _initial: &State, _t: f64) -> Result<Option<State>, Error> {
-        SpringPendulum::from_params(params)?;
-        Ok(None)
-    }
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::assert_engine_matches_closed_form;
 
     fn states() -> Vec<State> {
@@ -172,11 +135,11 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = SpringPendulumScene.default_params();
-        assert_engine_matches_closed_form(&SpringPendulumScene, &params, &states());
+        let mut params = scene_of::<SpringPendulum>().default_params();
+        assert_engine_matches_closed_form(scene_of::<SpringPendulum>(), &params, &states());
         for (key, value) in [("k", 3.0), ("L0", 0.6), ("m", 0.2), ("g", 0.0)] {
             params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(&SpringPendulumScene, &params, &states());
+            assert_engine_matches_closed_form(scene_of::<SpringPendulum>(), &params, &states());
         }
     }
 

@@ -2,10 +2,7 @@
 //! concrete [`Mechanism`] type (workspaces in dual numbers, a [`RawModel`](lagrange::RawModel)
 //! over a [`Model`](lagrange::Model), allocation checks), which `Box<dyn System>` hides.
 
-use crate::{
-    Atwood, CartPendulum, Chain, ChargedParticle, DoubleAtwood, DoubleDoubleAtwood, DoublePendulum, DrivenPendulum,
-    HarmonicOscillator, IsotropicOscillator, Kepler, Params, SpringPendulum, Wedge,
-};
+use crate::{Params, SceneType};
 use lagrange::{Error, Mechanism};
 
 /// A typed scene's hand-coded closed-form accelerations, without allocation (for benchmarks
@@ -16,37 +13,6 @@ pub trait ClosedForm {
     /// # Panics
     /// If a slice does not have the scene's number of coordinates.
     fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]);
-}
-
-macro_rules! closed_form_without_time {
-    ($($scene:ty),*) => {$(
-        impl ClosedForm for $scene {
-            fn closed_form_into(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-                qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-            }
-        }
-    )*};
-}
-
-closed_form_without_time!(
-    Atwood,
-    CartPendulum,
-    Chain,
-    ChargedParticle,
-    DoubleAtwood,
-    DoubleDoubleAtwood,
-    DoublePendulum,
-    HarmonicOscillator,
-    IsotropicOscillator,
-    Kepler,
-    SpringPendulum,
-    Wedge
-);
-
-impl ClosedForm for DrivenPendulum {
-    fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(t, q, qdot));
-    }
 }
 
 /// Generic code to run on a scene's typed mechanism (the visitor pattern: a generic method
@@ -68,38 +34,31 @@ pub trait MechanismVisitor {
 /// [`Error::InvalidParameter`] for invalid parameters (naming the parameter), or for an unknown
 /// id (named `scene`, listing the known ids).
 pub fn visit_mechanism<V: MechanismVisitor>(id: &str, params: &Params, visitor: V) -> Result<Option<V::Output>, Error> {
-    let output = match id {
-        "cart_pendulum" => visitor.visit(CartPendulum::from_params(params)?),
-        "harmonic_oscillator" => visitor.visit(HarmonicOscillator::from_params(params)?),
-        "kepler" => visitor.visit(Kepler::from_params(params)?),
-        "isotropic_oscillator" => visitor.visit(IsotropicOscillator::from_params(params)?),
-        "atwood" => visitor.visit(Atwood::from_params(params)?),
-        "double_atwood" => visitor.visit(DoubleAtwood::from_params(params)?),
-        "double_double_atwood" => visitor.visit(DoubleDoubleAtwood::from_params(params)?),
-        "wedge" => visitor.visit(Wedge::from_params(params)?),
-        "double_pendulum" => visitor.visit(DoublePendulum::from_params(params)?),
-        "chain" => visitor.visit(Chain::from_params(params)?),
-        "spring_pendulum" => visitor.visit(SpringPendulum::from_params(params)?),
-        "driven_pendulum" => visitor.visit(DrivenPendulum::from_params(params)?),
-        "charged_particle" => {
-            ChargedParticle::from_params(params)?;
-            return Ok(None);
-        }
-        _ => {
-            return Err(Error::InvalidParameter {
-                name: "scene".into(),
-                value: f64::NAN,
-                why: format!("unknown scene id `{id}`; known: {}", crate::ids().join(", ")),
-            });
-        }
-    };
-    Ok(Some(output))
+    macro_rules! dispatch {
+        ($($scene:ty),*) => {
+            $(if id == <$scene as SceneType>::ID {
+                return Ok(<$scene as SceneType>::from_params(params)?.visit(visitor));
+            })*
+        };
+    }
+    crate::for_each_scene!(dispatch);
+    Err(unknown_scene(id))
+}
+
+/// The error for an id that names no registered scene: [`Error::InvalidParameter`] named
+/// `scene`, listing the known ids.
+pub fn unknown_scene(id: &str) -> Error {
+    Error::InvalidParameter {
+        name: "scene".into(),
+        value: f64::NAN,
+        why: format!("unknown scene id `{id}`; known: {}", crate::ids().join(", ")),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Scene, all};
+    use crate::all;
     use lagrange::Model;
 
     /// Reports the mechanism's number of coordinates and whether the engine accepts it.
@@ -185,7 +144,7 @@ mod tests {
 
     #[test]
     fn unknown_ids_and_invalid_parameters_are_errors() {
-        let params = crate::CartPendulumScene.default_params();
+        let params = crate::scene_of::<crate::CartPendulum>().default_params();
         let unknown = visit_mechanism("pendulum", &params, Dof).unwrap_err();
         assert!(
             matches!(unknown, Error::InvalidParameter { ref name, ref why, .. } if name == "scene" && why.contains("cart_pendulum"))

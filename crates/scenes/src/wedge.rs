@@ -1,10 +1,11 @@
 //! Block sliding on a movable frictionless wedge (SYSTEMS.md §7; lecture 27).
 
-use crate::checks::{check_dimensions, check_state, fixed};
+use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
+use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, ParamSpec, Params, Scene};
-use lagrange::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Simulation, State, System};
+use crate::{Domain, ParamSpec, Params, SceneType};
+use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
 /// Parameters: wedge mass `M`, block mass `m`, incline angle `α`, incline length `L`, `g`.
@@ -56,15 +57,6 @@ impl Wedge {
             coordinates: [Coordinate::length("x"), Coordinate::length("x'")],
             bodies: [Body::point("wedge", wedge_mass), Body::point("block", block_mass)],
         })
-    }
-
-    /// The wedge with the values in `params`.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new), or a parameter missing from `params`.
-    pub fn from_params(params: &Params) -> Result<Self, Error> {
-        let [wedge_mass, block_mass, angle, incline_length, gravity] = params.values_of(PARAMS)?;
-        Self::new(wedge_mass, block_mass, angle, incline_length, gravity)
     }
 
     /// The constant `(ẍ, ẍ')` (SYSTEMS.md §7, "Closed forms"; the lecture's results):
@@ -133,66 +125,42 @@ impl Mechanism for Wedge {
     }
 }
 
-/// The [`Wedge`] as a [`Scene`] (`wedge`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct WedgeScene;
+impl SceneType for Wedge {
+    const ID: &'static str = "wedge";
+    const TITLE: &'static str = "Block on a movable frictionless wedge";
+    const REFERENCE: &'static str = "SYSTEMS.md §7; lecture 27, example: block on a movable wedge";
+    const PARAMS: &'static [ParamSpec] = PARAMS;
 
-impl Scene for WedgeScene {
-    fn id(&self) -> &'static str {
-        "wedge"
+    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
     }
 
-    fn title(&self) -> &'static str {
-        "Block on a movable frictionless wedge"
-    }
-
-    fn reference(&self) -> &'static str {
-        "SYSTEMS.md §7; lecture 27, example: block on a movable wedge"
-    }
-
-    fn params(&self) -> &'static [ParamSpec] {
-        PARAMS
-    }
-
-    fn coordinates(&self, params: &Params) -> Result<Vec<Coordinate>, Error> {
-        Ok(Wedge::from_params(params)?.coordinates.to_vec())
+    fn from_params(params: &Params) -> Result<Self, Error> {
+        let [wedge_mass, block_mass, angle, incline_length, gravity] = params.values_of(PARAMS)?;
+        Self::new(wedge_mass, block_mass, angle, incline_length, gravity)
     }
 
     /// `x = 0`, `x' = 0` (block at the top corner), at rest.
-    fn default_state(&self, _params: &Params) -> Result<State, Error> {
-        Ok(State::new(0.0, [0.0, 0.0], [0.0, 0.0]))
-    }
-
-    fn build(&self, params: &Params) -> Result<Box<dyn System>, Error> {
-        Ok(Box::new(Simulation::new(Model::new(Wedge::from_params(params)?)?)))
-    }
-
-    fn closed_form_accelerations(
-        &self,
-        params: &Params,
-        _t: f64,
-        q: &[f64],
-        qdot: &[f64],
-    ) -> Result<Option<Vec<f64>>, Error> {
-        let scene = Wedge::from_params(params)?;
-        check_dimensions(2, q, qdot)?;
-        Ok(Some(scene.closed_form_accelerations(q, qdot).to_vec()))
+    fn default_state(&self) -> State {
+        State::new(0.0, [0.0, 0.0], [0.0, 0.0])
     }
 
     /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
-        let scene = Wedge::from_params(params)?;
-        check_state(2, initial)?;
-        Ok(Some(uniformly_accelerated(initial, &scene.acceleration(), t)))
+    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
+        Some(uniformly_accelerated(initial, &self.acceleration(), t))
     }
+
+    body_scene!();
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene_of;
     use crate::testing::{
         ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
     };
+    use lagrange::{Model, Simulation, System};
 
     fn states() -> Vec<State> {
         vec![
@@ -206,19 +174,19 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = WedgeScene.default_params();
-        assert_engine_matches_closed_form(&WedgeScene, &params, &states());
+        let mut params = scene_of::<Wedge>().default_params();
+        assert_engine_matches_closed_form(scene_of::<Wedge>(), &params, &states());
         for (key, value) in [("α", 1.2), ("M", 0.2), ("m", 5.0), ("α", 0.05)] {
             params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(&WedgeScene, &params, &states());
+            assert_engine_matches_closed_form(scene_of::<Wedge>(), &params, &states());
         }
     }
 
     #[test]
     fn exact_solution_is_consistent() {
-        let params = WedgeScene.default_params();
+        let params = scene_of::<Wedge>().default_params();
         for initial in [State::new(0.0, [0.0, 0.0], [0.0, 0.0]), State::new(1.0, [0.3, 0.5], [-0.1, 0.4])] {
-            assert_exact_solution_consistent(&WedgeScene, &params, &initial, &[0.5, 2.0]);
+            assert_exact_solution_consistent(scene_of::<Wedge>(), &params, &initial, &[0.5, 2.0]);
         }
     }
 

@@ -7,6 +7,7 @@
 use super::{build, params, phase, relative_energy_error, scene};
 use lagrange::tree::Tree;
 use lagrange::{Error, Method, Model, Output, Simulation, State, System, Tolerances};
+use lagrange_scenes::SceneType;
 use lagrange_tests::tolerance::{EPS, conditioned};
 use lagrange_tests::{condition_number, max_abs, max_abs_diff};
 use std::f64::consts::{FRAC_PI_2, PI};

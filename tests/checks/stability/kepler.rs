@@ -3,6 +3,7 @@
 
 use super::{build, params, relative_energy_error, scene};
 use lagrange::{Method, Output, State, Tolerances};
+use lagrange_scenes::SceneType;
 use lagrange_scenes::kepler::Kepler;
 
 const ECCENTRICITY: f64 = 0.99;

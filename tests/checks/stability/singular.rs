@@ -16,6 +16,7 @@
 
 use super::{build, params, scene};
 use lagrange::{Error, Method, Output, Stage, State, System, Tolerances};
+use lagrange_scenes::SceneType;
 use lagrange_tests::tolerance::conditioned;
 use lagrange_tests::{condition_number, max_abs, max_abs_diff};
 

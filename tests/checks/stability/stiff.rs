@@ -14,6 +14,7 @@ use super::{build, params, relative_energy_error};
 use lagrange::integrate::stability::{damped_roots, dopri5_real_axis_limit};
 use lagrange::{Method, Output, State, Tolerances};
 use lagrange_maximal::{Engine, Settings, maps};
+use lagrange_scenes::SceneType;
 use lagrange_tests::tolerance::{STABILITY_LIMIT, gauss_energy_per_step};
 
 /// `k/m` of the stiff springs: 1e2 … 1e12 (m = 1).

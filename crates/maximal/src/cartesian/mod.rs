@@ -3,8 +3,8 @@
 //!
 //! The state is every body's full pose `z = (x_b, y_b, φ_b)` (3B coordinates, bodies in the
 //! reduced model's order) and its velocity `ż`. Each scene's joints, ropes, rails and inclines
-//! are written by hand as holonomic constraints `Φ(z, t) = 0` (m equations; see
-//! `constraints.rs`), generic over the scalar, and the equations of motion are
+//! are written by hand as holonomic constraints `Φ(z, t) = 0` (m equations; each
+//! scene's file in `src/scenes/`, from the building blocks of `constraints.rs`), generic over the scalar, and the equations of motion are
 //!
 //! ```text
 //! M z̈ + Φ_zᵀ λ = F,        Φ_z z̈ = −γ_Φ,        γ_Φ = d²/ds² Φ(z + s ż, t + s) = (Φ_z ż)_z ż + 2 Φ_zt ż + Φ_tt,
@@ -27,9 +27,9 @@
 //! `Φ̇ = 0` (`ż ← ż − Φ_zᵀ (Φ_z Φ_zᵀ)⁻¹ (Φ_z ż + Φ_t)`), and the integrator restarts there. The
 //! constraint forces are `−Φ_zᵀ λ`, comparable to [`lagrange::reaction_forces`].
 
-mod constraints;
+pub(crate) mod constraints;
 mod simulation;
-mod system;
+pub(crate) mod system;
 #[cfg(test)]
 mod tests;
 
@@ -45,8 +45,7 @@ use system::CartesianSystem;
 ///
 /// # Errors
 /// As [`crate::build`]: [`BuildError::Invalid`] for invalid parameters, an unknown scene, a
-/// state of the wrong size, a bad tolerance, or a singular KKT matrix at the start;
-/// [`BuildError::Unbuildable`] for a scene whose constraints are not written here.
+/// state of the wrong size, a bad tolerance, or a singular KKT matrix at the start.
 pub fn build(scene: &str, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
     let system = CartesianSystem::new(scene, params)?;
     let states = maps::body_states(scene, params, initial)?;

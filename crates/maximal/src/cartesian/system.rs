@@ -14,8 +14,9 @@
 
 mod dynamics;
 
-use super::constraints::{Constraint, equation_names, evaluate_all, scene_constraints};
-use crate::{BodyState, BuildError, Engine, maps};
+use super::constraints::{Constraint, equation_names, evaluate_all};
+use crate::scenes::{MaximalScene, MaximalVisitor};
+use crate::{BodyState, BuildError, maps};
 use lagrange::num_dual::{Dual2_64, Dual64};
 use lagrange::{Body, Coordinate, Error, Stage};
 use lagrange_scenes::Params;
@@ -133,19 +134,20 @@ impl CartesianSystem {
     /// The Cartesian system of `scene` with `params`.
     ///
     /// # Errors
-    /// [`BuildError::Invalid`] for invalid parameters or an unknown scene;
-    /// [`BuildError::Unbuildable`] for a scene whose constraints are not written here.
+    /// [`BuildError::Invalid`] for invalid parameters or an unknown scene.
     pub(crate) fn new(scene: &str, params: &Params) -> Result<Self, BuildError> {
         // Validates the parameters (and the scene id) before any parameter is read by name.
         let bodies = maps::bodies(scene, params)?;
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
-        let Some(constraints) = scene_constraints(scene, params, &names) else {
-            return Err(BuildError::Unbuildable {
-                engine: Engine::Cartesian,
-                scene: scene.into(),
-                reason: "no Cartesian constraints are written for this scene".into(),
-            });
-        };
+        // The scene's constraints and non-conservative forces, from its maximal description.
+        struct Description<'a>(&'a [String]);
+        impl MaximalVisitor for Description<'_> {
+            type Output = (Vec<Constraint>, AppliedForce);
+            fn visit<T: MaximalScene>(self, scene: T) -> Self::Output {
+                (scene.constraints(self.0), scene.applied_force())
+            }
+        }
+        let (constraints, applied) = crate::scenes::visit(scene, params, Description(&names))?;
         let coordinates = names
             .iter()
             .flat_map(|name| {
@@ -157,13 +159,6 @@ impl CartesianSystem {
             })
             .collect();
         let mass = bodies.iter().flat_map(|b| [b.mass, b.mass, b.inertia]).collect();
-        let applied = match scene {
-            "harmonic_oscillator" if params.get("damping") != 0.0 => {
-                AppliedForce::Damping { coefficient: params.get("damping") }
-            }
-            "charged_particle" => AppliedForce::Lorentz { charge_field: params.get("charge") * params.get("field") },
-            _ => AppliedForce::None,
-        };
         // Whether the scene has a potential: ask it once, at rest at the origin.
         let probe = vec![BodyState::default(); bodies.len()];
         let (_, has_potential) = maps::potential(scene, params, 0.0, &probe, None)?;

@@ -24,6 +24,7 @@ use crate::{BodyState, BuildError, Engine, MaximalSimulation, Settings, maps};
 use lagrange::integrate::Tolerances;
 use lagrange::num_dual::Dual2_64;
 use lagrange::{Dynamics, Error, Mechanism, Method, Output, Pose, State};
+use lagrange_scenes::SceneType;
 use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, Scene, visit_mechanism};
 
 /// `z̈` against the reduced body accelerations, relative to the largest (floored at 1 m/s²).

@@ -3,7 +3,8 @@
 //!
 //! Each scene is first written as a precision-independent plan (`plan.rs`: bodies with explicit mass
 //! properties and no colliders, joints with their anchors, multibody couplings, per-step
-//! forces; `scenes.rs`, following RAPIER-NOTES §3), then built by `world.rs`, one source
+//! forces; each scene's `rapier` in `src/scenes/<scene>.rs` writes it through `scenes.rs`'s
+//! draft, following RAPIER-NOTES §3), then built by `world.rs`, one source
 //! compiled twice (`double`: f64, `single`: f32). What is built:
 //!
 //! | scene | impulse joints | multibody joints |
@@ -25,8 +26,8 @@
 //! stabilization sweeps off, speed caps off (see `world.rs`'s integration parameters).
 
 mod double;
-mod plan;
-mod scenes;
+pub(crate) mod plan;
+pub(crate) mod scenes;
 mod single;
 #[cfg(test)]
 mod tests;

@@ -10,6 +10,7 @@ use crate::tolerance::conditioned;
 use lagrange::{Method, Model, Output, Simulation, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::Params;
+use lagrange_scenes::SceneType;
 use lagrange_scenes::chain::hanging_rods;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::time::Instant;

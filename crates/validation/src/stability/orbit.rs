@@ -4,6 +4,7 @@
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find, relative_energy_error, timed_simulate};
 use crate::Error;
 use lagrange::{Method, Output, State, Tolerances};
+use lagrange_scenes::SceneType;
 
 pub const KEPLER: CaseSpec = CaseSpec {
     id: "kepler_e099",

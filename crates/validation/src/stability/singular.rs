@@ -7,6 +7,7 @@ use super::{
 };
 use crate::fixtures::max_abs;
 use lagrange::{Error, Method, Output, State, Tolerances};
+use lagrange_scenes::SceneType;
 use lagrange_scenes::kepler::Kepler;
 
 pub const SINGULAR: CaseSpec = CaseSpec {

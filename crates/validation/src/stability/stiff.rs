@@ -12,6 +12,7 @@ use lagrange::integrate::stability::{self as theory, bisect_limit};
 use lagrange::{Method, Output, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::Params;
+use lagrange_scenes::SceneType;
 use std::time::Instant;
 
 // One bound per check, from `crate::tolerance` (where the reasons are): a limit measured on a

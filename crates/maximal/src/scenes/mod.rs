@@ -1,0 +1,98 @@
+//! Every scene's maximal-coordinate description, one file per scene, found through the scene's
+//! type: the inverse map `q = g(z)` that reads body poses back into generalized coordinates, the
+//! Cartesian constraints `Φ(z, t) = 0` and non-conservative forces, and the rapier construction.
+//!
+//! Dispatch from a scene id runs through the scenes crate's one registry list
+//! ([`lagrange_scenes::for_each_scene!`]): a scene without a [`MaximalScene`] implementation
+//! does not compile.
+
+mod atwood;
+mod cart_pendulum;
+mod chain;
+mod charged_particle;
+mod double_atwood;
+mod double_double_atwood;
+mod double_pendulum;
+mod driven_pendulum;
+mod harmonic_oscillator;
+mod isotropic_oscillator;
+mod kepler;
+mod spring_pendulum;
+mod wedge;
+
+use crate::cartesian::constraints::Constraint;
+use crate::cartesian::system::AppliedForce;
+use crate::rapier::plan::JointMode;
+use crate::rapier::scenes::Draft;
+use lagrange::{Error, Scalar, State};
+use lagrange_scenes::{Params, SceneType};
+
+/// A scene's description in maximal coordinates: every body's full planar pose
+/// `z_b = (x_b, y_b, φ_b)`, bodies in the reduced model's order.
+pub(crate) trait MaximalScene: SceneType {
+    /// `q = g(z)`: the generalized coordinates from the body poses at time `t`, written by hand
+    /// (independently of the reduced model's poses); angles on any branch.
+    fn generalized<S: Scalar>(&self, t: S, z: &[[S; 3]]) -> Vec<S>;
+
+    /// The holonomic constraints `Φ(z, t) = 0` for bodies named `names`: exactly `3B − n`
+    /// equations, `n` the reduced model's degrees of freedom; depths are `−y`.
+    fn constraints(&self, names: &[String]) -> Vec<Constraint>;
+
+    /// The non-conservative forces in Cartesian form; none by default.
+    fn applied_force(&self) -> AppliedForce {
+        AppliedForce::None
+    }
+
+    /// Why rapier's joints of `mode` cannot express the scene, if they cannot.
+    fn rapier_unbuildable(mode: JointMode) -> Option<&'static str> {
+        let _ = mode;
+        None
+    }
+
+    /// The parameters rapier's joints of `mode` need changed where they are 0, as
+    /// `(parameter, mass, length)`: a compound bob `I = 1e-2 m l²` for `(inertia, mass, length)`,
+    /// a massive movable pulley for `(mass, "", "")`. None by default.
+    fn rapier_deviations(mode: JointMode) -> &'static [(&'static str, &'static str, &'static str)] {
+        let _ = mode;
+        &[]
+    }
+
+    /// Write the rapier construction into `draft` (its bodies, joints, couplings and per-step
+    /// forces), starting from the reduced `initial` state.
+    fn rapier(&self, draft: &mut Draft, initial: &State);
+}
+
+/// Generic code to run on a scene's typed maximal description.
+pub(crate) trait MaximalVisitor {
+    /// What a visit returns.
+    type Output;
+
+    /// Run on the typed scene.
+    fn visit<T: MaximalScene>(self, scene: T) -> Self::Output;
+}
+
+/// Build the typed scene `id` from `params` and run `visitor` on it.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for invalid parameters or an unknown id.
+pub(crate) fn visit<V: MaximalVisitor>(id: &str, params: &Params, visitor: V) -> Result<V::Output, Error> {
+    macro_rules! dispatch {
+        ($($scene:ty),*) => {
+            $(if id == <$scene as SceneType>::ID {
+                return Ok(visitor.visit(<$scene as SceneType>::from_params(params)?));
+            })*
+        };
+    }
+    lagrange_scenes::for_each_scene!(dispatch);
+    Err(lagrange_scenes::unknown_scene(id))
+}
+
+/// The angle from the downward vertical of the vector `(dx, dy)`.
+fn angle_from_down<S: Scalar>(dx: S, dy: S) -> S {
+    dx.atan2(-dy)
+}
+
+/// Plane polar coordinates `(r, θ)` of a particle at `(x, y)`.
+fn polar<S: Scalar>(z: &[S; 3]) -> Vec<S> {
+    vec![(z[0] * z[0] + z[1] * z[1]).sqrt(), z[1].atan2(z[0])]
+}
