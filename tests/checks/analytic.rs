@@ -1,5 +1,5 @@
 //! Engine accelerations against the hand-coded closed forms of every scene
-//! (SYSTEMS.md; lecture 27), at random and extreme parameters and states.
+//! (docs/scenes.md; the lecture (docs/scenes.md#the-lecture)), at random and extreme parameters and states.
 
 use lagrange_scenes::{Params, Scene, all};
 use lagrange_tests::{condition_number, max_abs, max_abs_diff, rng, sampling, tolerance};

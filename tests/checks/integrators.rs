@@ -124,7 +124,7 @@ fn kepler_orbit_closes_after_its_period() {
     let kepler = lagrange_scenes::kepler::Kepler::from_params(&params).expect("valid");
     let orbit = kepler.orbit(&initial.q, &initial.qdot);
     let period = orbit.period.expect("bound orbit");
-    // SYSTEMS.md §3a: P = 2π sqrt(m a³/k); the default orbit starts at an apsis (ṙ = 0), so
+    // docs/scenes.md#kepler: P = 2π sqrt(m a³/k); the default orbit starts at an apsis (ṙ = 0), so
     // after exactly one period it is back at the same point with θ advanced by 2π.
     let system = s.build(&params).expect("valid");
     let trajectory = system
@@ -142,7 +142,7 @@ fn cart_pendulum_oscillates_at_the_small_oscillation_frequency() {
     let s = scene("cart_pendulum");
     let params = s.default_params();
     let cart = lagrange_scenes::cart_pendulum::CartPendulum::from_params(&params).expect("valid");
-    // ω² = g (M + m)/(M r) (SYSTEMS.md §1): released at rest, the centre of mass stays put and
+    // ω² = g (M + m)/(M r) (docs/scenes.md#cart_pendulum): released at rest, the centre of mass stays put and
     // θ(t) = θ₀ cos ωt up to O(θ₀²) corrections of the frequency.
     let omega = cart.small_oscillation_frequency();
     let theta0 = 1e-4;

@@ -65,13 +65,13 @@ fn cartesian_multipliers_agree_with_the_reduced_solver_on_every_scene() {
             );
             // Both solutions at tight tolerance (1e-12 and 1e-13): the global error of an
             // error-per-step controlled integrator is C·tol with C ≲ 1e3 over 10 s (measured
-            // C ≈ 250 on Kepler over 30 s); 1e-8 is the bound.
+            // C ≈ 250 on Kepler over 30 s); 1e-8 is the bound of docs/validation.md#tolerances.
             assert!(c.max_error <= 1e-8, "{} [{case}]: trajectory differs by {:e}", s.id(), c.max_error);
             // Projection after every step keeps |Φ| at the Gauss–Newton tolerance.
             let violation = c.constraint_violation.expect("the Cartesian formulation measures Φ");
             assert!(violation <= 1e-10, "{} [{case}]: constraint violation {violation:e}", s.id());
             // Multipliers against the reduced reaction forces at the same state: round-off of
-            // two solves, amplified by the conditioning of the KKT system; the bound.
+            // two solves, amplified by the conditioning of the KKT system (docs/validation.md#tolerances).
             if let Some(force) = c.force_error {
                 assert!(force <= 1e-8, "{} [{case}]: constraint forces differ by {force:e} (relative)", s.id());
             }
@@ -144,7 +144,7 @@ fn rapier_converges_to_the_reduced_solution_at_first_order() {
             if errors.iter().all(|e| *e <= 1e-10) {
                 continue;
             }
-            // rapier is semi-implicit Euler in its substep (RAPIER-NOTES §2): order 1. The
+            // rapier is semi-implicit Euler in its substep (docs/rapier.md#the-substep-scheme): order 1. The
             // fitted slope over a factor 4 in h is within ±0.25 of 1 once the errors are in the
             // asymptotic regime (measured notes: error ratios 3.9–4.1 per factor 4).
             assert!((0.75..=1.25).contains(&order), "{} {engine}: errors {errors:?} give order {order:.2}", s.id());
@@ -172,7 +172,7 @@ fn multibody_accelerations_match_the_closed_forms_of_constant_acceleration_scene
             .expect("valid")
             .expect("closed form");
         // From rest, Euler's velocity after time t is exactly a t for a constant acceleration:
-        // q̇/t is the acceleration to round-off (RAPIER-NOTES §2.2: ≤ 1e-13 measured).
+        // q̇/t is the acceleration to round-off (docs/rapier.md#the-substep-scheme: ≤ 1e-13 measured).
         for (i, (v, a)) in qdot.iter().zip(&expected).enumerate() {
             let got = v / dt;
             assert!((got - a).abs() <= 1e-9 * a.abs().max(1.0), "{id}: q̈[{i}] = {got}, closed form {a}");
@@ -183,7 +183,7 @@ fn multibody_accelerations_match_the_closed_forms_of_constant_acceleration_scene
 #[test]
 fn impulse_joint_accelerations_converge_to_the_closed_form() {
     // The wedge in impulse joints: the acceleration estimate q̇(t)/t converges as h shrinks
-    // (RAPIER-NOTES §2.2 measured an O(h²) error from the joint projection).
+    // (docs/rapier.md#the-substep-scheme measured an O(h²) error from the joint projection).
     let (id, t) = ("wedge", 0.25);
     let s = scene(id);
     let params = s.default_params();

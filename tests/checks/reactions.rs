@@ -40,7 +40,7 @@ fn check(id: &str, seed: u64, expected: impl Fn(&lagrange_scenes::Params, &lagra
 
 #[test]
 fn atwood_rope_tensions() {
-    // T₁ = m₁(g − ẍ), T₂ = m₂(g + ẍ) (SYSTEMS.md §4): the rope pulls each mass straight up.
+    // T₁ = m₁(g − ẍ), T₂ = m₂(g + ẍ) (docs/scenes.md#atwood): the rope pulls each mass straight up.
     check("atwood", 7001, |params, state| {
         let atwood = Atwood::from_params(params).expect("valid");
         let (t1, t2) = atwood.tensions(&state.q, &state.qdot);
@@ -59,7 +59,7 @@ fn double_atwood_rope_tensions() {
 
 #[test]
 fn wedge_normal_force_on_the_block() {
-    // N = M m g cos α / (M + m sin²α) (SYSTEMS.md §7), along the slope's outward normal
+    // N = M m g cos α / (M + m sin²α) (docs/scenes.md#wedge), along the slope's outward normal
     // (sin α, cos α); body 1 is the block.
     let s = scene("wedge");
     let mut rng = rng(7003);

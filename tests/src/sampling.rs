@@ -1,4 +1,4 @@
-//! Random (seeded) scene parameters and states, including the extreme cases the issue names.
+//! Random (seeded) scene parameters and states, including the extreme cases of docs/validation.md#extreme_parameters.
 
 use lagrange::{CoordinateKind, State};
 use lagrange_scenes::{Domain, ParamSpec, Params, Scene};

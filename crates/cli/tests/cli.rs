@@ -56,7 +56,7 @@ fn scenes_lists_every_scene_with_coordinates_and_symbols() {
 
 #[test]
 fn accel_prints_the_closed_form_value_to_full_precision() {
-    // Wedge, SYSTEMS.md §7: ẍ' = (M + m) g sin α / (M + m sin²α) with M = 3, m = 1, α = 0.5.
+    // Wedge, docs/scenes.md#wedge: ẍ' = (M + m) g sin α / (M + m sin²α) with M = 3, m = 1, α = 0.5.
     let output = lagrange(&["accel", "wedge", "--param", "α=0.5", "--q", "0,0", "--qdot", "0,0", "--json"]);
     assert!(output.status.success(), "{}", stderr(&output));
     let out: serde_json::Value = serde_json::from_str(&stdout(&output)).expect("valid JSON");

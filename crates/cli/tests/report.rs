@@ -352,9 +352,9 @@ fn quick_report_measures_stability_limits_against_theory() {
     let stability = &report["stability"];
     let ids = check_stability(stability, "quick");
     assert_eq!(ids, ["stiff_spring", "stiff_damped", "long_run", "rapier_long_run", "bad_input"]);
-    // RK4's limit on the undamped oscillator is the imaginary-axis boundary 2√2 (to the issue's
-    // 1 %, which also tells it from the real-axis 2.785), on the damped one the real-axis
-    // boundary; rapier's is symplectic Euler's 2.
+    // RK4's limit on the undamped oscillator is the imaginary-axis boundary 2√2 (to 1 %, which
+    // also tells it from the real-axis 2.785), on the damped one the real-axis boundary;
+    // rapier's is symplectic Euler's 2.
     let limit = "stability limit";
     for (case, method, theory) in [
         ("stiff_spring", "rk4", 2.0 * std::f64::consts::SQRT_2),

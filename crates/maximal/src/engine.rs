@@ -64,7 +64,7 @@ pub struct Settings {
     pub dt: f64,
     /// rapier: substeps per step (`num_solver_iterations`); rapier is first order in
     /// `h = dt / substeps`. Scenes driven by per-step forces use 1 whatever is asked (a force
-    /// is constant over a step, and more substeps make the map non-symplectic; RAPIER-NOTES §1.5).
+    /// is constant over a step, and more substeps make the map non-symplectic; docs/rapier.md#the-substep-scheme).
     pub substeps: usize,
     /// Cartesian: relative and absolute tolerance of the adaptive integrator.
     pub tolerance: f64,

@@ -1,4 +1,4 @@
-//! Atwood machine with a massive pulley (SYSTEMS.md §4; lecture 27).
+//! Atwood machine with a massive pulley (docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
@@ -20,7 +20,7 @@ pub const PARAMS: &[ParamSpec] = &[
 
 /// Masses `m1` at `(−a, −x)` and `m2` at `(a, −(l − πa − x))` on a rope over a pulley of radius
 /// `a` and inertia `I` at the origin, turning by `x/a` (no slip); `q = (x)`, the depth of `m1`
-/// below the axle, measured downward (SYSTEMS.md §4).
+/// below the axle, measured downward (docs/scenes.md#atwood).
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
@@ -74,7 +74,7 @@ impl Atwood {
         })
     }
 
-    /// The constant `ẍ = (m1 − m2) g / (m1 + m2 + I/a²)` (SYSTEMS.md §4, "Closed form"; the
+    /// The constant `ẍ = (m1 − m2) g / (m1 + m2 + I/a²)` (docs/scenes.md#atwood, "Closed form"; the
     /// lecture's result). Positive when `m1` descends.
     pub fn acceleration(&self) -> f64 {
         let a = self.pulley_radius;
@@ -91,7 +91,7 @@ impl Atwood {
     }
 
     /// The rope tensions `(T1, T2) = (m1 (g − ẍ), m2 (g + ẍ))` (N) on `m1` and `m2`
-    /// (SYSTEMS.md §4; `(T1 − T2) a = I ẍ / a`). Constant: the state does not enter.
+    /// (docs/scenes.md#atwood; `(T1 − T2) a = I ẍ / a`). Constant: the state does not enter.
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 1 entry.
@@ -130,7 +130,7 @@ impl Mechanism for Atwood {
 impl SceneType for Atwood {
     const ID: &'static str = "atwood";
     const TITLE: &'static str = "Atwood machine with a massive pulley";
-    const REFERENCE: &'static str = "SYSTEMS.md §4; lecture 27, example: Atwood machine";
+    const REFERENCE: &'static str = "docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture), example: Atwood machine";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

@@ -1,5 +1,5 @@
 //! Pendulum on a movable support: a cart on a frictionless rail with a pendulum hanging from it
-//! (SYSTEMS.md §1; lecture 27, the first example).
+//! (docs/scenes.md#cart_pendulum; the lecture (docs/scenes.md#the-lecture), the first example).
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
@@ -26,7 +26,7 @@ pub const PARAMS: &[ParamSpec] = &[
 
 /// A cart of mass `M` at `(X, 0)` on a horizontal rail, and a bob of mass `m` on a massless rod
 /// of length `r` at `(X + r sinθ, −r cosθ)`; `q = (X, θ)`, `θ` from the downward vertical,
-/// counter-clockwise (SYSTEMS.md §1). The bob may have a moment of inertia `I_b` about its
+/// counter-clockwise (docs/scenes.md#cart_pendulum). The bob may have a moment of inertia `I_b` about its
 /// centre (a compound bob fixed to the rod, turning with it: its angle is `θ`); the lecture's
 /// point bob is `I_b = 0`. Rigid-body engines whose revolute joints cannot hold a point bob
 /// are compared against this model with `I_b > 0`.
@@ -98,7 +98,7 @@ impl CartPendulum {
         })
     }
 
-    /// `(Ẍ, θ̈)` in closed form (SYSTEMS.md §1, "Closed form (exact, any amplitude)"):
+    /// `(Ẍ, θ̈)` in closed form (docs/scenes.md#cart_pendulum, "Closed form (exact, any amplitude)"):
     /// `Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ)`,
     /// `θ̈ = −((M + m) g sinθ + m r θ̇² sinθ cosθ) / (r (M + m sin²θ))`.
     /// With a compound bob (`I_b > 0`) Lagrange's equations become
@@ -127,7 +127,7 @@ impl CartPendulum {
         [(f1 * a22 - a12 * f2) / determinant, (a11 * f2 - a12 * f1) / determinant]
     }
 
-    /// The conserved horizontal momentum `p_X = (M + m) Ẋ + m r θ̇ cosθ` (SYSTEMS.md §1; unchanged by `I_b`;
+    /// The conserved horizontal momentum `p_X = (M + m) Ẋ + m r θ̇ cosθ` (docs/scenes.md#cart_pendulum; unchanged by `I_b`;
     /// "Conserved quantities": `X` is cyclic).
     ///
     /// # Panics
@@ -138,7 +138,7 @@ impl CartPendulum {
         (self.cart_mass + self.bob_mass) * cart_velocity + self.bob_mass * self.rod_length * theta_dot * theta.cos()
     }
 
-    /// The non-zero normal-mode frequency about `θ = 0`, `ω = √(g (M + m) / (M r))` (SYSTEMS.md §1,
+    /// The non-zero normal-mode frequency about `θ = 0`, `ω = √(g (M + m) / (M r))` (docs/scenes.md#cart_pendulum,
     /// "Small oscillations"; the other mode, free translation, has `ω = 0`). With a compound bob,
     /// `det(K − ω² M₀) = 0` with `M₀ = [[M + m, m r], [m r, m r² + I_b]]`, `K = diag(0, m g r)`
     /// gives `ω² = m g r (M + m) / ((M + m)(m r² + I_b) − m² r²)`, which is the same at `I_b = 0`.
@@ -155,7 +155,7 @@ impl CartPendulum {
     /// the compound bob, `I_b > 0`, this is the force along the rod; the pin also carries a
     /// transverse force `I_b θ̈ / r`): the
     /// rod pulls the bob towards the pivot, along `(−sinθ, cosθ)`, with this magnitude
-    /// (Newton's law for the bob projected on the rod, from SYSTEMS.md §1's bob acceleration).
+    /// (Newton's law for the bob projected on the rod, from docs/scenes.md#cart_pendulum's bob acceleration).
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
@@ -198,7 +198,7 @@ impl Mechanism for CartPendulum {
 impl SceneType for CartPendulum {
     const ID: &'static str = "cart_pendulum";
     const TITLE: &'static str = "Pendulum on a movable support (cart)";
-    const REFERENCE: &'static str = "SYSTEMS.md §1; lecture 27, example: pendulum attached to a movable support";
+    const REFERENCE: &'static str = "docs/scenes.md#cart_pendulum; the lecture (docs/scenes.md#the-lecture), example: pendulum attached to a movable support";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
@@ -266,7 +266,7 @@ mod tests {
         assert!(system.accelerations(0.0, &[0.0, 0.5], &[0.0, 0.0]).is_ok());
     }
 
-    /// `det(K₀ − ω² M₀) = 0` at the closed-form frequency (SYSTEMS.md §1's `M₀`, `K₀`).
+    /// `det(K₀ − ω² M₀) = 0` at the closed-form frequency (docs/scenes.md#cart_pendulum's `M₀`, `K₀`).
     #[test]
     fn small_oscillation_frequency_solves_the_characteristic_equation() {
         let scene = CartPendulum::new(2.0, 0.7, 1.3, 9.81).unwrap();

@@ -1,4 +1,4 @@
-//! Double Atwood machine, optionally with a massive movable pulley (SYSTEMS.md §5; lecture 27).
+//! Double Atwood machine, optionally with a massive movable pulley (docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
@@ -29,7 +29,7 @@ pub const PARAMS: &[ParamSpec] = &[
 /// the other; the movable pulley's rope (length `l'`) carries `m2` and `m3`. Radii neglected,
 /// depths measured downward from the upper pulley: `x₁ = x`, movable pulley at `x_p = l − x`,
 /// `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`; body `i` at `(0, −x_i)`; `q = (x, x')`
-/// (SYSTEMS.md §5). The movable pulley is a point body of mass `m_p` (0 in the lecture).
+/// (docs/scenes.md#double_atwood). The movable pulley is a point body of mass `m_p` (0 in the lecture).
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
@@ -88,20 +88,20 @@ impl DoubleAtwood {
     }
 
     /// The constant mass matrix `M = [[m1 + m2 + m3 + m_p, m3 − m2], [m3 − m2, m2 + m3]]`, from
-    /// `T = ½ m1 ẋ² + ½ m2 (ẋ' − ẋ)² + ½ m3 (ẋ + ẋ')² + ½ m_p ẋ²` (SYSTEMS.md §5 plus the pulley).
+    /// `T = ½ m1 ẋ² + ½ m2 (ẋ' − ẋ)² + ½ m3 (ẋ + ẋ')² + ½ m_p ẋ²` (docs/scenes.md#double_atwood plus the pulley).
     pub fn mass_matrix(&self) -> [[f64; 2]; 2] {
         let (m1, m2, m3, mp) = (self.mass_1, self.mass_2, self.mass_3, self.lower_pulley_mass);
         [[m1 + m2 + m3 + mp, m3 - m2], [m3 - m2, m2 + m3]]
     }
 
     /// The constant generalized gravity force `F = −∂V/∂q = g (m1 − m2 − m3 − m_p, m2 − m3)`, from
-    /// `V = −g (m1 x₁ + m2 x₂ + m3 x₃ + m_p x_p)` (SYSTEMS.md §5 plus the pulley).
+    /// `V = −g (m1 x₁ + m2 x₂ + m3 x₃ + m_p x_p)` (docs/scenes.md#double_atwood plus the pulley).
     pub fn applied_force(&self) -> [f64; 2] {
         let (m1, m2, m3, mp, g) = (self.mass_1, self.mass_2, self.mass_3, self.lower_pulley_mass, self.gravity);
         [g * (m1 - m2 - m3 - mp), g * (m2 - m3)]
     }
 
-    /// The constant `(ẍ, ẍ')`. With a massless pulley, SYSTEMS.md §5's closed forms
+    /// The constant `(ẍ, ẍ')`. With a massless pulley, docs/scenes.md#double_atwood's closed forms
     /// `ẍ = g (m1 (m2 + m3) − 4 m2 m3) / (m1 (m2 + m3) + 4 m2 m3)`,
     /// `ẍ' = 2 m1 (m2 − m3) g / (m1 (m2 + m3) + 4 m2 m3)`; otherwise `M q̈ = F`
     /// ([`mass_matrix`](Self::mass_matrix), [`applied_force`](Self::applied_force)) by Cramer's rule.
@@ -127,7 +127,7 @@ impl DoubleAtwood {
     }
 
     /// The rope tensions `(upper, lower) = (m1 (g − ẍ₁), m2 (g − ẍ₂))` (N), with the downward
-    /// accelerations `ẍ₁ = ẍ`, `ẍ₂ = −ẍ + ẍ'` (SYSTEMS.md §5, "Absolute accelerations").
+    /// accelerations `ẍ₁ = ẍ`, `ẍ₂ = −ẍ + ẍ'` (docs/scenes.md#double_atwood, "Absolute accelerations").
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
@@ -170,7 +170,7 @@ impl SceneType for DoubleAtwood {
     const ID: &'static str = "double_atwood";
     const TITLE: &'static str = "Double Atwood machine";
     const REFERENCE: &'static str =
-        "SYSTEMS.md §5; lecture 27, example: double Atwood machine (massive pulley beyond the lecture)";
+        "docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture), example: double Atwood machine (massive pulley beyond the lecture)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
@@ -225,7 +225,7 @@ mod tests {
         }
     }
 
-    /// Cramer's rule on `M q̈ = F` reproduces SYSTEMS.md §5's closed forms at `m_p = 0` (the
+    /// Cramer's rule on `M q̈ = F` reproduces docs/scenes.md#double_atwood's closed forms at `m_p = 0` (the
     /// two branches of `acceleration` agree), and the massive-pulley `M`, `F` are the engine's.
     #[test]
     fn cramer_branch_agrees_with_the_lecture_closed_form_and_the_engine() {
@@ -254,7 +254,7 @@ mod tests {
         }
     }
 
-    /// The engine's reaction forces on `m1` and `m2` are the rope tensions; SYSTEMS.md §5's
+    /// The engine's reaction forces on `m1` and `m2` are the rope tensions; docs/scenes.md#double_atwood's
     /// tension check: with a massless pulley the lower masses act like `μ = 4 m2 m3/(m2 + m3)`.
     #[test]
     fn tensions_match_the_engine_and_the_effective_mass() {

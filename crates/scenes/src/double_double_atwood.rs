@@ -1,4 +1,4 @@
-//! Double-double Atwood machine: two movable pulleys, each with two masses (SYSTEMS.md §6; the
+//! Double-double Atwood machine: two movable pulleys, each with two masses (docs/scenes.md#double_double_atwood; the
 //! lecture's homework remark).
 
 use crate::checks::fixed;
@@ -26,8 +26,8 @@ pub const PARAMS: &[ParamSpec] = &[
 /// movable pulley B (depth `l − x`); B's rope (length `l'`) carries `m2`, `m3`; A's rope
 /// (length `l''`) carries `m4`, `m5`. Radii neglected, depths downward from the upper pulley:
 /// `x_A = x`, `x_B = l − x`, `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`, `x₄ = x + x''`,
-/// `x₅ = x + (l'' − x'')`; body `i` at `(0, −x_i)`; `q = (x, x', x'')` (SYSTEMS.md §6). The
-/// pulleys are point bodies of masses `m_A`, `m_B` (0 in SYSTEMS.md).
+/// `x₅ = x + (l'' − x'')`; body `i` at `(0, −x_i)`; `q = (x, x', x'')` (docs/scenes.md#double_double_atwood). The
+/// pulleys are point bodies of masses `m_A`, `m_B` (0 in docs/scenes.md).
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
@@ -112,7 +112,7 @@ impl DoubleDoubleAtwood {
 
     /// The constant mass matrix, from
     /// `T = ½ (m_A + m_B) ẋ² + ½ m2 (ẋ' − ẋ)² + ½ m3 (ẋ + ẋ')² + ½ m4 (ẋ + ẋ'')² + ½ m5 (ẋ − ẋ'')²`
-    /// (SYSTEMS.md §6's `T` plus the pulleys, which move with `ẋ_A = ẋ`, `ẋ_B = −ẋ`):
+    /// (docs/scenes.md#double_double_atwood's `T` plus the pulleys, which move with `ẋ_A = ẋ`, `ẋ_B = −ẋ`):
     /// `M = [[m_A + m_B + m2 + m3 + m4 + m5, m3 − m2, m4 − m5], [m3 − m2, m2 + m3, 0], [m4 − m5, 0, m4 + m5]]`.
     pub fn mass_matrix(&self) -> [[f64; 3]; 3] {
         let (m2, m3, m4, m5) = (self.mass_2, self.mass_3, self.mass_4, self.mass_5);
@@ -121,14 +121,14 @@ impl DoubleDoubleAtwood {
     }
 
     /// The constant generalized gravity force `F = −∂V/∂q` from
-    /// `V = −g (m_A x_A + m_B x_B + m2 x₂ + m3 x₃ + m4 x₄ + m5 x₅)` (SYSTEMS.md §6 plus the pulleys):
+    /// `V = −g (m_A x_A + m_B x_B + m2 x₂ + m3 x₃ + m4 x₄ + m5 x₅)` (docs/scenes.md#double_double_atwood plus the pulleys):
     /// `F = g (m_A − m_B − m2 − m3 + m4 + m5, m2 − m3, m4 − m5)`.
     pub fn applied_force(&self) -> [f64; 3] {
         let (m2, m3, m4, m5, g) = (self.mass_2, self.mass_3, self.mass_4, self.mass_5, self.gravity);
         [g * (self.pulley_a_mass - self.pulley_b_mass - m2 - m3 + m4 + m5), g * (m2 - m3), g * (m4 - m5)]
     }
 
-    /// The constant `(ẍ, ẍ', ẍ'')`. With massless pulleys, SYSTEMS.md §6's effective-mass closed
+    /// The constant `(ẍ, ẍ', ẍ'')`. With massless pulleys, docs/scenes.md#double_double_atwood's effective-mass closed
     /// forms `ẍ = g (m4 m5 (m2 + m3) − m2 m3 (m4 + m5)) / (m4 m5 (m2 + m3) + m2 m3 (m4 + m5))`,
     /// `ẍ' = (m2 − m3)/(m2 + m3) (g + ẍ)`, `ẍ'' = (m4 − m5)/(m4 + m5) (g − ẍ)`; otherwise
     /// `M q̈ = F` ([`mass_matrix`](Self::mass_matrix), [`applied_force`](Self::applied_force)) by
@@ -209,7 +209,7 @@ impl Mechanism for DoubleDoubleAtwood {
 impl SceneType for DoubleDoubleAtwood {
     const ID: &'static str = "double_double_atwood";
     const TITLE: &'static str = "Double-double Atwood machine";
-    const REFERENCE: &'static str = "SYSTEMS.md §6; lecture 27, homework remark (massive pulleys beyond the lecture)";
+    const REFERENCE: &'static str = "docs/scenes.md#double_double_atwood; the lecture (docs/scenes.md#the-lecture), homework remark (massive pulleys beyond the lecture)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
@@ -291,14 +291,14 @@ mod tests {
         }
     }
 
-    /// Cramer's rule at vanishing pulley masses reproduces SYSTEMS.md §6's effective-mass forms,
+    /// Cramer's rule at vanishing pulley masses reproduces docs/scenes.md#double_double_atwood's effective-mass forms,
     /// and replacing pulley A by a mass (`μ₄₅ → m1`) gives the double Atwood machine.
     #[test]
     fn cramer_branch_agrees_with_the_effective_mass_closed_forms() {
         let massless = DoubleDoubleAtwood::from_params(&with_pulley_masses(0.0, 0.0)).unwrap();
         let nearly = DoubleDoubleAtwood::from_params(&with_pulley_masses(1e-300, 0.0)).unwrap();
         assert_close("m_A → 0", &massless.acceleration(), &nearly.acceleration(), 1e-14);
-        // SYSTEMS.md §6 sympy form of ẍ'.
+        // docs/scenes.md#double_double_atwood sympy form of ẍ'.
         let (m2, m3, m4, m5, g) = (1.0, 1.5, 2.0, 0.5, 9.81);
         let denominator = m2 * m3 * m4 + m2 * m3 * m5 + m2 * m4 * m5 + m3 * m4 * m5;
         let x_prime_ddot = 2.0 * g * m4 * m5 * (m2 - m3) / denominator;

@@ -59,7 +59,7 @@ impl DrivenPendulum {
     /// `θ̈ = −(g/l) sinθ + (A ω² sin ωt / l) cosθ`: from
     /// `L = ½ m (A² ω² cos² ωt + 2 A ω cos ωt l θ̇ cosθ + l² θ̇²) + m g l cosθ`, the support's
     /// acceleration `−A ω² sin ωt` acts on the bob as the inertial force `m A ω² sin ωt` along x
-    /// (derived as SYSTEMS.md §1 with the cart's motion prescribed).
+    /// (derived as docs/scenes.md#cart_pendulum with the cart's motion prescribed).
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 1 entry.

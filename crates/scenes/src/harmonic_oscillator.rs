@@ -1,4 +1,4 @@
-//! Harmonic oscillator, optionally with linear damping (SYSTEMS.md §2; lecture 27).
+//! Harmonic oscillator, optionally with linear damping (docs/scenes.md#harmonic_oscillator; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
 use crate::params::check_all;
@@ -15,7 +15,7 @@ pub const PARAMS: &[ParamSpec] = &[
 
 /// A mass `m` at `(x, 0)` on a spring of stiffness `k`, `V = ½ k x²`, with an optional
 /// damping force `−c ẋ` (a generalized force); `q = (x)`, the displacement from the spring's
-/// rest position (SYSTEMS.md §2). No gravity.
+/// rest position (docs/scenes.md#harmonic_oscillator). No gravity.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
@@ -47,7 +47,7 @@ impl HarmonicOscillator {
         })
     }
 
-    /// `ẍ = −(k x + c ẋ)/m` (SYSTEMS.md §2 with the damping force added).
+    /// `ẍ = −(k x + c ẋ)/m` (docs/scenes.md#harmonic_oscillator with the damping force added).
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 1 entry.
@@ -57,7 +57,7 @@ impl HarmonicOscillator {
         [-(self.stiffness * x + self.damping * velocity) / self.mass]
     }
 
-    /// The natural (undamped) angular frequency `ω₀ = √(k/m)` (SYSTEMS.md §2).
+    /// The natural (undamped) angular frequency `ω₀ = √(k/m)` (docs/scenes.md#harmonic_oscillator).
     pub fn natural_frequency(&self) -> f64 {
         (self.stiffness / self.mass).sqrt()
     }
@@ -138,7 +138,7 @@ impl SceneType for HarmonicOscillator {
     const ID: &'static str = "harmonic_oscillator";
     const TITLE: &'static str = "Harmonic oscillator (optionally damped)";
     const REFERENCE: &'static str =
-        "SYSTEMS.md §2; lecture 27, example: harmonic oscillator (damping beyond the lecture)";
+        "docs/scenes.md#harmonic_oscillator; the lecture (docs/scenes.md#the-lecture), example: harmonic oscillator (damping beyond the lecture)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

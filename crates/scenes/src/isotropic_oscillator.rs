@@ -1,5 +1,5 @@
-//! Central force with the isotropic-oscillator potential `V = ½ k r²` (SYSTEMS.md §3b;
-//! lecture 27).
+//! Central force with the isotropic-oscillator potential `V = ½ k r²` (docs/scenes.md#isotropic_oscillator;
+//! the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
 use crate::params::check_all;
@@ -15,7 +15,7 @@ pub const PARAMS: &[ParamSpec] = &[
 ];
 
 /// A particle of mass `m` at `(r cosθ, r sinθ)` bound to the origin by `V = ½ k r²`;
-/// `q = (r, θ)`, plane polar coordinates (SYSTEMS.md §3b). No gravity.
+/// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#isotropic_oscillator). No gravity.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
@@ -44,7 +44,7 @@ impl IsotropicOscillator {
         })
     }
 
-    /// `r̈ = r θ̇² − (k/m) r`, `θ̈ = −2 ṙ θ̇ / r` (SYSTEMS.md §3b, "Equations").
+    /// `r̈ = r θ̇² − (k/m) r`, `θ̈ = −2 ṙ θ̇ / r` (docs/scenes.md#isotropic_oscillator, "Equations").
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
@@ -54,13 +54,13 @@ impl IsotropicOscillator {
         [r * theta_dot * theta_dot - self.stiffness / self.mass * r, -2.0 * r_dot * theta_dot / r]
     }
 
-    /// The angular frequency `ω = √(k/m)` of the Cartesian motion (SYSTEMS.md §3b).
+    /// The angular frequency `ω = √(k/m)` of the Cartesian motion (docs/scenes.md#isotropic_oscillator).
     pub fn frequency(&self) -> f64 {
         (self.stiffness / self.mass).sqrt()
     }
 
     /// The state `(r, θ, ṙ, θ̇)` a time `tau` after `(q, q̇)`, from the Cartesian solution
-    /// `x(t) = x₀ cos ωτ + (ẋ₀/ω) sin ωτ` (same for `y`; SYSTEMS.md §3b) converted back to polar
+    /// `x(t) = x₀ cos ωτ + (ẋ₀/ω) sin ωτ` (same for `y`; docs/scenes.md#isotropic_oscillator) converted back to polar
     /// coordinates with `θ` continuous: the position turns by exactly `π` (with the sign of the
     /// angular momentum) every half period `π/ω`, and by less than `π` in the remainder.
     /// The sign of `r` is kept (a negative `r₀` stays negative); with zero angular momentum the
@@ -136,7 +136,7 @@ impl Mechanism for IsotropicOscillator {
 impl SceneType for IsotropicOscillator {
     const ID: &'static str = "isotropic_oscillator";
     const TITLE: &'static str = "Central force: isotropic oscillator (V = k r²/2)";
-    const REFERENCE: &'static str = "SYSTEMS.md §3b; lecture 27, example: central force";
+    const REFERENCE: &'static str = "docs/scenes.md#isotropic_oscillator; the lecture (docs/scenes.md#the-lecture), example: central force";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

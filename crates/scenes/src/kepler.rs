@@ -1,4 +1,4 @@
-//! Central force with the Kepler potential `V = −k/r` (SYSTEMS.md §3a; lecture 27).
+//! Central force with the Kepler potential `V = −k/r` (docs/scenes.md#kepler; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
 use crate::params::check_all;
@@ -14,7 +14,7 @@ pub const PARAMS: &[ParamSpec] = &[
 ];
 
 /// A particle of mass `m` at `(r cosθ, r sinθ)` attracted to the origin by `V = −k/r`;
-/// `q = (r, θ)`, plane polar coordinates (SYSTEMS.md §3a). No gravity. The closed forms assume
+/// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#kepler). No gravity. The closed forms assume
 /// `r > 0`.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
@@ -29,7 +29,7 @@ pub struct Kepler {
     bodies: [Body; 1],
 }
 
-/// The orbit through a state: its constants of motion and conic elements (SYSTEMS.md §3a,
+/// The orbit through a state: its constants of motion and conic elements (docs/scenes.md#kepler,
 /// "Orbit": `r(θ) = p / (1 + e cos(θ − θ₀))`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Orbit {
@@ -62,7 +62,7 @@ impl Kepler {
         })
     }
 
-    /// `r̈ = r θ̇² − k/(m r²)`, `θ̈ = −2 ṙ θ̇ / r` (SYSTEMS.md §3a, "Equations").
+    /// `r̈ = r θ̇² − k/(m r²)`, `θ̈ = −2 ṙ θ̇ / r` (docs/scenes.md#kepler, "Equations").
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
@@ -72,7 +72,7 @@ impl Kepler {
         [r * theta_dot * theta_dot - self.strength / (self.mass * r * r), -2.0 * r_dot * theta_dot / r]
     }
 
-    /// The angular momentum `ℓ = p_θ = m r² θ̇` (SYSTEMS.md §3a, conserved: `θ` is cyclic).
+    /// The angular momentum `ℓ = p_θ = m r² θ̇` (docs/scenes.md#kepler, conserved: `θ` is cyclic).
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
@@ -82,7 +82,7 @@ impl Kepler {
         self.mass * r * r * theta_dot
     }
 
-    /// The energy `E = ½ m (ṙ² + r² θ̇²) − k/r` (SYSTEMS.md §3a).
+    /// The energy `E = ½ m (ṙ² + r² θ̇²) − k/r` (docs/scenes.md#kepler).
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
@@ -98,7 +98,7 @@ impl Kepler {
         std::f64::consts::FRAC_PI_2 * (self.mass * r0 * r0 * r0 / (2.0 * self.strength)).sqrt()
     }
 
-    /// The orbit through `(q, q̇)` (SYSTEMS.md §3a, "Orbit").
+    /// The orbit through `(q, q̇)` (docs/scenes.md#kepler, "Orbit").
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
@@ -218,7 +218,7 @@ impl Mechanism for Kepler {
 impl SceneType for Kepler {
     const ID: &'static str = "kepler";
     const TITLE: &'static str = "Central force: Kepler problem (V = −k/r)";
-    const REFERENCE: &'static str = "SYSTEMS.md §3a; lecture 27, example: central force";
+    const REFERENCE: &'static str = "docs/scenes.md#kepler; the lecture (docs/scenes.md#the-lecture), example: central force";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

@@ -4,7 +4,7 @@
 //! functions of the generalized coordinates, or a raw Lagrangian), which derives
 //! `M(q, t) q̈ = f(q, q̇, t)` by automatic differentiation. Next to that description each scene
 //! carries what the engine is checked against: hand-coded closed-form accelerations (no AD, no
-//! engine) from `SYSTEMS.md` (the lecture's systems derived independently) or from a derivation
+//! engine) from `docs/scenes.md` (the lecture's systems derived independently) or from a derivation
 //! in the scene's file, exact solutions where the motion has one, and conserved quantities.
 //!
 //! Each scene is one type (e.g. [`CartPendulum`]) with public fields named after the physics, a
@@ -21,7 +21,7 @@
 //!
 //! | id | system | coordinates | reference |
 //! |---|---|---|---|
-//! | `cart_pendulum` | pendulum on a movable support | `X`, `θ` | SYSTEMS.md §1 |
+//! | `cart_pendulum` | pendulum on a movable support | `X`, `θ` | docs/scenes.md#cart_pendulum |
 //! | `harmonic_oscillator` | mass on a spring, optional damping | `x` | §2 |
 //! | `kepler` | central force `V = −k/r` | `r`, `θ` | §3a |
 //! | `isotropic_oscillator` | central force `V = ½ k r²` | `r`, `θ` | §3b |
@@ -35,7 +35,7 @@
 //! | `driven_pendulum` | horizontally driven support (rheonomic) | `θ` | beyond the lecture |
 //! | `charged_particle` | uniform magnetic field (raw Lagrangian) | `x`, `y` | beyond the lecture |
 //!
-//! Conventions follow SYSTEMS.md: gravity `g` along −y, angles counter-clockwise, pendulum
+//! Conventions follow docs/scenes.md: gravity `g` along −y, angles counter-clockwise, pendulum
 //! angles from the downward vertical, pulley depths measured downward.
 //!
 //! # Example: the engine against the lecture's closed form
@@ -47,7 +47,7 @@
 //! // Cart mass M = 2, bob mass m = 1, rod length r = 1.5, g = 9.81.
 //! let cart_pendulum = CartPendulum::new(2.0, 1.0, 1.5, 9.81)?;
 //! let (q, qdot) = ([0.0, 0.3], [0.1, 0.5]);
-//! // Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ), and θ̈ (SYSTEMS.md §1).
+//! // Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ), and θ̈ (docs/scenes.md#cart_pendulum).
 //! let closed_form = cart_pendulum.closed_form_accelerations(&q, &qdot);
 //!
 //! let mut simulation = Simulation::new(Model::new(cart_pendulum)?);

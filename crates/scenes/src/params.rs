@@ -65,7 +65,7 @@ impl fmt::Display for Domain {
 pub struct ParamSpec {
     /// Name in words, as the typed scene's field (`cart_mass`); the key of [`Params`].
     pub name: &'static str,
-    /// The symbol SYSTEMS.md and the lecture use (`M`, `l'`, `m_p`); also accepted as a key.
+    /// The symbol docs/scenes.md and the lecture use (`M`, `l'`, `m_p`); also accepted as a key.
     pub symbol: &'static str,
     /// SI unit (`kg`, `m`, `m/s²`; empty for a pure number).
     pub unit: &'static str,

@@ -22,7 +22,7 @@ pub trait Scene: Send + Sync {
     /// Human-readable title.
     fn title(&self) -> &'static str;
 
-    /// Where the system and its closed forms come from (`SYSTEMS.md §1; lecture 27`, or
+    /// Where the system and its closed forms come from (`docs/scenes.md#cart_pendulum; the lecture (docs/scenes.md#the-lecture)`, or
     /// `beyond the lecture` with the textbook it follows).
     fn reference(&self) -> &'static str;
 

@@ -52,7 +52,7 @@ impl SpringPendulum {
     }
 
     /// `r̈ = r θ̇² + g cosθ − (k/m)(r − L0)`, `θ̈ = −(g sinθ + 2 ṙ θ̇)/r`, from
-    /// `L = ½ m (ṙ² + r² θ̇²) + m g r cosθ − ½ k (r − L0)²` (derived as in SYSTEMS.md §3, with
+    /// `L = ½ m (ṙ² + r² θ̇²) + m g r cosθ − ½ k (r − L0)²` (derived as in docs/scenes.md#kepler, with
     /// the gravity term of §1).
     ///
     /// # Panics

@@ -3,7 +3,7 @@
 use lagrange::State;
 
 /// `q(t) = q₀ + q̇₀ τ + ½ q̈ τ²`, `q̇(t) = q̇₀ + q̈ τ` with `τ = t − t₀`: the exact solution of
-/// `q̈ = const` (SYSTEMS.md §4–§7: every pulley and wedge system there has constant `q̈`).
+/// `q̈ = const` (docs/scenes.md#constant-accelerations: every pulley and wedge system there has constant `q̈`).
 pub(crate) fn uniformly_accelerated(initial: &State, qddot: &[f64], t: f64) -> State {
     debug_assert!(initial.q.len() == qddot.len() && initial.qdot.len() == qddot.len());
     let tau = t - initial.t;

@@ -1,4 +1,4 @@
-//! Block sliding on a movable frictionless wedge (SYSTEMS.md §7; lecture 27).
+//! Block sliding on a movable frictionless wedge (docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, check_all};
@@ -20,7 +20,7 @@ pub const PARAMS: &[ParamSpec] = &[
 /// A wedge of mass `M` sliding on a frictionless floor, its top corner at `(x, 0)`, and a block
 /// of mass `m` on its frictionless incline (angle `α`, length `L`, descending towards `+x`) at
 /// `(x + x' cosα, (L − x') sinα)`; `q = (x, x')`, `x'` measured down the slope from the top
-/// corner (SYSTEMS.md §7). The wedge only translates.
+/// corner (docs/scenes.md#wedge). The wedge only translates.
 ///
 /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
 /// for reading (changing one afterwards does not update the bodies the engine sees).
@@ -59,7 +59,7 @@ impl Wedge {
         })
     }
 
-    /// The constant `(ẍ, ẍ')` (SYSTEMS.md §7, "Closed forms"; the lecture's results):
+    /// The constant `(ẍ, ẍ')` (docs/scenes.md#wedge, "Closed forms"; the lecture's results):
     /// `ẍ = −m g sinα cosα / (M + m sin²α)` (the wedge recoils towards −x),
     /// `ẍ' = (M + m) g sinα / (M + m sin²α)`.
     pub fn acceleration(&self) -> [f64; 2] {
@@ -79,14 +79,14 @@ impl Wedge {
     }
 
     /// The normal force of the incline on the block, `N = M m g cosα / (M + m sin²α)` (N),
-    /// along the incline's outward normal `(sinα, cosα)` (SYSTEMS.md §7).
+    /// along the incline's outward normal `(sinα, cosα)` (docs/scenes.md#wedge).
     pub fn normal_force(&self) -> f64 {
         let (wedge, block) = (self.wedge_mass, self.block_mass);
         let (sin, cos) = self.angle.sin_cos();
         wedge * block * self.gravity * cos / (wedge + block * sin * sin)
     }
 
-    /// The conserved horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` (SYSTEMS.md §7,
+    /// The conserved horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` (docs/scenes.md#wedge,
     /// "Conserved quantities": `x` is cyclic). It does not depend on `q`, which is taken for
     /// symmetry with the other scenes' momenta.
     ///
@@ -128,7 +128,7 @@ impl Mechanism for Wedge {
 impl SceneType for Wedge {
     const ID: &'static str = "wedge";
     const TITLE: &'static str = "Block on a movable frictionless wedge";
-    const REFERENCE: &'static str = "SYSTEMS.md §7; lecture 27, example: block on a movable wedge";
+    const REFERENCE: &'static str = "docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture), example: block on a movable wedge";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

@@ -154,7 +154,7 @@ pub struct EqualTime {
     pub lower_bound: Option<f64>,
     /// Why the value is null, or what the bound means.
     pub reason: Option<String>,
-    /// DESIGN §7 target.
+    /// docs/validation.md#targets target.
     pub target: f64,
     /// Whether the target is met (null: undetermined).
     pub met: Option<bool>,
@@ -175,7 +175,7 @@ pub struct EqualError {
     pub lower_bound: Option<f64>,
     /// Why the value is null, or what the bound means.
     pub reason: Option<String>,
-    /// DESIGN §7 target.
+    /// docs/validation.md#targets target.
     pub target: f64,
     /// Whether the target is met (null: undetermined).
     pub met: Option<bool>,

@@ -21,17 +21,17 @@ pub const REFERENCE_TOLERANCE: f64 = 1e-13;
 /// Tolerance of the Cartesian run the reduced reference is checked against.
 pub const CARTESIAN_CHECK_TOLERANCE: f64 = 1e-12;
 
-/// The error at which times are compared (DESIGN §7).
+/// The error at which times are compared (docs/validation.md#targets).
 pub const EQUAL_ERROR: f64 = 1e-4;
 
-/// DESIGN §7: at equal wall time, our error is at least this many times smaller than rapier's.
+/// docs/validation.md#targets: at equal wall time, our error is at least this many times smaller than rapier's.
 pub const ERROR_RATIO_TARGET: f64 = 1e4;
 
-/// DESIGN §7: at equal error, our run takes at least this many times less wall time.
+/// docs/validation.md#targets: at equal error, our run takes at least this many times less wall time.
 pub const TIME_RATIO_TARGET: f64 = 100.0;
 
 /// rapier steps swept (s). rapier is first order in the substep `h = dt / substeps` and two runs
-/// with the same `h` give the same trajectory (RAPIER-NOTES §2.1), while a substep costs less
+/// with the same `h` give the same trajectory (docs/rapier.md#the-substep-scheme), while a substep costs less
 /// than a step: so the coarsest step is swept over many substeps (the cheapest way to a small
 /// `h`) and the finer steps over a few.
 const RAPIER_STEPS: [f64; 4] = [1.0 / 60.0, 1.0 / 240.0, 1.0 / 960.0, 1.0 / 3840.0];
@@ -45,7 +45,7 @@ const RAPIER_SUBSTEPS_FINE: [usize; 2] = [1, 4];
 const RAPIER_MIN_SUBSTEP: f64 = 1.0 / 61440.0;
 
 /// Smallest substep swept in f32 and with `--quick` (s): f32 round-off dominates the error near
-/// it (RAPIER-NOTES §1.7), and the f32 builds are not part of the summary ratios.
+/// it (docs/rapier.md#versions-and-precision), and the f32 builds are not part of the summary ratios.
 const RAPIER_MIN_SUBSTEP_COARSE: f64 = 1.0 / 15360.0;
 
 /// A family of runs: one integrator of the reduced solver, or one maximal engine.

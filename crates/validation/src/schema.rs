@@ -26,7 +26,7 @@ pub struct Report {
     pub samples: usize,
     /// How wall times are measured.
     pub timing: TimingReport,
-    /// DESIGN §7 targets of the summary ratios.
+    /// targets (docs/validation.md#targets) of the summary ratios.
     pub targets: Targets,
     /// One entry per scene, in registry order.
     pub scenes: Vec<SceneReport>,
@@ -49,7 +49,7 @@ pub struct TimingReport {
     pub statistic: &'static str,
 }
 
-/// The DESIGN §7 targets.
+/// The targets (docs/validation.md#targets).
 #[derive(Clone, Debug, Serialize)]
 pub struct Targets {
     /// At equal wall time, `e_rapier / e_ours` at least this.

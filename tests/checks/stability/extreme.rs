@@ -17,7 +17,7 @@ fn chain(masses: &[f64]) -> Tree {
     lagrange_scenes::chain::hanging_rods(masses, 1.0, 9.81).expect("valid chain")
 }
 
-/// Mass ratios of the issue.
+/// Mass ratios of docs/validation.md#extreme_parameters.
 const RATIOS: [f64; 2] = [1e-6, 1e6];
 
 /// Round-off bound of `steps` fixed steps on a constant-acceleration motion, relative to the
@@ -122,7 +122,7 @@ fn cart_pendulum_at_extreme_mass_ratios_keeps_its_frequency_and_momentum() {
         let p = params("cart_pendulum", &[("cart_mass", 1.0), ("bob_mass", ratio)]);
         let cart = lagrange_scenes::cart_pendulum::CartPendulum::from_params(&p).expect("valid");
         let system = s.build(&p).expect("valid");
-        // ω² = g (M + m)/(M r) (SYSTEMS.md §1). The swing changes the inertia M + m sin²θ by
+        // ω² = g (M + m)/(M r) (docs/scenes.md#cart_pendulum). The swing changes the inertia M + m sin²θ by
         // m θ₀², so the amplitude correction to the period is ≈ θ₀² (1/16 + m/(4M)) (measured
         // 2.5e-3 at θ₀ = 1e-4, m/M = 1e6): θ₀ = 1e-9 puts it below 1e-12.
         let omega = cart.small_oscillation_frequency();

@@ -276,7 +276,7 @@ fn every_scene_is_compared() {
 }
 
 /// The constraint forces are the closed-form forces the lecture's systems name: the Atwood
-/// rope tensions (SYSTEMS.md §4), the wedge's normal force (§7), the cart pendulum's rod
+/// rope tensions (docs/scenes.md#atwood), the wedge's normal force (docs/scenes.md#wedge), the cart pendulum's rod
 /// tension (§1), at generic states.
 #[test]
 fn constraint_forces_are_the_closed_form_tensions_and_normal_force() {

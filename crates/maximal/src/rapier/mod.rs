@@ -4,7 +4,7 @@
 //! Each scene is first written as a precision-independent plan (`plan.rs`: bodies with explicit mass
 //! properties and no colliders, joints with their anchors, multibody couplings, per-step
 //! forces; each scene's `rapier` in `src/scenes/<scene>.rs` writes it through `scenes.rs`'s
-//! draft, following RAPIER-NOTES §3), then built by `world.rs`, one source
+//! draft, following docs/rapier.md#constructions-per-scene), then built by `world.rs`, one source
 //! compiled twice (`double`: f64, `single`: f32). What is built:
 //!
 //! | scene | impulse joints | multibody joints |

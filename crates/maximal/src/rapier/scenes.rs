@@ -1,4 +1,4 @@
-//! One rapier construction per scene and joint mode (RAPIER-NOTES §3), written as a [`Plan`]:
+//! One rapier construction per scene and joint mode (docs/rapier.md#constructions-per-scene), written as a [`Plan`]:
 //! which bodies, which joints with which anchors, which couplings and per-step forces, and the
 //! deviations from the requested scene that rapier needs.
 
@@ -9,11 +9,11 @@ use lagrange::{Body, Error, State};
 use lagrange_scenes::Params;
 
 /// Relative inertia `I_b = 1e-2 m r²` given to point bobs on impulse revolute joints, which
-/// freeze the rotation of a body with zero inertia (RAPIER-NOTES §1.3).
+/// freeze the rotation of a body with zero inertia (docs/rapier.md#bodies-and-mass).
 const COMPOUND_BOB: f64 = 1e-2;
 
 /// Mass given to massless movable pulleys of multibody Atwood machines, whose coordinate would
-/// otherwise move no mass (a singular mass matrix, RAPIER-NOTES §2.4).
+/// otherwise move no mass (a singular mass matrix, docs/rapier.md#couplings).
 const MASSIVE_PULLEY: f64 = 0.5;
 
 /// Why the Atwood family has no impulse-joint build.
@@ -101,7 +101,7 @@ fn with_deviations(changes: &[(&str, &str, &str)], params: &Params) -> Result<(P
             params.set(name, MASSIVE_PULLEY)?;
             deviations.push(format!(
                 "{name} = {MASSIVE_PULLEY} kg instead of 0: a massless movable pulley's coordinate moves \
-                 no mass and makes the multibody mass matrix singular (RAPIER-NOTES §2.4)"
+                 no mass and makes the multibody mass matrix singular (docs/rapier.md#couplings)"
             ));
         } else {
             let value = COMPOUND_BOB * params.get(mass) * params.get(length).powi(2);

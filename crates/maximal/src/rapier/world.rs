@@ -15,7 +15,7 @@ use lagrange::Error;
 
 /// PGS sweeps per substep for multibodies with couplings: the couplings of one multibody are
 /// coupled through its mass matrix, and Gauss–Seidel needs several sweeps to solve them to
-/// round-off (RAPIER-NOTES §2.4: 64 sweeps give 1e-12 accelerations for the double Atwood).
+/// round-off (docs/rapier.md#couplings: 64 sweeps give 1e-12 accelerations for the double Atwood).
 const COUPLING_PGS_ITERATIONS: usize = 128;
 
 /// A scene running in rapier: the world, the handles of the plan's bodies and, for
@@ -79,7 +79,7 @@ impl RapierSimulation {
 
     /// The state of plan body `b` now: pose (angle unwrapped) and velocity of its centre.
     /// Multibody links are read from the link pose and the body jacobian times the generalized
-    /// velocities, not from the rigid body's velocity, which lags one substep (RAPIER-NOTES §1.2).
+    /// velocities, not from the rigid body's velocity, which lags one substep (docs/rapier.md#multibody-joints).
     fn state(&self, b: usize) -> BodyState {
         let (x, y, angle, velocity) = match (&self.multibody, self.plan.bodies[b].motion) {
             (Some(links), Motion::Dynamic) => {
@@ -291,7 +291,7 @@ impl MaximalSimulation for RapierSimulation {
     }
 }
 
-/// Every integration parameter the comparison depends on, explicitly (RAPIER-NOTES §1.6, §4):
+/// Every integration parameter the comparison depends on, explicitly (docs/rapier.md#integration-parameters, #integration-parameters):
 /// `substeps` substeps per step (1 for scenes driven by per-step forces, which are constant over
 /// a step: more would make the map non-symplectic, §1.5); one PGS sweep for impulse joints
 /// (more only tighten the joint error, §2.1), enough for coupled multibodies; no stabilization
@@ -359,7 +359,7 @@ fn free_axis(joint: &JointSpec) -> usize {
 }
 
 /// Insert the plan's joints as one multibody rooted at the ground and bring it to the initial
-/// state (RAPIER-NOTES §3): fix the root, zero the default joint damping (§1.4), displace every
+/// state (docs/rapier.md#constructions-per-scene): fix the root, zero the default joint damping (docs/rapier.md#multibody-joints), displace every
 /// joint coordinate from 0 to its initial value, set the generalized velocities, then add the
 /// couplings with the link ids read after all inserts.
 fn assemble_multibody(

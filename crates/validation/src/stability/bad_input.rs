@@ -30,7 +30,7 @@ pub const BAD_INPUT: CaseSpec = CaseSpec {
         "charged_particle",
     ],
     theory: "User input never reaches a panic (STYLE: errors), and the engine checks finiteness after every \
-             stage (DESIGN §2, §5): every call returns finite values or a typed error; a non-finite, negative \
+             stage (docs/method.md#typed-failures): every call returns finite values or a typed error; a non-finite, negative \
              or zero mass, length or step is rejected with the parameter named.",
     run: bad_input,
 };

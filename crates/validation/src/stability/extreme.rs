@@ -20,7 +20,7 @@ pub const EXTREME: CaseSpec = CaseSpec {
     title: "Extreme parameters: mass ratios 1e±6, wedge angles 1e-6 and π/2 − 1e-6, I/a² = 1e8, balanced \
             Atwood masses, chains with link masses spanning 1e6",
     scenes: &["wedge", "atwood", "cart_pendulum", "chain"],
-    theory: "Wedge and Atwood machines accelerate uniformly (SYSTEMS.md §4, §7): RK4, Gauss and SDIRK4 reproduce \
+    theory: "Wedge and Atwood machines accelerate uniformly (docs/scenes.md#atwood, #wedge): RK4, Gauss and SDIRK4 reproduce \
              q₀ + v₀t + at²/2 exactly, so only round-off remains — conditioned(κ) = max(1e-12, 64 ε κ(M)) for \
              the acceleration plus 4ε per step. With m1 = m2 the generalized gravity force m1 g − m2 g is \
              exactly 0: the machine must not move at all, bit for bit. The wedge's x and the cart's X are \

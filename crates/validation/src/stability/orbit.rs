@@ -12,7 +12,7 @@ pub const KEPLER: CaseSpec = CaseSpec {
     scenes: &["kepler"],
     theory: "The orbit (m = k = 1, a = 100, perihelion r = 1, period 2π a^{3/2} = 6283 s) turns in ~1 s at \
              perihelion and ~1e4 s at aphelion. The energy is conserved; Kepler's third law P ∝ |E|^{-3/2} turns \
-             a relative energy error δ into a period error 1.5 δ, so the issue's bound 1e-8 on the energy keeps \
+             a relative energy error δ into a period error 1.5 δ, so the bound 1e-8 on the energy (docs/validation.md#kepler_e099) keeps \
              the period to 1.5e-8. The time of the last perihelion passage follows from the integrated ṙ there: \
              δt = ṙ / r̈ with r̈ = e at r = 1. Fixed steps given the adaptive run's work (RK4: its evaluations / 4; \
              Gauss: its steps) are ~2 s long: fine at aphelion, far too long at perihelion.",

@@ -30,8 +30,8 @@ pub const STIFF_SPRING: CaseSpec = CaseSpec {
     title: "Stiff springs: harmonic oscillator and spring pendulum, k/m = 1e2 … 1e12, at fixed steps",
     scenes: &["harmonic_oscillator", "spring_pendulum"],
     theory: "An undamped oscillator's eigenvalues ±iω lie on the imaginary axis, where RK4's stability \
-             function satisfies |R(iy)|² = 1 − y⁶/72 + y⁸/576: stable up to ω dt = 2√2 = 2.8284 (the issue's \
-             2.785 is RK4's negative-real-axis boundary, the limit of the damped case below). The spring \
+             function satisfies |R(iy)|² = 1 − y⁶/72 + y⁸/576: stable up to ω dt = 2√2 = 2.8284 (the often \
+             quoted 2.785 is RK4's negative-real-axis boundary, the limit of the damped case below). The spring \
              pendulum's fastest linearized mode is radial with ω² = k/m exactly. Gauss–Legendre is A-stable \
              with |R(iy)| = 1 and conserves quadratic invariants: the oscillator's energy to round-off, \
              amplified by the conditioning (ω dt)² of its stage equations when ω dt ≫ 1. SDIRK4 is \

@@ -69,7 +69,7 @@ pub fn render(report: &Report) -> String {
         md,
         "Ours = the Pareto front of the reduced solver's RK4, adaptive and variational runs together. \
          Columns: `e_rapier / e_ours` at equal wall time (the smallest over the overlap of the time ranges; \
-         DESIGN §7 target ≥ {ERROR_RATIO_TARGET:.0e}) and `t_rapier / t_ours` at equal error {EQUAL_ERROR:.0e} \
+         docs/validation.md#targets target ≥ {ERROR_RATIO_TARGET:.0e}) and `t_rapier / t_ours` at equal error {EQUAL_ERROR:.0e} \
          (target ≥ {TIME_RATIO_TARGET}). Both are read off the fronts by log-log interpolation, never \
          extrapolated; `≥` marks a proven lower bound, — a ratio the sweeps cannot give (the reason is in the \
          scene's section).\n"

@@ -6,7 +6,7 @@
 //! over the saved times, its energy error where energy is conserved, its constraint violation
 //! where it has one, and its wall time. The summary reads off the work-precision fronts how much
 //! smaller our error is than rapier's at equal wall time and how much less time we take at equal
-//! error (DESIGN §6–§7).
+//! error (docs/validation.md#metrics, #targets).
 //!
 //! After the scenes, a stability section ([`stability`]) runs its cases — stiff springs and
 //! strong damping against the methods' stability functions, extreme parameters, a Kepler orbit

@@ -1,5 +1,5 @@
 //! The terminal summary: one line per scene with its reference, our best error, and the ratios
-//! against rapier; then whether the DESIGN §7 targets are met, one line per stability case, and
+//! against rapier; then whether the targets (docs/validation.md#targets) are met, one line per stability case, and
 //! where the files went.
 
 use super::cells;
@@ -53,7 +53,7 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
     let (comparisons, time_met, error_met) = targets_met(report);
     let _ = writeln!(
         text,
-        "\nDESIGN §7 targets: error ratio met on {time_met} of {comparisons} comparisons, time ratio met on \
+        "\ntargets (docs/validation.md#targets): error ratio met on {time_met} of {comparisons} comparisons, time ratio met on \
          {error_met} of {comparisons}; total {:.1} s",
         report.total_wall_time_s
     );
