@@ -2,8 +2,9 @@
 //! Nørsett & Wanner, *Solving Ordinary Differential Equations I*, §II.5, §II.6 and §II.10;
 //! the `DOPRI5` code).
 
+use super::integrator::{Integrator, Stats, check_finite, diverged};
 use super::{Tolerances, check_tolerance};
-use crate::{Dynamics, Error};
+use crate::{Dynamics, Error, State};
 
 // Butcher tableau (Dormand & Prince 1980).
 const C2: f64 = 1.0 / 5.0;
@@ -60,26 +61,12 @@ const STIFF_H_LAMBDA: f64 = 3.25;
 const STIFF_STEPS: usize = 15;
 const NON_STIFF_RESET: usize = 6;
 
-/// Counters of an adaptive integration.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct AdaptiveStats {
-    /// Accepted steps.
-    pub accepted: usize,
-    /// Rejected steps.
-    pub rejected: usize,
-    /// Evaluations of the equations of motion.
-    pub evaluations: usize,
-    /// The start of the accepted step at which the stiffness test first fired (`None` while the
-    /// problem does not look stiff). The integration goes on; only a later failure says so.
-    pub stiffness: Option<f64>,
-}
-
 /// The embedded Dormand–Prince 5(4) pair with PI step control, FSAL and 4th-order dense output,
 /// on `y = (q, q̇)`. The local error of each accepted step satisfies
 /// `‖err_i / (atol + rtol max(|y_i|, |y_i'|))‖_rms ≤ 1`.
 ///
 /// Hairer's stiffness test runs on every accepted step; when it fires, the time is recorded in
-/// [`AdaptiveStats::stiffness`], and a step-size collapse afterwards is reported as
+/// [`Stats::stiffness`], and a step-size collapse afterwards is reported as
 /// [`Error::Stiff`] (pointing to the implicit integrator) rather than a bare underflow.
 #[derive(Clone, Debug)]
 pub struct Dopri5 {
@@ -110,7 +97,7 @@ pub struct Dopri5 {
     stiff_steps: usize,
     non_stiff_steps: usize,
     /// Counters.
-    pub stats: AdaptiveStats,
+    stats: Stats,
 }
 
 impl Dopri5 {
@@ -138,7 +125,7 @@ impl Dopri5 {
             h_lambda: 0.0,
             stiff_steps: 0,
             non_stiff_steps: 0,
-            stats: AdaptiveStats::default(),
+            stats: Stats::default(),
         })
     }
 
@@ -160,6 +147,11 @@ impl Dopri5 {
     /// Step size proposed for the next step.
     pub fn proposed_step(&self) -> f64 {
         self.h
+    }
+
+    /// Work done since [`start`](Self::start) (see [`Stats`]).
+    pub fn stats(&self) -> Stats {
+        self.stats
     }
 
     /// `f(t, y) = (q̇, a(t, q, q̇))` into `out`.
@@ -205,7 +197,7 @@ impl Dopri5 {
         self.h_old = 0.0;
         self.y[..n].copy_from_slice(q);
         self.y[n..].copy_from_slice(qdot);
-        self.stats = AdaptiveStats::default();
+        self.stats = Stats::default();
         self.err_old = 1e-4;
         self.last_rejected = false;
         self.stiff_steps = 0;
@@ -359,7 +351,7 @@ impl Dopri5 {
                 std::mem::swap(&mut self.y, &mut self.y_new);
                 self.k.swap(0, 6);
                 self.h = h_new;
-                self.stats.accepted += 1;
+                self.stats.steps += 1;
                 return Ok(());
             }
             // Reject.
@@ -399,5 +391,45 @@ impl Dopri5 {
                 qdot[i - n] = v;
             }
         }
+    }
+}
+
+impl<D: Dynamics> Integrator<D> for Dopri5 {
+    fn begin(&mut self, system: &D, ws: &mut D::Workspace, initial: &State, t_end: f64) -> Result<(), Error> {
+        let span = (t_end - initial.t).max(f64::MIN_POSITIVE);
+        self.start(system, ws, initial.t, &initial.q, &initial.qdot, span)
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn proposed_step(&self) -> f64 {
+        self.h
+    }
+
+    fn reached(&self, t_out: f64) -> bool {
+        self.t >= t_out
+    }
+
+    /// One accepted step toward `t_end` (not `t_out`: [`read`](Integrator::read) interpolates).
+    fn advance(&mut self, system: &D, ws: &mut D::Workspace, _: f64, t_end: f64) -> Result<(), Error> {
+        let (t, k) = (self.t, self.stats.steps);
+        self.step(system, ws, t_end).map_err(|e| diverged(system, e, t, k))?;
+        check_finite(system, self.q(), self.qdot(), self.t, self.stats.steps)
+    }
+
+    fn read(&mut self, _: &D, _: &mut D::Workspace, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        if t == self.t {
+            q.copy_from_slice(Self::q(self));
+            qdot.copy_from_slice(Self::qdot(self));
+        } else {
+            self.interpolate(t, q, qdot);
+        }
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        Self::stats(self)
     }
 }

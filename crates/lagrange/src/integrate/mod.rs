@@ -1,4 +1,13 @@
-//! Integrators, one per file, and the driver that records trajectories.
+//! Integrators, one per file, behind one stepping trait, and the driver that runs them.
+//!
+//! Every integrator implements [`Integrator`]: [`begin`](Integrator::begin) at a state,
+//! [`advance`](Integrator::advance) one step toward an output time,
+//! [`read`](Integrator::read) the state there (by dense output where the method has one:
+//! [`Dopri5`]), and report its work as one [`Stats`]. The driver [`run`] is one loop over the
+//! output times writing [`Sample`]s into a [`Sink`] (a [`Trajectory`] is one; the energy is
+//! evaluated only for a sink that asks for it); [`simulate`] runs a [`Method`] into a
+//! [`Trajectory`]. Each integrator also keeps its own lower-level calls (`step`, `start`, …)
+//! for callers that drive it themselves.
 //!
 //! | integrator | order | for | guarantee |
 //! |---|---|---|---|
@@ -17,16 +26,18 @@
 mod dopri5;
 mod driver;
 mod gauss;
+mod integrator;
 pub mod newton;
 mod rk4;
 mod sdirk;
 pub mod stability;
 mod variational;
 
-pub use dopri5::{AdaptiveStats, Dopri5};
-pub use driver::{Method, Output, Stats, Trajectory, simulate};
+pub use dopri5::Dopri5;
+pub use driver::{Method, Output, Sample, Sink, Trajectory, run, simulate};
 pub use gauss::Gauss4;
-pub use newton::ImplicitStats;
+pub(crate) use integrator::Grid;
+pub use integrator::{Integrator, Stats};
 pub use rk4::Rk4;
 pub use sdirk::Sdirk4;
 pub use variational::Variational;

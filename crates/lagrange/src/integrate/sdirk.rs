@@ -3,9 +3,10 @@
 //! Equations II*, §IV.6, Table 6.5 (`γ = 1/4`, 5 stages; their `SDIRK4` code), for stiff
 //! problems.
 
-use super::newton::{ImplicitStats, StageSystem};
+use super::integrator::{Integrator, Stats, check_finite, diverged};
+use super::newton::StageSystem;
 use super::{Tolerances, check_tolerance, non_finite_quantity};
-use crate::{Dynamics, Error};
+use crate::{Dynamics, Error, State};
 
 /// Stages.
 const STAGES: usize = 5;
@@ -120,7 +121,7 @@ pub struct Sdirk4 {
     h: f64,
     last_rejected: bool,
     /// Counters.
-    pub stats: ImplicitStats,
+    stats: Stats,
 }
 
 impl Sdirk4 {
@@ -160,7 +161,7 @@ impl Sdirk4 {
             eta: 1.0,
             h: 0.0,
             last_rejected: false,
-            stats: ImplicitStats::default(),
+            stats: Stats::default(),
         })
     }
 
@@ -182,6 +183,11 @@ impl Sdirk4 {
     /// Step size proposed for the next step.
     pub fn proposed_step(&self) -> f64 {
         self.h
+    }
+
+    /// Work done since [`start`](Self::start) (see [`Stats`]).
+    pub fn stats(&self) -> Stats {
+        self.stats
     }
 
     /// `f(t, y) = (q̇, a(t, q, q̇))` into `out`.
@@ -222,7 +228,7 @@ impl Sdirk4 {
         self.t = t;
         self.y[..n].copy_from_slice(q);
         self.y[n..].copy_from_slice(qdot);
-        self.stats = ImplicitStats::default();
+        self.stats = Stats::default();
         self.h_old = 0.0;
         self.jacobian_fresh = false;
         self.refresh_jacobian = true;
@@ -320,7 +326,7 @@ impl Sdirk4 {
             Failure::Newton(iterations, residual) => Error::NewtonFailed { t: self.t, iterations, residual },
             Failure::NonFinite(quantity) => Error::Diverged {
                 t: self.t,
-                step: self.stats.accepted,
+                step: self.stats.steps,
                 quantity: format!("Newton did not converge: {quantity} in a stage, at every step down to h = {h:e}"),
             },
         }
@@ -510,8 +516,44 @@ impl Sdirk4 {
         self.t = if h == t_limit - self.t { t_limit } else { self.t + h };
         self.h = h_new;
         self.jacobian_fresh = false;
-        self.stats.accepted += 1;
+        self.stats.steps += 1;
         true
+    }
+}
+
+impl<D: Dynamics> Integrator<D> for Sdirk4 {
+    fn begin(&mut self, system: &D, ws: &mut D::Workspace, initial: &State, t_end: f64) -> Result<(), Error> {
+        let span = (t_end - initial.t).max(f64::MIN_POSITIVE);
+        self.start(system, ws, initial.t, &initial.q, &initial.qdot, span)
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn proposed_step(&self) -> f64 {
+        self.h
+    }
+
+    fn reached(&self, t_out: f64) -> bool {
+        self.t >= t_out
+    }
+
+    /// One accepted step landing on `t_out` at the latest: no interpolation of stiff velocities.
+    fn advance(&mut self, system: &D, ws: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
+        let (t, k) = (self.t, self.stats.steps);
+        self.step(system, ws, t_out).map_err(|e| diverged(system, e, t, k))?;
+        check_finite(system, self.q(), self.qdot(), self.t, self.stats.steps)
+    }
+
+    fn read(&mut self, _: &D, _: &mut D::Workspace, _: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        q.copy_from_slice(Self::q(self));
+        qdot.copy_from_slice(Self::qdot(self));
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        Self::stats(self)
     }
 }
 
