@@ -23,6 +23,7 @@
 //! fails ([`Error::Stiff`]). [`stability`] gives the boundaries of the explicit schemes'
 //! stability regions that the stability suite measures against.
 
+mod control;
 mod dopri5;
 mod driver;
 mod gauss;
