@@ -24,6 +24,13 @@ const NEWTON_MAX_ITERATIONS: usize = 50;
 /// theorem the momentum of every cyclic coordinate is conserved exactly (to the Newton
 /// tolerance), and the energy error stays bounded instead of drifting.
 /// Buffers are allocated once; a step allocates nothing.
+///
+/// Its [`Stats`] count what it evaluates: one evaluation is the gradient of `L` (with the
+/// generalized force) at one point — a midpoint of a step, or a state whose momenta or
+/// velocities are read — as one evaluation of `q̈` is the derivatives of `L` at one state for
+/// the other methods. Each Newton iteration (of a step, or of the inversion of the Legendre map
+/// when velocities are read) is one such evaluation together with the Hessian of `L` (a
+/// Jacobian, with `∂Q/∂Δq` for a generalized force) and one LU factorization.
 pub struct Variational<F: LagrangianFunction> {
     n: usize,
     scratch: F::Scratch<HyperDual64>,
@@ -162,6 +169,10 @@ impl<F: LagrangianFunction> Variational<F> {
     /// or per `a` for the gradient alone.
     fn derivatives(&mut self, system: &F, t: f64, hessian: bool) {
         let n = self.n;
+        self.stats.evaluations += 1;
+        if hessian {
+            self.stats.jacobians += 1;
+        }
         for (d, x) in self.q_seed.iter_mut().zip(&self.q_mid) {
             *d = HyperDual64::from(*x);
         }
@@ -263,6 +274,7 @@ impl<F: LagrangianFunction> Variational<F> {
             if self.has_force {
                 self.add_force_jacobian(system, tm, h);
             }
+            self.stats.factorizations += 1;
             if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
                 return Err(Error::NewtonFailed { t, iterations: iteration, residual: residual_norm });
             }
@@ -326,6 +338,7 @@ impl<F: LagrangianFunction> Variational<F> {
         let n = self.n;
         let m = 2 * n;
         for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
             self.derivatives(system, self.t, true);
             let mut residual_norm = 0.0_f64;
             for i in 0..n {
@@ -335,6 +348,7 @@ impl<F: LagrangianFunction> Variational<F> {
                     self.jacobian[i * n + j] = self.hessian[(n + i) * m + n + j];
                 }
             }
+            self.stats.factorizations += 1;
             if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
                 return Err(Error::NewtonFailed { t: self.t, iterations: iteration, residual: residual_norm });
             }
