@@ -205,8 +205,7 @@ fn maximal_settings(setting: Setting) -> Settings {
 
 fn reduced_method(family: Family, setting: Setting) -> Method {
     match (family, setting) {
-        (Family::Rk4, Setting::Step { dt }) => Method::Rk4 { dt },
-        (Family::Variational, Setting::Step { dt }) => Method::Variational { dt },
+        (Family::Reduced(kind), Setting::Step { dt }) if kind.is_fixed_step() => kind.with(dt),
         (_, Setting::Tolerance { tol }) => Method::Adaptive { tol: Tolerances::uniform(tol) },
         (_, setting) => {
             debug_assert!(false, "{family:?} has no setting {setting:?}");

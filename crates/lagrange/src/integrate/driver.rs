@@ -1,51 +1,8 @@
 //! Running an integrator over an interval: one loop over the output times, writing each sample
 //! into a [`Sink`] (a [`Trajectory`] being one).
 
-use super::{Dopri5, Gauss4, Grid, Integrator, Rk4, Sdirk4, Stats, Tolerances, Variational};
+use super::{Dopri5, Gauss4, Grid, Integrator, Method, Rk4, Sdirk4, Stats, Variational};
 use crate::{Dynamics, Error, State};
-
-/// Which integrator, with its step or tolerances.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Method {
-    /// Classical RK4 with fixed step `dt`.
-    Rk4 {
-        /// Step.
-        dt: f64,
-    },
-    /// Dormand–Prince 5(4) with error control.
-    Adaptive {
-        /// Tolerances.
-        tol: Tolerances,
-    },
-    /// Variational midpoint (discrete Euler–Lagrange) with fixed step `dt`.
-    Variational {
-        /// Step.
-        dt: f64,
-    },
-    /// L-stable SDIRK4 ([`Sdirk4`]) with error control, for stiff problems.
-    Implicit {
-        /// Tolerances.
-        tol: Tolerances,
-    },
-    /// Gauss–Legendre of order 4 ([`Gauss4`]), symplectic, with fixed step `dt`.
-    Gauss {
-        /// Step.
-        dt: f64,
-    },
-}
-
-impl Method {
-    /// Short name: `rk4`, `adaptive`, `variational`, `implicit`, `gauss`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Method::Rk4 { .. } => "rk4",
-            Method::Adaptive { .. } => "adaptive",
-            Method::Variational { .. } => "variational",
-            Method::Implicit { .. } => "implicit",
-            Method::Gauss { .. } => "gauss",
-        }
-    }
-}
 
 /// When to record the state.
 #[derive(Clone, Debug, PartialEq)]
