@@ -9,6 +9,10 @@
 //! [`Trajectory`]. Each integrator also keeps its own lower-level calls (`step`, `start`, …)
 //! for callers that drive it themselves.
 //!
+//! [`Method`] names an integrator with its step or tolerance and parses and prints itself
+//! (`rk4:0.001`, `adaptive:1e-10`); [`MethodKind::ALL`] is the one list of the methods, which
+//! the command line and the validation report reuse.
+//!
 //! | integrator | order | for | guarantee |
 //! |---|---|---|---|
 //! | [`Rk4`] | 4, fixed step | reference workhorse | error ratio ≈ 16 per halving |
@@ -19,7 +23,8 @@
 //!
 //! The implicit methods solve their stages by simplified Newton with the exact AD Jacobian
 //! [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian), in the reduced
-//! form of [`newton`]. [`Dopri5`] watches for stiffness (Hairer's test) and says so when it
+//! form of [`newton`]. The error-controlled methods ([`Dopri5`], [`Sdirk4`]) share one step-size
+//! controller: the scaled error norm, the first step and PI control. [`Dopri5`] watches for stiffness (Hairer's test) and says so when it
 //! fails ([`Error::Stiff`]). [`stability`] gives the boundaries of the explicit schemes'
 //! stability regions that the stability suite measures against.
 
