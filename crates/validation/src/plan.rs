@@ -2,6 +2,7 @@
 //! how runs are timed — one plan for the full report, a smaller one for `--quick`.
 
 use crate::Error;
+use lagrange::integrate::MethodKind;
 use lagrange_maximal::Engine;
 
 /// Interval between saved times (s). Every fixed step of the sweeps is `0.05 · 2⁻ᵏ` or
@@ -51,12 +52,9 @@ const RAPIER_MIN_SUBSTEP_COARSE: f64 = 1.0 / 15360.0;
 /// A family of runs: one integrator of the reduced solver, or one maximal engine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Family {
-    /// Reduced coordinates, classical RK4, swept over the step.
-    Rk4,
-    /// Reduced coordinates, Dormand–Prince 5(4), swept over the tolerance.
-    Adaptive,
-    /// Reduced coordinates, variational midpoint, swept over the step.
-    Variational,
+    /// Reduced coordinates with one of the solver's integrators: RK4 and the variational
+    /// midpoint swept over the step, Dormand–Prince 5(4) over the tolerance.
+    Reduced(MethodKind),
     /// A maximal-coordinate engine: Cartesian (over tolerances) or rapier (over `dt` and substeps).
     Maximal(Engine),
 }
@@ -64,9 +62,9 @@ pub enum Family {
 impl Family {
     /// Every family, in report order.
     pub const ALL: [Family; 8] = [
-        Family::Rk4,
-        Family::Adaptive,
-        Family::Variational,
+        Family::Reduced(MethodKind::Rk4),
+        Family::Reduced(MethodKind::Adaptive),
+        Family::Reduced(MethodKind::Variational),
         Family::Maximal(Engine::Cartesian),
         Family::Maximal(Engine::RapierImpulse),
         Family::Maximal(Engine::RapierMultibody),
@@ -75,7 +73,7 @@ impl Family {
     ];
 
     /// The families that make up "ours" in the summary ratios: the reduced solver.
-    pub const OURS: [Family; 3] = [Family::Rk4, Family::Adaptive, Family::Variational];
+    pub const OURS: [Family; 3] = [Family::ALL[0], Family::ALL[1], Family::ALL[2]];
 
     /// The rapier engines the summary ratios compare against (f64).
     pub const RAPIER_F64: [Engine; 2] = [Engine::RapierImpulse, Engine::RapierMultibody];
@@ -83,9 +81,7 @@ impl Family {
     /// The name in reports: `rk4`, `adaptive`, `variational`, or the engine's name.
     pub fn name(self) -> &'static str {
         match self {
-            Family::Rk4 => "rk4",
-            Family::Adaptive => "adaptive",
-            Family::Variational => "variational",
+            Family::Reduced(kind) => kind.name(),
             Family::Maximal(engine) => engine.name(),
         }
     }
@@ -227,9 +223,15 @@ impl Plan {
     /// same smallest substep.
     pub fn settings(&self, family: Family, honours_substeps: bool) -> Vec<Setting> {
         let engine = match family {
-            Family::Rk4 => return self.rk4_steps.iter().map(|&dt| Setting::Step { dt }).collect(),
-            Family::Variational => return self.variational_steps.iter().map(|&dt| Setting::Step { dt }).collect(),
-            Family::Adaptive => return self.tolerances.iter().map(|&tol| Setting::Tolerance { tol }).collect(),
+            Family::Reduced(MethodKind::Rk4) => return self.rk4_steps.iter().map(|&dt| Setting::Step { dt }).collect(),
+            Family::Reduced(MethodKind::Variational) => {
+                return self.variational_steps.iter().map(|&dt| Setting::Step { dt }).collect();
+            }
+            Family::Reduced(MethodKind::Adaptive) => {
+                return self.tolerances.iter().map(|&tol| Setting::Tolerance { tol }).collect();
+            }
+            // Not swept by the report.
+            Family::Reduced(MethodKind::Implicit | MethodKind::Gauss) => return Vec::new(),
             Family::Maximal(Engine::Cartesian) => {
                 return self.cartesian_tolerances.iter().map(|&tol| Setting::Tolerance { tol }).collect();
             }

@@ -6,7 +6,7 @@ use crate::Error;
 use crate::measure::{self, Measured};
 use crate::plan::{CARTESIAN_CHECK_TOLERANCE, Family, Plan, Setting};
 use crate::reference::{Reference, ReferenceKind, References};
-use lagrange::{Coordinate, Method, State, Tolerances};
+use lagrange::{Coordinate, Method, State};
 use lagrange_maximal::{BuildError, Engine, Settings, build};
 use lagrange_scenes::{Params, Scene};
 
@@ -210,9 +210,8 @@ fn maximal_settings(setting: Setting) -> Settings {
 /// run is recorded as failed, never silently replaced by another method.
 fn reduced_method(family: Family, setting: Setting) -> Result<Method, Error> {
     match (family, setting) {
-        (Family::Rk4, Setting::Step { dt }) => Ok(Method::Rk4 { dt }),
-        (Family::Variational, Setting::Step { dt }) => Ok(Method::Variational { dt }),
-        (Family::Adaptive, Setting::Tolerance { tol }) => Ok(Method::Adaptive { tol: Tolerances::uniform(tol) }),
+        (Family::Reduced(kind), Setting::Step { dt }) if kind.is_fixed_step() => Ok(kind.with(dt)),
+        (Family::Reduced(kind), Setting::Tolerance { tol }) if !kind.is_fixed_step() => Ok(kind.with(tol)),
         (family, setting) => Err(Error::NoSuchSetting { family: family.name(), setting: setting.describe() }),
     }
 }

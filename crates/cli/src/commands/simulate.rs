@@ -1,22 +1,33 @@
 //! `lagrange simulate`: integrate a scene and write `t, q, q̇, energy` as CSV.
 
 use crate::args;
-use lagrange::{Method, Output, Tolerances, Trajectory};
+use lagrange::integrate::MethodKind;
+use lagrange::{Method, Output, Trajectory};
 use std::io::Write;
 
-/// Which integrator.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Integrator {
-    /// Classical RK4, fixed step `--dt`.
-    Rk4,
-    /// Dormand–Prince 5(4) with error control `--tol` and dense output.
-    Adaptive,
-    /// Variational midpoint (discrete Euler–Lagrange), fixed step `--dt`.
-    Variational,
-    /// L-stable implicit SDIRK4 with error control `--tol`, for stiff problems.
-    Implicit,
-    /// Gauss–Legendre of order 4 (implicit, symplectic), fixed step `--dt`.
-    Gauss,
+/// Which integrator: a [`MethodKind`], spelled and described as the solver names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Integrator(MethodKind);
+
+/// Every integrator, in [`MethodKind::ALL`] order.
+const INTEGRATORS: [Integrator; MethodKind::ALL.len()] = {
+    let mut all = [Integrator(MethodKind::Rk4); MethodKind::ALL.len()];
+    let mut i = 0;
+    while i < all.len() {
+        all[i] = Integrator(MethodKind::ALL[i]);
+        i += 1;
+    }
+    all
+};
+
+impl clap::ValueEnum for Integrator {
+    fn value_variants<'a>() -> &'a [Self] {
+        &INTEGRATORS
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        Some(clap::builder::PossibleValue::new(self.0.name()).help(self.0.summary()))
+    }
 }
 
 /// Arguments of `lagrange simulate`.
@@ -37,7 +48,7 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     t_end: f64,
     /// Integrator.
-    #[arg(long, value_enum, default_value_t = Integrator::Adaptive)]
+    #[arg(long, value_enum, default_value_t = Integrator(MethodKind::Adaptive))]
     integrator: Integrator,
     /// Step of the fixed-step integrators: rk4, variational, gauss (default 1e-3).
     #[arg(long, allow_negative_numbers = true)]
@@ -59,30 +70,23 @@ fn method_and_output(args: &Args) -> Result<(Method, Output), String> {
     if !(args.t_end.is_finite() && args.t_end > 0.0) {
         return Err(format!("--t-end must be positive and finite, got {}", args.t_end));
     }
-    let method = match args.integrator {
-        controlled @ (Integrator::Adaptive | Integrator::Implicit) => {
+    let Integrator(kind) = args.integrator;
+    let method = match kind.default_method() {
+        default @ (Method::Adaptive { .. } | Method::Implicit { .. }) => {
             if args.dt.is_some() {
                 return Err("--dt applies to the fixed-step integrators (rk4, variational, gauss); use --tol".into());
             }
-            if controlled == Integrator::Adaptive {
-                Method::Adaptive { tol: Tolerances::uniform(args.tol.unwrap_or(1e-10)) }
-            } else {
-                Method::Implicit { tol: Tolerances::uniform(args.tol.unwrap_or(1e-8)) }
-            }
+            args.tol.map_or(default, |tol| kind.with(tol))
         }
-        fixed => {
+        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
             if args.tol.is_some() {
                 return Err("--tol applies to the error-controlled integrators (adaptive, implicit); use --dt".into());
             }
-            let dt = args.dt.unwrap_or(1e-3);
+            let dt = args.dt.unwrap_or(dt);
             if !(dt > 0.0 && dt.is_finite()) {
                 return Err(format!("--dt must be positive and finite, got {dt}"));
             }
-            match fixed {
-                Integrator::Rk4 => Method::Rk4 { dt },
-                Integrator::Gauss => Method::Gauss { dt },
-                _ => Method::Variational { dt },
-            }
+            kind.with(dt)
         }
     };
     let every = match (args.every, method) {

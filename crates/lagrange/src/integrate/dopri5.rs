@@ -2,8 +2,10 @@
 //! Nørsett & Wanner, *Solving Ordinary Differential Equations I*, §II.5, §II.6 and §II.10;
 //! the `DOPRI5` code).
 
+use super::control::{Controller, Verdict, error_norm, initial_step, trial_step};
+use super::integrator::{Integrator, Stats, check_finite, diverged};
 use super::{Tolerances, check_tolerance};
-use crate::{Dynamics, Error};
+use crate::{Dynamics, Error, State};
 
 // Butcher tableau (Dormand & Prince 1980).
 const C2: f64 = 1.0 / 5.0;
@@ -45,11 +47,9 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
-// Step-size control (DOPRI5 defaults).
-const SAFETY: f64 = 0.9;
-const FAC_MIN: f64 = 0.2;
-const FAC_MAX: f64 = 10.0;
-const BETA: f64 = 0.04;
+/// Step-size control (DOPRI5 defaults): exponent 1/5 from the order-4 estimate, PI control
+/// with `β = 0.04`, safety 0.9, `h_new ∈ [h/10, 5h]`.
+const CONTROL: Controller = Controller::new(0.2, Some(0.04), 0.9, 0.2, 10.0);
 
 // Stiffness detection (DOPRI5, Hairer–Wanner I §II.10): `h λ` is estimated on every accepted
 // step as `h ‖k7 − k6‖ / ‖y_new − y_stage6‖` (both stages sit at `t + h`, so the quotient is a
@@ -60,26 +60,12 @@ const STIFF_H_LAMBDA: f64 = 3.25;
 const STIFF_STEPS: usize = 15;
 const NON_STIFF_RESET: usize = 6;
 
-/// Counters of an adaptive integration.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct AdaptiveStats {
-    /// Accepted steps.
-    pub accepted: usize,
-    /// Rejected steps.
-    pub rejected: usize,
-    /// Evaluations of the equations of motion.
-    pub evaluations: usize,
-    /// The start of the accepted step at which the stiffness test first fired (`None` while the
-    /// problem does not look stiff). The integration goes on; only a later failure says so.
-    pub stiffness: Option<f64>,
-}
-
 /// The embedded Dormand–Prince 5(4) pair with PI step control, FSAL and 4th-order dense output,
 /// on `y = (q, q̇)`. The local error of each accepted step satisfies
 /// `‖err_i / (atol + rtol max(|y_i|, |y_i'|))‖_rms ≤ 1`.
 ///
 /// Hairer's stiffness test runs on every accepted step; when it fires, the time is recorded in
-/// [`AdaptiveStats::stiffness`], and a step-size collapse afterwards is reported as
+/// [`Stats::stiffness`], and a step-size collapse afterwards is reported as
 /// [`Error::Stiff`] (pointing to the implicit integrator) rather than a bare underflow.
 #[derive(Clone, Debug)]
 pub struct Dopri5 {
@@ -101,16 +87,15 @@ pub struct Dopri5 {
     h_old: f64,
     /// Proposed next step.
     h: f64,
-    /// Last accepted error norm (PI control memory).
-    err_old: f64,
-    last_rejected: bool,
+    /// Step-size controller.
+    control: Controller,
     /// `h λ` estimate of the last attempted step (stiffness test).
     h_lambda: f64,
     /// Accepted steps with `h λ` above the bound, and accepted steps in a row below it.
     stiff_steps: usize,
     non_stiff_steps: usize,
     /// Counters.
-    pub stats: AdaptiveStats,
+    stats: Stats,
 }
 
 impl Dopri5 {
@@ -133,12 +118,11 @@ impl Dopri5 {
             t_old: 0.0,
             h_old: 0.0,
             h: 0.0,
-            err_old: 1e-4,
-            last_rejected: false,
+            control: CONTROL,
             h_lambda: 0.0,
             stiff_steps: 0,
             non_stiff_steps: 0,
-            stats: AdaptiveStats::default(),
+            stats: Stats::default(),
         })
     }
 
@@ -162,6 +146,11 @@ impl Dopri5 {
         self.h
     }
 
+    /// Work done since [`start`](Self::start) (see [`Stats`]).
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
     /// `f(t, y) = (q̇, a(t, q, q̇))` into `out`.
     fn rhs<D: Dynamics>(
         system: &D,
@@ -175,15 +164,6 @@ impl Dopri5 {
         let (dq, dv) = out.split_at_mut(n);
         dq.copy_from_slice(v);
         system.accelerations(ws, t, q, v, dv)
-    }
-
-    fn norm(&self, e: &[f64], y0: &[f64], y1: &[f64]) -> f64 {
-        let mut sum = 0.0;
-        for i in 0..e.len() {
-            let sk = self.tol.atol + self.tol.rtol * y0[i].abs().max(y1[i].abs());
-            sum += (e[i] / sk).powi(2);
-        }
-        (sum / e.len() as f64).sqrt()
     }
 
     /// Start at `(t, q, q̇)`: evaluate `f` and choose the first step (Hairer's HINIT).
@@ -205,36 +185,22 @@ impl Dopri5 {
         self.h_old = 0.0;
         self.y[..n].copy_from_slice(q);
         self.y[n..].copy_from_slice(qdot);
-        self.stats = AdaptiveStats::default();
-        self.err_old = 1e-4;
-        self.last_rejected = false;
+        self.stats = Stats::default();
+        self.control.reset();
         self.stiff_steps = 0;
         self.non_stiff_steps = 0;
         let [k1, k2, ..] = &mut self.k;
         Self::rhs(system, ws, n, t, &self.y, k1)?;
         self.stats.evaluations += 1;
         // HINIT: h0 from ‖y‖/‖f‖, refined with one explicit Euler step and ‖f'‖.
-        let scale = |i: usize, y: &[f64]| self.tol.atol + self.tol.rtol * y[i].abs();
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        for i in 0..2 * n {
-            dnf += (k1[i] / scale(i, &self.y)).powi(2);
-            dny += (self.y[i] / scale(i, &self.y)).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
-        h = h.min(h_max);
+        let trial = trial_step(self.tol, &self.y, k1, h_max);
+        let h = trial.0;
         for i in 0..2 * n {
             self.y_stage[i] = self.y[i] + h * k1[i];
         }
         Self::rhs(system, ws, n, t + h, &self.y_stage, k2)?;
         self.stats.evaluations += 1;
-        let mut der2 = 0.0;
-        for i in 0..2 * n {
-            der2 += ((k2[i] - k1[i]) / scale(i, &self.y)).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(0.2) };
-        self.h = (100.0 * h).min(h1).min(h_max);
+        self.h = initial_step(self.tol, &self.y, k1, k2, trial, h_max, 0.2);
         Ok(())
     }
 
@@ -322,50 +288,36 @@ impl Dopri5 {
             for i in 0..n2 {
                 ys[i] = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
             }
-            let err = self.norm(&self.y_stage, &self.y, &self.y_new);
-            if !err.is_finite() {
-                // A blow-up inside the step: retry smaller; underflow ends it.
-                self.h = h * FAC_MIN;
-                self.stats.rejected += 1;
-                self.last_rejected = true;
-                continue;
-            }
-            // PI controller (Gustafsson), as in DOPRI5.
-            let fac11 = err.powf(0.2 - BETA * 0.75);
-            let fac = (fac11 / self.err_old.powf(BETA) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
-            let mut h_new = h / fac;
-            if err <= 1.0 {
-                // Accept: dense-output coefficients, then advance.
-                let [k1, _, k3, k4, k5, k6, k7] = &self.k;
-                for i in 0..n2 {
-                    let ydiff = self.y_new[i] - self.y[i];
-                    let bspl = h * k1[i] - ydiff;
-                    self.dense[0][i] = self.y[i];
-                    self.dense[1][i] = ydiff;
-                    self.dense[2][i] = bspl;
-                    self.dense[3][i] = ydiff - h * k7[i] - bspl;
-                    self.dense[4][i] =
-                        h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+            let err = error_norm(self.tol, &self.y_stage, &self.y, &self.y_new);
+            // A non-finite error (a blow-up inside the step) retries smaller; underflow ends it.
+            let h_new = match self.control.judge(err, h) {
+                Verdict::Accept(h_new) => h_new,
+                Verdict::Reject(h_new) => {
+                    self.h = h_new;
+                    self.stats.rejected += 1;
+                    continue;
                 }
-                self.err_old = err.max(1e-4);
-                if self.last_rejected {
-                    h_new = h_new.min(h);
-                }
-                self.last_rejected = false;
-                self.stiffness_test(t);
-                self.t_old = t;
-                self.h_old = h;
-                self.t = if h == t_limit - t { t_limit } else { t + h };
-                std::mem::swap(&mut self.y, &mut self.y_new);
-                self.k.swap(0, 6);
-                self.h = h_new;
-                self.stats.accepted += 1;
-                return Ok(());
+            };
+            // Accept: dense-output coefficients, then advance.
+            let [k1, _, k3, k4, k5, k6, k7] = &self.k;
+            for i in 0..n2 {
+                let ydiff = self.y_new[i] - self.y[i];
+                let bspl = h * k1[i] - ydiff;
+                self.dense[0][i] = self.y[i];
+                self.dense[1][i] = ydiff;
+                self.dense[2][i] = bspl;
+                self.dense[3][i] = ydiff - h * k7[i] - bspl;
+                self.dense[4][i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
             }
-            // Reject.
-            self.h = h / (1.0 / FAC_MIN).min(fac11 / SAFETY);
-            self.stats.rejected += 1;
-            self.last_rejected = true;
+            self.stiffness_test(t);
+            self.t_old = t;
+            self.h_old = h;
+            self.t = if h == t_limit - t { t_limit } else { t + h };
+            std::mem::swap(&mut self.y, &mut self.y_new);
+            self.k.swap(0, 6);
+            self.h = h_new;
+            self.stats.steps += 1;
+            return Ok(());
         }
     }
 
@@ -399,5 +351,45 @@ impl Dopri5 {
                 qdot[i - n] = v;
             }
         }
+    }
+}
+
+impl<D: Dynamics> Integrator<D> for Dopri5 {
+    fn begin(&mut self, system: &D, ws: &mut D::Workspace, initial: &State, t_end: f64) -> Result<(), Error> {
+        let span = (t_end - initial.t).max(f64::MIN_POSITIVE);
+        self.start(system, ws, initial.t, &initial.q, &initial.qdot, span)
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn proposed_step(&self) -> f64 {
+        self.h
+    }
+
+    fn reached(&self, t_out: f64) -> bool {
+        self.t >= t_out
+    }
+
+    /// One accepted step toward `t_end` (not `t_out`: [`read`](Integrator::read) interpolates).
+    fn advance(&mut self, system: &D, ws: &mut D::Workspace, _: f64, t_end: f64) -> Result<(), Error> {
+        let (t, k) = (self.t, self.stats.steps);
+        self.step(system, ws, t_end).map_err(|e| diverged(system, e, t, k))?;
+        check_finite(system, self.q(), self.qdot(), self.t, self.stats.steps)
+    }
+
+    fn read(&mut self, _: &D, _: &mut D::Workspace, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        if t == self.t {
+            q.copy_from_slice(Self::q(self));
+            qdot.copy_from_slice(Self::qdot(self));
+        } else {
+            self.interpolate(t, q, qdot);
+        }
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        Self::stats(self)
     }
 }

@@ -1,50 +1,8 @@
-//! Running an integrator over an interval and recording `t, q, q̇` and the energy.
+//! Running an integrator over an interval: one loop over the output times, writing each sample
+//! into a [`Sink`] (a [`Trajectory`] being one).
 
-use super::{Dopri5, Gauss4, Rk4, Sdirk4, Tolerances, Variational, check_step, non_finite_quantity};
-use crate::{Coordinate, Dynamics, Error, State};
-
-/// Which integrator, with its step or tolerances.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Method {
-    /// Classical RK4 with fixed step `dt`.
-    Rk4 {
-        /// Step.
-        dt: f64,
-    },
-    /// Dormand–Prince 5(4) with error control.
-    Adaptive {
-        /// Tolerances.
-        tol: Tolerances,
-    },
-    /// Variational midpoint (discrete Euler–Lagrange) with fixed step `dt`.
-    Variational {
-        /// Step.
-        dt: f64,
-    },
-    /// L-stable SDIRK4 ([`Sdirk4`]) with error control, for stiff problems.
-    Implicit {
-        /// Tolerances.
-        tol: Tolerances,
-    },
-    /// Gauss–Legendre of order 4 ([`Gauss4`]), symplectic, with fixed step `dt`.
-    Gauss {
-        /// Step.
-        dt: f64,
-    },
-}
-
-impl Method {
-    /// Short name: `rk4`, `adaptive`, `variational`, `implicit`, `gauss`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Method::Rk4 { .. } => "rk4",
-            Method::Adaptive { .. } => "adaptive",
-            Method::Variational { .. } => "variational",
-            Method::Implicit { .. } => "implicit",
-            Method::Gauss { .. } => "gauss",
-        }
-    }
-}
+use super::{Dopri5, Gauss4, Grid, Integrator, Method, Rk4, Sdirk4, Stats, Variational};
+use crate::{Dynamics, Error, State};
 
 /// When to record the state.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,27 +15,6 @@ pub enum Output {
     Times(Vec<f64>),
     /// At the start and the end only.
     Ends,
-}
-
-/// Work counters of a run.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Stats {
-    /// Accepted steps.
-    pub steps: usize,
-    /// Rejected steps (adaptive and implicit-adaptive).
-    pub rejected: usize,
-    /// Evaluations of the equations of motion `q̈` in `f64` (RK4, the adaptive methods and
-    /// Gauss; the variational integrator evaluates the Lagrangian instead).
-    pub evaluations: usize,
-    /// Newton iterations (implicit methods).
-    pub newton_iterations: usize,
-    /// Evaluations of the acceleration Jacobian (implicit Runge–Kutta methods).
-    pub jacobians: usize,
-    /// LU factorizations of a Newton matrix (implicit Runge–Kutta methods).
-    pub factorizations: usize,
-    /// The time at which the explicit adaptive integrator's stiffness test first fired
-    /// ([`Method::Adaptive`] only; `None` otherwise).
-    pub stiffness: Option<f64>,
 }
 
 /// A recorded trajectory: rows at the output times.
@@ -134,33 +71,50 @@ impl Trajectory {
             stats: Stats::default(),
         }
     }
+}
 
-    fn push<D: Dynamics>(
-        &mut self,
-        system: &D,
-        ws: &mut D::Workspace,
-        t: f64,
-        q: &[f64],
-        qdot: &[f64],
-        step: usize,
-    ) -> Result<(), Error> {
-        // A finite state whose energy overflows (a run growing past ~1e150) has diverged.
-        let energy = system.energy(ws, t, q, qdot).map_err(|error| match error {
-            Error::NonFinite { stage, .. } if !self.t.is_empty() => {
-                let largest = q.iter().chain(qdot).fold(0.0_f64, |m, v| m.max(v.abs()));
-                Error::Diverged {
-                    t,
-                    step,
-                    quantity: format!("energy = non-finite ({stage}), the state reaching |q|, |q̇| = {largest:e}"),
-                }
-            }
-            other => other,
-        })?;
-        self.t.push(t);
-        self.q.extend_from_slice(q);
-        self.qdot.extend_from_slice(qdot);
-        self.energy.push(energy);
-        Ok(())
+/// One recorded sample.
+#[derive(Clone, Copy, Debug)]
+pub struct Sample<'a> {
+    /// Time.
+    pub t: f64,
+    /// Coordinates (n).
+    pub q: &'a [f64],
+    /// Velocities (n).
+    pub qdot: &'a [f64],
+    /// The energy function `h`, when the sink asked for it ([`Sink::wants_energy`]).
+    pub energy: Option<f64>,
+}
+
+/// Where [`run`] writes the samples of a run.
+pub trait Sink {
+    /// Whether each sample needs the energy function `h` (computed only then).
+    fn wants_energy(&self) -> bool {
+        false
+    }
+
+    /// Take one sample, at the next output time.
+    fn record(&mut self, sample: Sample<'_>);
+
+    /// The work done, at the end of a successful run.
+    fn finish(&mut self, _stats: Stats) {}
+}
+
+/// A trajectory records every sample, with its energy, and the run's statistics.
+impl Sink for Trajectory {
+    fn wants_energy(&self) -> bool {
+        true
+    }
+
+    fn record(&mut self, sample: Sample<'_>) {
+        self.t.push(sample.t);
+        self.q.extend_from_slice(sample.q);
+        self.qdot.extend_from_slice(sample.qdot);
+        self.energy.push(sample.energy.unwrap_or(f64::NAN));
+    }
+
+    fn finish(&mut self, stats: Stats) {
+        self.stats = stats;
     }
 }
 
@@ -186,6 +140,110 @@ pub fn simulate<D: Dynamics>(
     output: &Output,
 ) -> Result<Trajectory, Error> {
     let n = system.dof();
+    let times = check_run(system, initial, t_end, output)?;
+    let mut trajectory = Trajectory::with_capacity(n, times.len());
+    match method {
+        Method::Rk4 { dt } => run(system, &mut Rk4::new(n).with_step(dt)?, initial, t_end, output, &mut trajectory)?,
+        Method::Adaptive { tol } => run(system, &mut Dopri5::new(n, tol)?, initial, t_end, output, &mut trajectory)?,
+        Method::Variational { dt } => {
+            run(system, &mut Variational::new(system).with_step(dt)?, initial, t_end, output, &mut trajectory)?
+        }
+        Method::Implicit { tol } => run(system, &mut Sdirk4::new(n, tol)?, initial, t_end, output, &mut trajectory)?,
+        Method::Gauss { dt } => {
+            run(system, &mut Gauss4::new(n).with_step(dt)?, initial, t_end, output, &mut trajectory)?
+        }
+    };
+    Ok(trajectory)
+}
+
+/// Integrate `system` from `initial` to `t_end` with `integrator`, writing a sample at each time
+/// of `output` into `sink`; returns the work done (also given to [`Sink::finish`]).
+///
+/// Fixed-step integrators step on the grid `t0 + k dt`: every output time but the last must lie
+/// on it. The energy function `h` is evaluated only for a sink that
+/// [wants it](Sink::wants_energy).
+///
+/// # Errors
+/// As [`simulate`].
+pub fn run<D: Dynamics, I: Integrator<D>, S: Sink>(
+    system: &D,
+    integrator: &mut I,
+    initial: &State,
+    t_end: f64,
+    output: &Output,
+    sink: &mut S,
+) -> Result<Stats, Error> {
+    let n = system.dof();
+    let times = check_run(system, initial, t_end, output)?;
+    let t0 = initial.t;
+    let mut ws = system.new_workspace();
+    integrator.begin(system, &mut ws, initial, t_end)?;
+    if let Some(dt) = integrator.fixed_step() {
+        for (index, &t_out) in times.iter().enumerate() {
+            let (whole, on_grid) = Grid::position(t0, dt, t_out);
+            if !on_grid && index + 1 != times.len() {
+                return Err(Error::InvalidSetting {
+                    what: "output time",
+                    value: t_out,
+                    why: "fixed-step output times must lie on the step grid t0 + k dt",
+                });
+            }
+            if whole > MAX_STEPS {
+                return Err(Error::TooManySteps { steps: MAX_STEPS, t: t0, t_end: t_out });
+            }
+        }
+    }
+    let (mut q, mut qdot) = (vec![0.0; n], vec![0.0; n]);
+    let mut steps = 0;
+    for (index, &t_out) in times.iter().enumerate() {
+        while !integrator.reached(t_out) {
+            if steps >= MAX_STEPS {
+                let t = integrator.t();
+                return Err(match integrator.stats().stiffness {
+                    Some(_) => Error::Stiff { t, h: integrator.proposed_step() },
+                    None => Error::TooManySteps { steps, t, t_end },
+                });
+            }
+            integrator.advance(system, &mut ws, t_out, t_end)?;
+            steps += 1;
+        }
+        integrator.read(system, &mut ws, t_out, &mut q, &mut qdot)?;
+        let energy =
+            if sink.wants_energy() { Some(energy(system, &mut ws, t_out, &q, &qdot, index, steps)?) } else { None };
+        sink.record(Sample { t: t_out, q: &q, qdot: &qdot, energy });
+    }
+    let stats = integrator.stats();
+    sink.finish(stats);
+    Ok(stats)
+}
+
+/// The energy function at a sample; after the first sample a finite state whose energy
+/// overflows (a run growing past ~1e150) has diverged.
+fn energy<D: Dynamics>(
+    system: &D,
+    ws: &mut D::Workspace,
+    t: f64,
+    q: &[f64],
+    qdot: &[f64],
+    sample: usize,
+    step: usize,
+) -> Result<f64, Error> {
+    system.energy(ws, t, q, qdot).map_err(|error| match error {
+        Error::NonFinite { stage, .. } if sample > 0 => {
+            let largest = q.iter().chain(qdot).fold(0.0_f64, |m, v| m.max(v.abs()));
+            Error::Diverged {
+                t,
+                step,
+                quantity: format!("energy = non-finite ({stage}), the state reaching |q|, |q̇| = {largest:e}"),
+            }
+        }
+        other => other,
+    })
+}
+
+/// Check the initial state's size and the horizon; the output times.
+fn check_run<D: Dynamics>(system: &D, initial: &State, t_end: f64, output: &Output) -> Result<Vec<f64>, Error> {
+    let n = system.dof();
     if initial.q.len() != n || initial.qdot.len() != n {
         return Err(Error::DimensionMismatch {
             what: "initial state",
@@ -193,195 +251,14 @@ pub fn simulate<D: Dynamics>(
             got: initial.q.len().min(initial.qdot.len()),
         });
     }
-    let t0 = initial.t;
-    if !(t_end.is_finite() && t_end >= t0) {
+    if !(t_end.is_finite() && t_end >= initial.t) {
         return Err(Error::InvalidSetting {
             what: "horizon",
             value: t_end,
             why: "must be finite and not before the start",
         });
     }
-    let times = output_times(t0, t_end, output)?;
-    let mut ws = system.new_workspace();
-    let mut trajectory = Trajectory::with_capacity(n, times.len());
-    match method {
-        Method::Rk4 { dt } => {
-            check_step(dt)?;
-            let mut rk4 = Rk4::new(n);
-            run_state_stepper(system, &mut ws, initial, dt, &times, &mut trajectory, |ws, state, h| {
-                rk4.step(system, ws, state, h)
-            })?;
-            trajectory.stats.evaluations = 4 * trajectory.stats.steps;
-        }
-        Method::Variational { dt } => {
-            check_step(dt)?;
-            let mut integrator = Variational::new(system);
-            integrator.start(system, t0, &initial.q, &initial.qdot)?;
-            let mut qdot = vec![0.0; n];
-            let mut q = vec![0.0; n];
-            run_fixed(t0, dt, &times, &mut trajectory, |traj, event| match event {
-                Event::Step { h, k } => {
-                    let t = integrator.t();
-                    integrator.step(system, h).map_err(|e| diverged(system, e, t, k))?;
-                    check_finite_momenta(system, integrator.q(), integrator.momenta(), integrator.t(), k)
-                }
-                Event::Record { t } => {
-                    if t == t0 {
-                        qdot.copy_from_slice(&initial.qdot);
-                    } else {
-                        integrator.velocities(system, &mut qdot)?;
-                    }
-                    q.copy_from_slice(integrator.q());
-                    traj.push(system, &mut ws, t, &q, &qdot, traj.stats.steps)
-                }
-            })?;
-            trajectory.stats.newton_iterations = integrator.newton_iterations;
-        }
-        Method::Gauss { dt } => {
-            check_step(dt)?;
-            let mut gauss = Gauss4::new(n);
-            run_state_stepper(system, &mut ws, initial, dt, &times, &mut trajectory, |ws, state, h| {
-                gauss.step(system, ws, state, h)
-            })?;
-            let stats = &mut trajectory.stats;
-            stats.evaluations = gauss.stats.evaluations;
-            stats.newton_iterations = gauss.stats.newton_iterations;
-            stats.jacobians = gauss.stats.jacobians;
-            stats.factorizations = gauss.stats.factorizations;
-        }
-        Method::Adaptive { tol } => {
-            let mut integrator = Dopri5::new(n, tol)?;
-            let span = (t_end - t0).max(f64::MIN_POSITIVE);
-            integrator.start(system, &mut ws, t0, &initial.q, &initial.qdot, span)?;
-            let mut q = vec![0.0; n];
-            let mut qdot = vec![0.0; n];
-            let mut steps = 0;
-            for &t_out in &times {
-                while integrator.t() < t_out {
-                    if steps >= MAX_STEPS {
-                        return Err(match integrator.stats.stiffness {
-                            Some(_) => Error::Stiff { t: integrator.t(), h: integrator.proposed_step() },
-                            None => Error::TooManySteps { steps, t: integrator.t(), t_end },
-                        });
-                    }
-                    integrator.step(system, &mut ws, t_end).map_err(|e| diverged(system, e, integrator.t(), steps))?;
-                    steps += 1;
-                    check_finite(system, integrator.q(), integrator.qdot(), integrator.t(), steps)?;
-                }
-                if t_out == integrator.t() {
-                    q.copy_from_slice(integrator.q());
-                    qdot.copy_from_slice(integrator.qdot());
-                } else {
-                    integrator.interpolate(t_out, &mut q, &mut qdot);
-                }
-                trajectory.push(system, &mut ws, t_out, &q, &qdot, steps)?;
-            }
-            trajectory.stats.steps = integrator.stats.accepted;
-            trajectory.stats.rejected = integrator.stats.rejected;
-            trajectory.stats.evaluations = integrator.stats.evaluations;
-            trajectory.stats.stiffness = integrator.stats.stiffness;
-        }
-        Method::Implicit { tol } => {
-            let mut integrator = Sdirk4::new(n, tol)?;
-            let span = (t_end - t0).max(f64::MIN_POSITIVE);
-            integrator.start(system, &mut ws, t0, &initial.q, &initial.qdot, span)?;
-            let mut steps = 0;
-            for &t_out in &times {
-                while integrator.t() < t_out {
-                    if steps >= MAX_STEPS {
-                        return Err(Error::TooManySteps { steps, t: integrator.t(), t_end });
-                    }
-                    // Steps land on the output times (no interpolation of stiff velocities).
-                    integrator.step(system, &mut ws, t_out).map_err(|e| diverged(system, e, integrator.t(), steps))?;
-                    steps += 1;
-                    check_finite(system, integrator.q(), integrator.qdot(), integrator.t(), steps)?;
-                }
-                trajectory.push(system, &mut ws, t_out, integrator.q(), integrator.qdot(), steps)?;
-            }
-            let stats = &mut trajectory.stats;
-            stats.steps = integrator.stats.accepted;
-            stats.rejected = integrator.stats.rejected;
-            stats.evaluations = integrator.stats.evaluations;
-            stats.newton_iterations = integrator.stats.newton_iterations;
-            stats.jacobians = integrator.stats.jacobians;
-            stats.factorizations = integrator.stats.factorizations;
-        }
-    }
-    Ok(trajectory)
-}
-
-/// What the fixed-step driver asks of a method.
-enum Event {
-    /// Take step number `k` of length `h`.
-    Step { h: f64, k: usize },
-    /// Record the state, which is at time `t`.
-    Record { t: f64 },
-}
-
-/// Drive a fixed-step method over the output times: whole steps on the grid `t0 + k dt`, and
-/// one shorter last step when the final output is off the grid.
-/// [`run_fixed`] for a one-step method that advances a [`State`] in place (RK4, Gauss): the
-/// state's time is set from the grid before every step, so it carries no accumulated round-off.
-fn run_state_stepper<D: Dynamics>(
-    system: &D,
-    ws: &mut D::Workspace,
-    initial: &State,
-    dt: f64,
-    times: &[f64],
-    trajectory: &mut Trajectory,
-    mut step: impl FnMut(&mut D::Workspace, &mut State, f64) -> Result<(), Error>,
-) -> Result<(), Error> {
-    let t0 = initial.t;
-    let mut state = initial.clone();
-    run_fixed(t0, dt, times, trajectory, |traj, event| match event {
-        Event::Step { h, k } => {
-            state.t = t0 + k as f64 * dt;
-            step(ws, &mut state, h).map_err(|e| diverged(system, e, state.t, k))?;
-            check_finite(system, &state.q, &state.qdot, state.t, k)
-        }
-        Event::Record { t } => {
-            state.t = t;
-            traj.push(system, ws, t, &state.q, &state.qdot, traj.stats.steps)
-        }
-    })
-}
-
-fn run_fixed(
-    t0: f64,
-    dt: f64,
-    times: &[f64],
-    trajectory: &mut Trajectory,
-    mut method: impl FnMut(&mut Trajectory, Event) -> Result<(), Error>,
-) -> Result<(), Error> {
-    let mut k: usize = 0;
-    for (index, &t_out) in times.iter().enumerate() {
-        let exact = (t_out - t0) / dt;
-        let target = exact.round();
-        let on_grid = (exact - target).abs() <= 1e-9 * exact.max(1.0);
-        if !on_grid && index + 1 != times.len() {
-            return Err(Error::InvalidSetting {
-                what: "output time",
-                value: t_out,
-                why: "fixed-step output times must lie on the step grid t0 + k dt",
-            });
-        }
-        let whole = if on_grid { target as usize } else { exact.floor() as usize };
-        if whole > MAX_STEPS {
-            return Err(Error::TooManySteps { steps: MAX_STEPS, t: t0, t_end: t_out });
-        }
-        while k < whole {
-            method(trajectory, Event::Step { h: dt, k })?;
-            k += 1;
-        }
-        if !on_grid {
-            let t = t0 + k as f64 * dt;
-            method(trajectory, Event::Step { h: t_out - t, k })?;
-            k += 1;
-        }
-        trajectory.stats.steps = k;
-        method(trajectory, Event::Record { t: t_out })?;
-    }
-    Ok(())
+    output_times(initial.t, t_end, output)
 }
 
 fn output_times(t0: f64, t_end: f64, output: &Output) -> Result<Vec<f64>, Error> {
@@ -424,47 +301,5 @@ fn output_times(t0: f64, t_end: f64, output: &Output) -> Result<Vec<f64>, Error>
             }
             Ok(times.clone())
         }
-    }
-}
-
-/// The state after a step must be finite; the error names the first coordinate that is not.
-fn check_finite<D: Dynamics>(system: &D, q: &[f64], v: &[f64], t: f64, step: usize) -> Result<(), Error> {
-    match non_finite_quantity(system.coordinates(), q, v) {
-        None => Ok(()),
-        Some(quantity) => Err(Error::Diverged { t, step, quantity }),
-    }
-}
-
-/// As [`check_finite`] for the variational integrator's `(q, p)`.
-fn check_finite_momenta<D: Dynamics>(system: &D, q: &[f64], p: &[f64], t: f64, step: usize) -> Result<(), Error> {
-    match non_finite_quantity(system.coordinates(), q, &[]) {
-        Some(quantity) => Err(Error::Diverged { t, step, quantity }),
-        None => match p.iter().position(|v| !v.is_finite()) {
-            Some(i) => {
-                let quantity = format!("p[{}] = {}", coordinate_name(system.coordinates(), i), p[i]);
-                Err(Error::Diverged { t, step, quantity })
-            }
-            None => Ok(()),
-        },
-    }
-}
-
-fn coordinate_name(coordinates: &[Coordinate], i: usize) -> String {
-    coordinates.get(i).map_or_else(|| i.to_string(), |c| c.name.clone())
-}
-
-/// A non-finite evaluation during a run is a divergence of the run: name the coordinate of the
-/// stage state that blew up when it is one, or else the stage of the evaluation.
-fn diverged<D: Dynamics>(system: &D, error: Error, t: f64, step: usize) -> Error {
-    match error {
-        Error::NonFinite { stage, q, .. } => {
-            let quantity = match non_finite_quantity(system.coordinates(), &q, &[]) {
-                Some(named) => format!("{named} within the step"),
-                None if stage == crate::Stage::State => "q̇ non-finite within the step".to_string(),
-                None => format!("non-finite {stage} at q = {q:?} within the step"),
-            };
-            Error::Diverged { t, step, quantity }
-        }
-        other => other,
     }
 }

@@ -2,7 +2,8 @@
 //! and A-stable (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §II.1.3 and
 //! §VIII.6; Hairer & Wanner, *Solving ODE II*, §IV.5, Table 5.2).
 
-use super::newton::{ImplicitStats, StageSystem};
+use super::integrator::{Grid, Integrator, Stats, check_finite, diverged};
+use super::newton::StageSystem;
 use super::{check_step, non_finite_quantity};
 use crate::{Dynamics, Error, State};
 
@@ -57,6 +58,10 @@ enum Failure {
 /// fast (`θ ≤ 10⁻²`); the stage values start from the extrapolated collocation polynomial of the
 /// previous step. Buffers are allocated once in [`new`](Self::new); [`step`](Self::step)
 /// allocates nothing.
+///
+/// Two ways to use it: [`step`](Self::step) advances a [`State`] the caller holds; as an
+/// [`Integrator`] (with the step set by [`with_step`](Self::with_step)) it holds its own state
+/// on the grid `t0 + k dt`.
 #[derive(Clone, Debug)]
 pub struct Gauss4 {
     n: usize,
@@ -86,11 +91,14 @@ pub struct Gauss4 {
     /// Largest final scaled Newton update of any step so far.
     pub max_residual: f64,
     /// Counters.
-    pub stats: ImplicitStats,
+    stats: Stats,
+    /// The state and step grid of the [`Integrator`] interface.
+    state: State,
+    grid: Grid,
 }
 
 impl Gauss4 {
-    /// Buffers for `n` coordinates.
+    /// Buffers for `n` coordinates (the step is not set: see [`with_step`](Self::with_step)).
     pub fn new(n: usize) -> Self {
         let z = |k: usize| vec![0.0; k];
         let mut a_squared = [0.0; 4];
@@ -115,8 +123,25 @@ impl Gauss4 {
             factored_step: f64::NAN,
             last_step: f64::NAN,
             max_residual: 0.0,
-            stats: ImplicitStats::default(),
+            stats: Stats::default(),
+            state: State::new(0.0, z(n), z(n)),
+            grid: Grid::new(0.0, f64::NAN),
         }
+    }
+
+    /// Work done (see [`Stats`]).
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// The fixed step of the [`Integrator`] interface.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] for a step that is not positive and finite.
+    pub fn with_step(mut self, dt: f64) -> Result<Self, Error> {
+        check_step(dt)?;
+        self.grid.dt = dt;
+        Ok(self)
     }
 
     /// Advance `state` by `h`.
@@ -183,7 +208,7 @@ impl Gauss4 {
                     self.last_step = f64::NAN;
                     return Err(Error::Diverged {
                         t: state.t,
-                        step: self.stats.accepted,
+                        step: self.stats.steps,
                         quantity: format!("Newton did not converge: {quantity} in a stage"),
                     });
                 }
@@ -204,7 +229,7 @@ impl Gauss4 {
         self.refresh_jacobian = theta > THETA_REFRESH;
         self.jacobian_fresh = false;
         self.last_step = h;
-        self.stats.accepted += 1;
+        self.stats.steps += 1;
         Ok(())
     }
 
@@ -408,5 +433,57 @@ impl Gauss4 {
             previous = norm;
         }
         Ok(Err(Failure::Newton(NEWTON_MAX_ITERATIONS, previous)))
+    }
+}
+
+impl<D: Dynamics> Integrator<D> for Gauss4 {
+    fn begin(&mut self, _: &D, _: &mut D::Workspace, initial: &State, _: f64) -> Result<(), Error> {
+        check_step(self.grid.dt)?;
+        self.state.clone_from(initial);
+        self.grid = Grid::new(initial.t, self.grid.dt);
+        self.stats = Stats::default();
+        self.jacobian_fresh = false;
+        self.refresh_jacobian = true;
+        self.factored_step = f64::NAN;
+        self.last_step = f64::NAN;
+        Ok(())
+    }
+
+    fn t(&self) -> f64 {
+        self.state.t
+    }
+
+    fn fixed_step(&self) -> Option<f64> {
+        Some(self.grid.dt)
+    }
+
+    fn proposed_step(&self) -> f64 {
+        self.grid.dt
+    }
+
+    fn reached(&self, t_out: f64) -> bool {
+        self.grid.reached(t_out)
+    }
+
+    fn advance(&mut self, system: &D, ws: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
+        let (t, h) = self.grid.next(t_out);
+        let k = self.grid.k;
+        let mut state = std::mem::replace(&mut self.state, State { t, q: Vec::new(), qdot: Vec::new() });
+        state.t = t;
+        let result = self.step(system, ws, &mut state, h).map_err(|e| diverged(system, e, t, k));
+        self.state = state;
+        result?;
+        self.grid.k += 1;
+        check_finite(system, &self.state.q, &self.state.qdot, self.state.t, k)
+    }
+
+    fn read(&mut self, _: &D, _: &mut D::Workspace, _: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        q.copy_from_slice(&self.state.q);
+        qdot.copy_from_slice(&self.state.qdot);
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        Self::stats(self)
     }
 }

@@ -1,4 +1,17 @@
-//! Integrators, one per file, and the driver that records trajectories.
+//! Integrators, one per file, behind one stepping trait, and the driver that runs them.
+//!
+//! Every integrator implements [`Integrator`]: [`begin`](Integrator::begin) at a state,
+//! [`advance`](Integrator::advance) one step toward an output time,
+//! [`read`](Integrator::read) the state there (by dense output where the method has one:
+//! [`Dopri5`]), and report its work as one [`Stats`]. The driver [`run`] is one loop over the
+//! output times writing [`Sample`]s into a [`Sink`] (a [`Trajectory`] is one; the energy is
+//! evaluated only for a sink that asks for it); [`simulate`] runs a [`Method`] into a
+//! [`Trajectory`]. Each integrator also keeps its own lower-level calls (`step`, `start`, …)
+//! for callers that drive it themselves.
+//!
+//! [`Method`] names an integrator with its step or tolerance and parses and prints itself
+//! (`rk4:0.001`, `adaptive:1e-10`); [`MethodKind::ALL`] is the one list of the methods, which
+//! the command line and the validation report reuse.
 //!
 //! | integrator | order | for | guarantee |
 //! |---|---|---|---|
@@ -10,23 +23,29 @@
 //!
 //! The implicit methods solve their stages by simplified Newton with the exact AD Jacobian
 //! [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian), in the reduced
-//! form of [`newton`]. [`Dopri5`] watches for stiffness (Hairer's test) and says so when it
+//! form of [`newton`]. The error-controlled methods ([`Dopri5`], [`Sdirk4`]) share one step-size
+//! controller: the scaled error norm, the first step and PI control. [`Dopri5`] watches for stiffness (Hairer's test) and says so when it
 //! fails ([`Error::Stiff`]). [`stability`] gives the boundaries of the explicit schemes'
 //! stability regions that the stability suite measures against.
 
+mod control;
 mod dopri5;
 mod driver;
 mod gauss;
+mod integrator;
+mod method;
 pub mod newton;
 mod rk4;
 mod sdirk;
 pub mod stability;
 mod variational;
 
-pub use dopri5::{AdaptiveStats, Dopri5};
-pub use driver::{Method, Output, Stats, Trajectory, simulate};
+pub use dopri5::Dopri5;
+pub use driver::{Output, Sample, Sink, Trajectory, run, simulate};
 pub use gauss::Gauss4;
-pub use newton::ImplicitStats;
+pub(crate) use integrator::Grid;
+pub use integrator::{Integrator, Stats};
+pub use method::{Method, MethodKind, ParseMethodError};
 pub use rk4::Rk4;
 pub use sdirk::Sdirk4;
 pub use variational::Variational;

@@ -22,23 +22,6 @@
 
 use crate::eom::solve;
 
-/// Work counters of an implicit integrator.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ImplicitStats {
-    /// Accepted steps.
-    pub accepted: usize,
-    /// Rejected steps (error test failed, or Newton failed and the step was halved).
-    pub rejected: usize,
-    /// Evaluations of the equations of motion (`q̈` in `f64`).
-    pub evaluations: usize,
-    /// Newton iterations (one evaluation of `q̈` per stage each).
-    pub newton_iterations: usize,
-    /// Evaluations of the acceleration Jacobian `∂q̈/∂(q, q̇)` (`2n` dual passes each).
-    pub jacobians: usize,
-    /// LU factorizations of the Newton matrix.
-    pub factorizations: usize,
-}
-
 /// The Jacobian, the factored reduced Newton matrix and scratch, for `s` stages of `n`
 /// coordinates.
 #[derive(Clone, Debug)]

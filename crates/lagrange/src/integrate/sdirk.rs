@@ -3,9 +3,11 @@
 //! Equations II*, §IV.6, Table 6.5 (`γ = 1/4`, 5 stages; their `SDIRK4` code), for stiff
 //! problems.
 
-use super::newton::{ImplicitStats, StageSystem};
+use super::control::{Controller, Verdict, error_norm, initial_step, trial_step};
+use super::integrator::{Integrator, Stats, check_finite, diverged};
+use super::newton::StageSystem;
 use super::{Tolerances, check_tolerance, non_finite_quantity};
-use crate::{Dynamics, Error};
+use crate::{Dynamics, Error, State};
 
 /// Stages.
 const STAGES: usize = 5;
@@ -26,11 +28,9 @@ const B: [f64; STAGES] = [25.0 / 24.0, -49.0 / 48.0, 125.0 / 16.0, -85.0 / 12.0,
 /// Weights of the embedded order-3 solution.
 const B_HAT: [f64; STAGES] = [59.0 / 48.0, -17.0 / 96.0, 225.0 / 32.0, -85.0 / 12.0, 0.0];
 
-// Step-size control (as Hairer's SDIRK4: h_new ∈ [h/5, 8h], safety 0.9, exponent 1/4 from the
-// order-3 estimate).
-const SAFETY: f64 = 0.9;
-const FAC_MIN: f64 = 0.2;
-const FAC_MAX: f64 = 8.0;
+/// Step-size control (as Hairer's SDIRK4: `h_new ∈ [h/5, 8h]`, safety 0.9, exponent 1/4 from the
+/// order-3 estimate, no PI memory).
+const CONTROL: Controller = Controller::new(0.25, None, 0.9, 0.2, 8.0);
 /// A proposed step within `[1, 1.2] h` keeps `h` (and the factorization), as in RADAU5.
 const KEEP_STEP: f64 = 1.2;
 /// Newton iterations per stage before the step is retried.
@@ -118,9 +118,10 @@ pub struct Sdirk4 {
     eta: f64,
     /// Proposed next step.
     h: f64,
-    last_rejected: bool,
+    /// Step-size controller.
+    control: Controller,
     /// Counters.
-    pub stats: ImplicitStats,
+    stats: Stats,
 }
 
 impl Sdirk4 {
@@ -159,8 +160,8 @@ impl Sdirk4 {
             factored_step: f64::NAN,
             eta: 1.0,
             h: 0.0,
-            last_rejected: false,
-            stats: ImplicitStats::default(),
+            control: CONTROL,
+            stats: Stats::default(),
         })
     }
 
@@ -182,6 +183,11 @@ impl Sdirk4 {
     /// Step size proposed for the next step.
     pub fn proposed_step(&self) -> f64 {
         self.h
+    }
+
+    /// Work done since [`start`](Self::start) (see [`Stats`]).
+    pub fn stats(&self) -> Stats {
+        self.stats
     }
 
     /// `f(t, y) = (q̇, a(t, q, q̇))` into `out`.
@@ -222,37 +228,24 @@ impl Sdirk4 {
         self.t = t;
         self.y[..n].copy_from_slice(q);
         self.y[n..].copy_from_slice(qdot);
-        self.stats = ImplicitStats::default();
+        self.stats = Stats::default();
         self.h_old = 0.0;
         self.jacobian_fresh = false;
         self.refresh_jacobian = true;
         self.factored_step = f64::NAN;
         self.eta = 1.0;
-        self.last_rejected = false;
+        self.control.reset();
         Self::rhs(system, ws, n, t, &self.y, &mut self.derivative)?;
         self.stats.evaluations += 1;
         // HINIT: h0 from ‖y‖/‖f‖, refined with one explicit Euler step and ‖f'‖.
-        let scale = |i: usize, y: &[f64]| self.tol.atol + self.tol.rtol * y[i].abs();
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        for i in 0..2 * n {
-            dnf += (self.derivative[i] / scale(i, &self.y)).powi(2);
-            dny += (self.y[i] / scale(i, &self.y)).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 { 1e-6 } else { (dny / dnf).sqrt() * 0.01 };
-        h = h.min(h_max);
+        let trial = trial_step(self.tol, &self.y, &self.derivative, h_max);
+        let h = trial.0;
         for i in 0..2 * n {
             self.y_stage[i] = self.y[i] + h * self.derivative[i];
         }
         Self::rhs(system, ws, n, t + h, &self.y_stage, &mut self.f_stage)?;
         self.stats.evaluations += 1;
-        let mut der2 = 0.0;
-        for i in 0..2 * n {
-            der2 += ((self.f_stage[i] - self.derivative[i]) / scale(i, &self.y)).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 { (h * 1e-3).max(1e-6) } else { (0.01 / der12).powf(0.25) };
-        self.h = (100.0 * h).min(h1).min(h_max);
+        self.h = initial_step(self.tol, &self.y, &self.derivative, &self.f_stage, trial, h_max, 0.25);
         Ok(())
     }
 
@@ -283,7 +276,7 @@ impl Sdirk4 {
             if self.factored_step != h && !self.factor(h) {
                 self.h = 0.5 * h;
                 self.stats.rejected += 1;
-                self.last_rejected = true;
+                self.control.rejected();
                 failure = Failure::Newton(0, f64::NAN);
                 continue;
             }
@@ -305,7 +298,7 @@ impl Sdirk4 {
                     } else {
                         self.h = 0.5 * h;
                         self.stats.rejected += 1;
-                        self.last_rejected = true;
+                        self.control.rejected();
                     }
                     failure = why;
                 }
@@ -320,7 +313,7 @@ impl Sdirk4 {
             Failure::Newton(iterations, residual) => Error::NewtonFailed { t: self.t, iterations, residual },
             Failure::NonFinite(quantity) => Error::Diverged {
                 t: self.t,
-                step: self.stats.accepted,
+                step: self.stats.steps,
                 quantity: format!("Newton did not converge: {quantity} in a stage, at every step down to h = {h:e}"),
             },
         }
@@ -472,32 +465,16 @@ impl Sdirk4 {
         }
         let (eq, ev) = self.error.split_at_mut(n);
         self.newton.solve(h, &[GAMMA], eq, ev);
-        let mut sum = 0.0;
-        for i in 0..n2 {
-            let sk = self.tol.atol + self.tol.rtol * self.y[i].abs().max(self.y_new[i].abs());
-            sum += (self.error[i] / sk).powi(2);
-        }
-        let err = (sum / n2 as f64).sqrt();
-        if !err.is_finite() {
-            self.h = h * FAC_MIN;
-            self.stats.rejected += 1;
-            self.last_rejected = true;
-            return false;
-        }
-        let fac = (SAFETY * err.max(1e-10).powf(-0.25)).clamp(FAC_MIN, FAC_MAX);
-        if err > 1.0 {
-            // Reject.
-            self.h = h * fac.min(1.0);
-            self.stats.rejected += 1;
-            self.last_rejected = true;
-            return false;
-        }
+        let err = error_norm(self.tol, &self.error, &self.y, &self.y_new);
+        let mut h_new = match self.control.judge(err, h) {
+            Verdict::Accept(h_new) => h_new,
+            Verdict::Reject(h_new) => {
+                self.h = h_new;
+                self.stats.rejected += 1;
+                return false;
+            }
+        };
         // Accept: advance, choose the next step.
-        let mut h_new = h * fac;
-        if self.last_rejected {
-            h_new = h_new.min(h);
-        }
-        self.last_rejected = false;
         self.refresh_jacobian = theta > THETA_REFRESH;
         if !self.refresh_jacobian && (h..=KEEP_STEP * h).contains(&h_new) {
             h_new = h;
@@ -510,8 +487,44 @@ impl Sdirk4 {
         self.t = if h == t_limit - self.t { t_limit } else { self.t + h };
         self.h = h_new;
         self.jacobian_fresh = false;
-        self.stats.accepted += 1;
+        self.stats.steps += 1;
         true
+    }
+}
+
+impl<D: Dynamics> Integrator<D> for Sdirk4 {
+    fn begin(&mut self, system: &D, ws: &mut D::Workspace, initial: &State, t_end: f64) -> Result<(), Error> {
+        let span = (t_end - initial.t).max(f64::MIN_POSITIVE);
+        self.start(system, ws, initial.t, &initial.q, &initial.qdot, span)
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn proposed_step(&self) -> f64 {
+        self.h
+    }
+
+    fn reached(&self, t_out: f64) -> bool {
+        self.t >= t_out
+    }
+
+    /// One accepted step landing on `t_out` at the latest: no interpolation of stiff velocities.
+    fn advance(&mut self, system: &D, ws: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
+        let (t, k) = (self.t, self.stats.steps);
+        self.step(system, ws, t_out).map_err(|e| diverged(system, e, t, k))?;
+        check_finite(system, self.q(), self.qdot(), self.t, self.stats.steps)
+    }
+
+    fn read(&mut self, _: &D, _: &mut D::Workspace, _: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        q.copy_from_slice(Self::q(self));
+        qdot.copy_from_slice(Self::qdot(self));
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        Self::stats(self)
     }
 }
 

@@ -2,8 +2,10 @@
 //! *Discrete mechanics and variational integrators*, Acta Numerica 2001, §1.2 and §3.2).
 
 use super::check_step;
+use super::integrator::{Grid, Integrator, Stats, diverged};
+use super::non_finite_quantity;
 use crate::eom::solve;
-use crate::{Error, LagrangianFunction};
+use crate::{Dynamics, Error, LagrangianFunction, State};
 use num_dual::{Dual64, HyperDual64};
 
 /// Newton stops when the update is below this fraction of `‖Δq‖∞`: after such an update the
@@ -22,6 +24,13 @@ const NEWTON_MAX_ITERATIONS: usize = 50;
 /// theorem the momentum of every cyclic coordinate is conserved exactly (to the Newton
 /// tolerance), and the energy error stays bounded instead of drifting.
 /// Buffers are allocated once; a step allocates nothing.
+///
+/// Its [`Stats`] count what it evaluates: one evaluation is the gradient of `L` (with the
+/// generalized force) at one point — a midpoint of a step, or a state whose momenta or
+/// velocities are read — as one evaluation of `q̈` is the derivatives of `L` at one state for
+/// the other methods. Each Newton iteration (of a step, or of the inversion of the Legendre map
+/// when velocities are read) is one such evaluation together with the Hessian of `L` (a
+/// Jacobian, with `∂Q/∂Δq` for a generalized force) and one LU factorization.
 pub struct Variational<F: LagrangianFunction> {
     n: usize,
     scratch: F::Scratch<HyperDual64>,
@@ -58,8 +67,13 @@ pub struct Variational<F: LagrangianFunction> {
     velocity: Vec<f64>,
     /// Current time.
     t: f64,
-    /// Total Newton iterations so far.
-    pub newton_iterations: usize,
+    /// Start and initial velocities (read back as they are at the start), and the step grid of
+    /// the [`Integrator`] interface.
+    t0: f64,
+    qdot0: Vec<f64>,
+    grid: Grid,
+    /// Counters.
+    stats: Stats,
     /// Largest final Newton residual `‖p₀ + D₁L_d + (h/2)Q‖∞` of any step so far.
     pub max_residual: f64,
 }
@@ -91,9 +105,27 @@ impl<F: LagrangianFunction> Variational<F> {
             delta: z(n),
             velocity: z(n),
             t: 0.0,
-            newton_iterations: 0,
+            t0: 0.0,
+            qdot0: z(n),
+            grid: Grid::new(0.0, f64::NAN),
+            stats: Stats::default(),
             max_residual: 0.0,
         }
+    }
+
+    /// The fixed step of the [`Integrator`] interface.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSetting`] for a step that is not positive and finite.
+    pub fn with_step(mut self, dt: f64) -> Result<Self, Error> {
+        check_step(dt)?;
+        self.grid.dt = dt;
+        Ok(self)
+    }
+
+    /// Work done since [`start`](Self::start) (see [`Stats`]).
+    pub fn stats(&self) -> Stats {
+        self.stats
     }
 
     /// Current time.
@@ -118,7 +150,10 @@ impl<F: LagrangianFunction> Variational<F> {
     pub fn start(&mut self, system: &F, t: f64, q: &[f64], qdot: &[f64]) -> Result<(), Error> {
         crate::eom::check_state(self.n, t, q, Some(qdot))?;
         self.t = t;
+        self.t0 = t;
+        self.stats = Stats::default();
         self.q.copy_from_slice(q);
+        self.qdot0.copy_from_slice(qdot);
         self.velocity.copy_from_slice(qdot);
         self.q_mid.copy_from_slice(q);
         self.derivatives(system, t, false);
@@ -134,6 +169,10 @@ impl<F: LagrangianFunction> Variational<F> {
     /// or per `a` for the gradient alone.
     fn derivatives(&mut self, system: &F, t: f64, hessian: bool) {
         let n = self.n;
+        self.stats.evaluations += 1;
+        if hessian {
+            self.stats.jacobians += 1;
+        }
         for (d, x) in self.q_seed.iter_mut().zip(&self.q_mid) {
             *d = HyperDual64::from(*x);
         }
@@ -209,7 +248,7 @@ impl<F: LagrangianFunction> Variational<F> {
         let mut converged = false;
         let mut residual_norm = f64::INFINITY;
         for iteration in 1..=NEWTON_MAX_ITERATIONS {
-            self.newton_iterations += 1;
+            self.stats.newton_iterations += 1;
             // Midpoint state and derivatives of L there.
             self.midpoint(system, tm, h);
             self.derivatives(system, tm, true);
@@ -235,6 +274,7 @@ impl<F: LagrangianFunction> Variational<F> {
             if self.has_force {
                 self.add_force_jacobian(system, tm, h);
             }
+            self.stats.factorizations += 1;
             if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
                 return Err(Error::NewtonFailed { t, iterations: iteration, residual: residual_norm });
             }
@@ -270,6 +310,7 @@ impl<F: LagrangianFunction> Variational<F> {
             self.q[i] += self.delta[i];
         }
         self.t = t + h;
+        self.stats.steps += 1;
         if !(crate::error::all_finite(&self.q) && crate::error::all_finite(&self.p)) {
             return Err(crate::eom::non_finite(crate::error::Stage::Lagrangian, self.t, &self.q));
         }
@@ -297,6 +338,7 @@ impl<F: LagrangianFunction> Variational<F> {
         let n = self.n;
         let m = 2 * n;
         for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
             self.derivatives(system, self.t, true);
             let mut residual_norm = 0.0_f64;
             for i in 0..n {
@@ -306,6 +348,7 @@ impl<F: LagrangianFunction> Variational<F> {
                     self.jacobian[i * n + j] = self.hessian[(n + i) * m + n + j];
                 }
             }
+            self.stats.factorizations += 1;
             if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
                 return Err(Error::NewtonFailed { t: self.t, iterations: iteration, residual: residual_norm });
             }
@@ -322,6 +365,63 @@ impl<F: LagrangianFunction> Variational<F> {
             }
         }
         Err(Error::NewtonFailed { t: self.t, iterations: NEWTON_MAX_ITERATIONS, residual: f64::NAN })
+    }
+}
+
+impl<D: Dynamics> Integrator<D> for Variational<D> {
+    fn begin(&mut self, system: &D, _: &mut D::Workspace, initial: &State, _: f64) -> Result<(), Error> {
+        check_step(self.grid.dt)?;
+        self.grid = Grid::new(initial.t, self.grid.dt);
+        self.start(system, initial.t, &initial.q, &initial.qdot)
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn fixed_step(&self) -> Option<f64> {
+        Some(self.grid.dt)
+    }
+
+    fn proposed_step(&self) -> f64 {
+        self.grid.dt
+    }
+
+    fn reached(&self, t_out: f64) -> bool {
+        self.grid.reached(t_out)
+    }
+
+    fn advance(&mut self, system: &D, _: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
+        let (_, h) = self.grid.next(t_out);
+        let (t, k) = (self.t, self.grid.k);
+        self.step(system, h).map_err(|e| diverged(system, e, t, k))?;
+        self.grid.k += 1;
+        let coordinates = system.coordinates();
+        let quantity = non_finite_quantity(coordinates, &self.q, &[]).or_else(|| {
+            let i = self.p.iter().position(|v| !v.is_finite())?;
+            let name = coordinates.get(i).map_or_else(|| i.to_string(), |c| c.name.clone());
+            Some(format!("p[{name}] = {}", self.p[i]))
+        });
+        match quantity {
+            Some(quantity) => Err(Error::Diverged { t: self.t, step: k, quantity }),
+            None => Ok(()),
+        }
+    }
+
+    /// The coordinates and the velocities of the current momenta (the initial velocities as
+    /// given at the start).
+    fn read(&mut self, system: &D, _: &mut D::Workspace, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        if t == self.t0 {
+            qdot.copy_from_slice(&self.qdot0);
+        } else {
+            self.velocities(system, qdot)?;
+        }
+        q.copy_from_slice(&self.q);
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        Self::stats(self)
     }
 }
 

@@ -149,7 +149,7 @@ fn dopri5_flags_stiffness_on_a_stiff_damped_problem() {
     let mut dopri = Dopri5::new(1, Tolerances::uniform(1e-6)).unwrap();
     let mut ws = damped.new_workspace();
     dopri.start(&damped, &mut ws, 0.0, &[1.0], &[0.0], 1.0).unwrap();
-    while dopri.stats.stiffness.is_none() {
+    while dopri.stats().stiffness.is_none() {
         dopri.step(&damped, &mut ws, 1.0).unwrap();
     }
     let t = dopri.t();

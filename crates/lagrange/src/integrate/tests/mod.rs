@@ -122,3 +122,79 @@ fn damped_oscillator_is_not_energy_conserving_and_decays() {
     // E(t) decays like exp(−c t / m) on average: after 10 s below 1 % of E0 = 2.
     assert!(traj.energy[traj.len() - 1] < 0.02 * traj.energy[0], "{:?}", traj.energy);
 }
+
+/// The variational integrator counts its work as the other methods do: one evaluation (the
+/// gradient of `L`) for the momenta at the start, one per Newton iteration (with the Hessian,
+/// a Jacobian, and one factorization) and one per step for the new momenta; reading the
+/// velocities back inverts the Legendre map by Newton, counted the same way. A run through
+/// [`simulate`] reports exactly these counts.
+#[test]
+fn variational_counts_its_evaluations() {
+    let model = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let initial = State::new(0.0, [0.0, 0.5], [0.3, 0.0]);
+    let mut integrator = Variational::new(&model);
+    integrator.start(&model, 0.0, &initial.q, &initial.qdot).unwrap();
+    assert_eq!(integrator.stats(), Stats { evaluations: 1, ..Stats::default() });
+    for _ in 0..10 {
+        integrator.step(&model, 0.01).unwrap();
+    }
+    let stepped = integrator.stats();
+    assert_eq!(stepped.steps, 10);
+    assert!(stepped.newton_iterations >= 2 * stepped.steps, "{stepped:?}");
+    assert_eq!(stepped.evaluations, 1 + stepped.newton_iterations + stepped.steps, "{stepped:?}");
+    assert_eq!((stepped.jacobians, stepped.factorizations), (stepped.newton_iterations, stepped.newton_iterations));
+    let mut qdot = [0.0; 2];
+    integrator.velocities(&model, &mut qdot).unwrap();
+    let read = integrator.stats();
+    let legendre = read.newton_iterations - stepped.newton_iterations;
+    assert!(legendre >= 1, "{read:?}");
+    assert_eq!(read.evaluations - stepped.evaluations, legendre);
+    assert_eq!((read.jacobians, read.factorizations), (read.newton_iterations, read.newton_iterations));
+    let run = simulate(&model, &initial, 0.1, Method::Variational { dt: 0.01 }, &Output::Ends).unwrap();
+    assert_eq!(run.stats, read);
+}
+
+/// [`run`] writes the samples [`simulate`] records into any sink, and evaluates the energy
+/// only for a sink that asks for it.
+#[test]
+fn run_writes_the_samples_of_simulate_into_any_sink() {
+    #[derive(Default)]
+    struct Samples {
+        t: Vec<f64>,
+        q: Vec<f64>,
+        qdot: Vec<f64>,
+        energies: usize,
+        stats: Option<Stats>,
+    }
+    impl Sink for Samples {
+        fn record(&mut self, sample: Sample<'_>) {
+            self.t.push(sample.t);
+            self.q.extend_from_slice(sample.q);
+            self.qdot.extend_from_slice(sample.qdot);
+            self.energies += usize::from(sample.energy.is_some());
+        }
+        fn finish(&mut self, stats: Stats) {
+            self.stats = Some(stats);
+        }
+    }
+    let model = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let initial = State::new(0.0, [0.0, 0.5], [0.3, 0.0]);
+    let output = Output::Every(0.25);
+    for method in [Method::Rk4 { dt: 0.01 }, Method::Adaptive { tol: Tolerances::uniform(1e-9) }] {
+        let expected = simulate(&model, &initial, 1.0, method, &output).unwrap();
+        let mut sink = Samples::default();
+        let stats = match method {
+            Method::Rk4 { dt } => {
+                run(&model, &mut Rk4::new(2).with_step(dt).unwrap(), &initial, 1.0, &output, &mut sink)
+            }
+            _ => {
+                run(&model, &mut Dopri5::new(2, Tolerances::uniform(1e-9)).unwrap(), &initial, 1.0, &output, &mut sink)
+            }
+        }
+        .unwrap();
+        assert_eq!((&sink.t, &sink.q, &sink.qdot), (&expected.t, &expected.q, &expected.qdot), "{method:?}");
+        assert_eq!((sink.energies, sink.stats), (0, Some(expected.stats)), "{method:?}");
+        assert_eq!(stats, expected.stats);
+        assert!(expected.stats.steps > 0 && expected.energy.iter().all(|e| e.is_finite()));
+    }
+}
