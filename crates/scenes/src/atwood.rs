@@ -130,7 +130,8 @@ impl Mechanism for Atwood {
 impl SceneType for Atwood {
     const ID: &'static str = "atwood";
     const TITLE: &'static str = "Atwood machine with a massive pulley";
-    const REFERENCE: &'static str = "docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture), example: Atwood machine";
+    const REFERENCE: &'static str =
+        "docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture), example: Atwood machine";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

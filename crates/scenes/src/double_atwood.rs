@@ -169,8 +169,7 @@ impl Mechanism for DoubleAtwood {
 impl SceneType for DoubleAtwood {
     const ID: &'static str = "double_atwood";
     const TITLE: &'static str = "Double Atwood machine";
-    const REFERENCE: &'static str =
-        "docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture), example: double Atwood machine (massive pulley beyond the lecture)";
+    const REFERENCE: &'static str = "docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture), example: double Atwood machine (massive pulley beyond the lecture)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

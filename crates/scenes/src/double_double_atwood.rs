@@ -58,22 +58,16 @@ pub struct DoubleDoubleAtwood {
 }
 
 impl DoubleDoubleAtwood {
-    /// A double-double Atwood machine (parameters in the order of [`PARAMS`]).
+    /// A double-double Atwood machine: the hanging masses `[m2, m3, m4, m5]`, the rope lengths
+    /// `[l, l', l'']` (upper rope, B's rope, A's rope) and the pulley masses `[m_A, m_B]`
+    /// (together the order of [`PARAMS`]), and gravity `g`.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(
-        mass_2: f64,
-        mass_3: f64,
-        mass_4: f64,
-        mass_5: f64,
-        rope_length: f64,
-        rope_length_b: f64,
-        rope_length_a: f64,
-        pulley_a_mass: f64,
-        pulley_b_mass: f64,
-        gravity: f64,
-    ) -> Result<Self, Error> {
+    pub fn new(masses: [f64; 4], rope_lengths: [f64; 3], pulley_masses: [f64; 2], gravity: f64) -> Result<Self, Error> {
+        let [mass_2, mass_3, mass_4, mass_5] = masses;
+        let [rope_length, rope_length_b, rope_length_a] = rope_lengths;
+        let [pulley_a_mass, pulley_b_mass] = pulley_masses;
         let values = [
             mass_2,
             mass_3,
@@ -218,7 +212,7 @@ impl SceneType for DoubleDoubleAtwood {
 
     fn from_params(params: &Params) -> Result<Self, Error> {
         let [m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g] = params.values_of(PARAMS)?;
-        Self::new(m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g)
+        Self::new([m2, m3, m4, m5], [l, l_b, l_a], [m_a, m_b], g)
     }
 
     /// `x = 2`, `x' = 1`, `x'' = 1`, at rest.

@@ -137,8 +137,7 @@ impl Mechanism for HarmonicOscillator {
 impl SceneType for HarmonicOscillator {
     const ID: &'static str = "harmonic_oscillator";
     const TITLE: &'static str = "Harmonic oscillator (optionally damped)";
-    const REFERENCE: &'static str =
-        "docs/scenes.md#harmonic_oscillator; the lecture (docs/scenes.md#the-lecture), example: harmonic oscillator (damping beyond the lecture)";
+    const REFERENCE: &'static str = "docs/scenes.md#harmonic_oscillator; the lecture (docs/scenes.md#the-lecture), example: harmonic oscillator (damping beyond the lecture)";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

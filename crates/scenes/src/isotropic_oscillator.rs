@@ -136,7 +136,8 @@ impl Mechanism for IsotropicOscillator {
 impl SceneType for IsotropicOscillator {
     const ID: &'static str = "isotropic_oscillator";
     const TITLE: &'static str = "Central force: isotropic oscillator (V = k r²/2)";
-    const REFERENCE: &'static str = "docs/scenes.md#isotropic_oscillator; the lecture (docs/scenes.md#the-lecture), example: central force";
+    const REFERENCE: &'static str =
+        "docs/scenes.md#isotropic_oscillator; the lecture (docs/scenes.md#the-lecture), example: central force";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

@@ -218,7 +218,8 @@ impl Mechanism for Kepler {
 impl SceneType for Kepler {
     const ID: &'static str = "kepler";
     const TITLE: &'static str = "Central force: Kepler problem (V = −k/r)";
-    const REFERENCE: &'static str = "docs/scenes.md#kepler; the lecture (docs/scenes.md#the-lecture), example: central force";
+    const REFERENCE: &'static str =
+        "docs/scenes.md#kepler; the lecture (docs/scenes.md#the-lecture), example: central force";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

@@ -128,7 +128,8 @@ impl Mechanism for Wedge {
 impl SceneType for Wedge {
     const ID: &'static str = "wedge";
     const TITLE: &'static str = "Block on a movable frictionless wedge";
-    const REFERENCE: &'static str = "docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture), example: block on a movable wedge";
+    const REFERENCE: &'static str =
+        "docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture), example: block on a movable wedge";
     const PARAMS: &'static [ParamSpec] = PARAMS;
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

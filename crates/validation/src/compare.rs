@@ -89,7 +89,8 @@ pub fn compare(
     let g = maps::gravity(params);
     let comparable = !reduced.has_generalized_force();
     let error = |k: usize, q: &[f64]| max_abs_diff(q, reference.q(k));
-    let pass = measure::track(simulation.as_mut(), id, params, initial, &times, conserves, error, |sample| {
+    let problem = measure::Problem { scene: id, params, initial, times: &times, conserves_energy: conserves };
+    let pass = measure::track(simulation.as_mut(), &problem, error, |sample| {
         let Sample { t, q, qdot, bodies, simulation } = sample;
         if !cyclic.is_empty() {
             let p = reduced.momenta(t, q, qdot)?;

@@ -122,33 +122,47 @@ fn advance(simulation: &mut dyn MaximalSimulation, times: &[f64]) -> Result<f64,
     Ok(start.elapsed().as_secs_f64())
 }
 
-/// A maximal-engine run: `built` (already built with `settings`, so that its deviations could
-/// choose the reference) is advanced through `times` and read back into generalized coordinates
-/// at each; the timed repetitions rebuild it (untimed) and time the `advance_to` calls alone.
+/// The problem a maximal engine runs: a scene with its parameters, the initial state, the saved
+/// times at which it is measured, and whether its energy is conserved.
+#[derive(Clone, Copy, Debug)]
+pub struct Problem<'a> {
+    /// The scene's id.
+    pub scene: &'a str,
+    /// Its parameters.
+    pub params: &'a Params,
+    /// The initial state of the reduced model.
+    pub initial: &'a State,
+    /// The saved times.
+    pub times: &'a [f64],
+    /// Whether the energy is conserved (and its error measured).
+    pub conserves_energy: bool,
+}
+
+/// A maximal-engine run of `problem` (with the parameters the user asked for): `built`
+/// (already built with `settings`, so that its deviations could choose the reference; it may
+/// carry other parameters) is advanced through the saved times and read back into generalized
+/// coordinates at each; the timed repetitions rebuild it (untimed) and time the `advance_to`
+/// calls alone.
 ///
 /// # Errors
 /// A failing run, as a sentence.
 pub fn maximal(
+    problem: &Problem<'_>,
     engine: Engine,
-    scene: &str,
-    requested: &lagrange_scenes::Params,
-    initial: &State,
     settings: &Settings,
     built: Built,
-    conserves_energy: bool,
-    times: &[f64],
     reference: &Reference,
     timing: &Timing,
 ) -> Result<Measured, Error> {
-    let params = &built.params;
     let mut simulation = built.simulation;
+    let tracked = Problem { params: &built.params, ..*problem };
     let error = |k: usize, q: &[f64]| reference.error(k, q);
-    let pass = track(simulation.as_mut(), scene, params, initial, times, conserves_energy, error, |_| Ok(()))?;
+    let pass = track(simulation.as_mut(), &tracked, error, |_| Ok(()))?;
     let (errors, energy_error, violation) = (pass.errors, pass.energy_error, pass.constraint_violation);
     let steps = pass.steps;
     let (wall_time, timed_repetitions) = time(timing, || {
-        let mut built = build(engine, scene, requested, initial, settings)?;
-        advance(built.simulation.as_mut(), times)
+        let mut built = build(engine, problem.scene, problem.params, problem.initial, settings)?;
+        advance(built.simulation.as_mut(), problem.times)
     })?;
     Ok(Measured { errors, energy_error, constraint_violation: violation, steps, wall_time, timed_repetitions })
 }
@@ -183,24 +197,21 @@ pub struct Sample<'a> {
     pub simulation: &'a mut dyn MaximalSimulation,
 }
 
-/// The measurement loop of a maximal engine: advance `simulation` (built for `scene` with
-/// `params`) to each of `times`, read the bodies back into generalized coordinates, and measure
-/// the error `error(k, q)` against the caller's reference, the energy error (when
-/// `conserves_energy`), the constraint violation, and the time of the advances; `each` reads
-/// what else the caller needs at every sample.
+/// The measurement loop of a maximal engine: advance `simulation` (built for the problem's scene
+/// with its parameters) to each of the saved times, read the bodies back into generalized
+/// coordinates, and measure the error `error(k, q)` against the caller's reference, the energy
+/// error (when the energy is conserved), the constraint violation, and the time of the
+/// advances; `each` reads what else the caller needs at every sample.
 ///
 /// # Errors
 /// A failing advance, read-back or energy, or an error of `each`.
 pub fn track(
     simulation: &mut dyn MaximalSimulation,
-    scene: &str,
-    params: &Params,
-    initial: &State,
-    times: &[f64],
-    conserves_energy: bool,
+    problem: &Problem<'_>,
     error: impl Fn(usize, &[f64]) -> f64,
     mut each: impl FnMut(Sample<'_>) -> Result<(), Error>,
 ) -> Result<Pass, Error> {
+    let Problem { scene, params, initial, times, conserves_energy } = *problem;
     let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies())?;
     let mut q_previous = initial.q.clone();
     let (mut errors, mut energy_error, mut violation) = (Vec::with_capacity(times.len()), 0.0, None::<f64>);

@@ -192,7 +192,8 @@ fn run_maximal(
     result.deviations.clone_from(&built.deviations);
     result.reference = Some(reference.kind);
     let (times, timing) = (&plan.times, &plan.timing);
-    measure::maximal(engine, scene.id(), params, initial, &settings, built, conserves_energy, times, reference, timing)
+    let problem = measure::Problem { scene: scene.id(), params, initial, times, conserves_energy };
+    measure::maximal(&problem, engine, &settings, built, reference, timing)
 }
 
 fn maximal_settings(setting: Setting) -> Settings {
