@@ -396,6 +396,7 @@ impl CaseBuilder {
 struct CaseSpec {
     id: &'static str,
     title: &'static str,
+    /// The scenes the case runs on; empty for every registered scene.
     scenes: &'static [&'static str],
     theory: &'static str,
     run: fn(&mut CaseBuilder, Effort) -> Result<(), Error>,
@@ -433,7 +434,7 @@ fn run_spec(spec: &CaseSpec, effort: Effort) -> Result<Case, Error> {
     let mut case = CaseBuilder {
         id: spec.id,
         title: spec.title,
-        scenes: spec.scenes.to_vec(),
+        scenes: spec.scenes(),
         theory: spec.theory,
         setup: String::new(),
         measurements: Vec::new(),
@@ -448,7 +449,14 @@ pub fn case_count(scenes: &[&str]) -> usize {
 }
 
 fn selected(case: &CaseSpec, scenes: &[&str]) -> bool {
-    scenes.is_empty() || case.scenes.iter().any(|s| scenes.contains(s))
+    scenes.is_empty() || case.scenes().iter().any(|s| scenes.contains(s))
+}
+
+impl CaseSpec {
+    /// The scenes the case runs on: its own list, or every registered scene.
+    fn scenes(&self) -> Vec<&'static str> {
+        if self.scenes.is_empty() { lagrange_scenes::ids() } else { self.scenes.to_vec() }
+    }
 }
 
 /// Run every case that involves one of `scenes` (every case when empty), calling `progress`
