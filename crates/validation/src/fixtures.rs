@@ -25,9 +25,13 @@ pub fn max_abs(a: &[f64]) -> f64 {
     a.iter().fold(0.0, |m, x| nan_max(m, x.abs()))
 }
 
-/// `max_i |a_i − b_i|` over the common length (0 when empty); NaN if any difference is NaN, so
-/// that a NaN on either side is never hidden behind a finite maximum.
+/// `max_i |a_i − b_i|` (0 when both are empty); NaN if any difference is NaN or the lengths
+/// differ, so that neither a NaN on either side nor a missing entry is hidden behind a finite
+/// maximum.
 pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() != b.len() {
+        return f64::NAN;
+    }
     a.iter().zip(b).fold(0.0, |m, (x, y)| nan_max(m, (x - y).abs()))
 }
 

@@ -26,6 +26,7 @@ use lagrange::num_dual::Dual2_64;
 use lagrange::{Dynamics, Error, Mechanism, Method, Output, Pose, State};
 use lagrange_scenes::SceneType;
 use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, Scene, visit_mechanism};
+use lagrange_validation::fixtures::{assert_close, max_abs};
 
 /// `z̈` against the reduced body accelerations, relative to the largest (floored at 1 m/s²).
 const ACCELERATION_RTOL: f64 = 1e-10;
@@ -41,27 +42,6 @@ const VIOLATION_TOL: f64 = 1e-10;
 const FORCE_RTOL: f64 = 1e-8;
 /// Energy change over [`HORIZON`], relative to `max(|E₀|, 1 J)`.
 const ENERGY_RTOL: f64 = 1e-10;
-
-/// Largest absolute entry.
-fn max_abs(values: &[f64]) -> f64 {
-    values.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
-}
-
-/// Largest absolute difference.
-fn max_difference(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len(), "lengths differ: {a:?} vs {b:?}");
-    a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
-}
-
-/// Assert `max|got − expected| ≤ tolerance`, printing both and the residual.
-fn assert_close(what: &str, expected: &[f64], got: &[f64], tolerance: f64) -> f64 {
-    let worst = max_difference(expected, got);
-    assert!(
-        worst <= tolerance,
-        "{what}:\n  expected {expected:?}\n  got      {got:?}\n  max residual {worst:e} > tolerance {tolerance:e}"
-    );
-    worst
-}
 
 /// The scene and its parameters with `overrides` set.
 fn scene_and_params(id: &str, overrides: &[(&str, f64)]) -> (&'static dyn Scene, Params) {

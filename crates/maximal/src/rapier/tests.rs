@@ -7,6 +7,7 @@ use super::build;
 use crate::{BuildError, Built, Engine, Settings, maps};
 use lagrange::{Error, Method, Output, State, Tolerances};
 use lagrange_scenes::{Params, Scene};
+use lagrange_validation::fixtures::{assert_close, max_abs_diff, nan_max};
 
 /// Tolerances, each with the reason for its size.
 mod tolerance {
@@ -60,17 +61,6 @@ fn read_back(scene: &str, built: &Built, reference: &[f64]) -> (Vec<f64>, Vec<f6
     let simulation = &built.simulation;
     maps::generalized(scene, &built.params, simulation.t(), &simulation.bodies(), reference)
         .unwrap_or_else(|e| panic!("{scene}: read-back failed: {e}"))
-}
-
-fn max_abs_difference(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len(), "lengths differ: {a:?} vs {b:?}");
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
-}
-
-/// Panics with expected, got and residual unless `got` is within `tolerance` of `expected`.
-fn assert_within(what: &str, expected: &[f64], got: &[f64], tolerance: f64) {
-    let residual = max_abs_difference(expected, got);
-    assert!(residual <= tolerance, "{what}: expected {expected:?}, got {got:?}, residual {residual:e} > {tolerance:e}");
 }
 
 /// The single-precision engine with the same joints.
@@ -142,8 +132,8 @@ fn initial_state_reads_back() {
         for (engine, tolerance) in [(engine, tolerance::READ_BACK), (single(engine), tolerance::READ_BACK_F32)] {
             let built = built(engine, scene, &params, &initial, 1.0 / 240.0);
             let (q, qdot) = read_back(scene, &built, &initial.q);
-            assert_within(&format!("{engine} {scene} {changes:?} q(0)"), &initial.q, &q, tolerance);
-            assert_within(&format!("{engine} {scene} {changes:?} q̇(0)"), &initial.qdot, &qdot, tolerance);
+            assert_close(&format!("{engine} {scene} {changes:?} q(0)"), &initial.q, &q, tolerance);
+            assert_close(&format!("{engine} {scene} {changes:?} q̇(0)"), &initial.qdot, &qdot, tolerance);
         }
     }
 }
@@ -166,7 +156,7 @@ fn trajectory_error(scene: &str, changes: &[(&str, f64)], engine: Engine, dt: f6
     for (k, &t) in times.iter().enumerate() {
         built.simulation.advance_to(t).unwrap_or_else(|e| panic!("{engine} {scene}: {e}"));
         let (q, _) = read_back(scene, &built, &previous);
-        worst = worst.max(max_abs_difference(&q, reference.q(k)));
+        worst = nan_max(worst, max_abs_diff(&q, reference.q(k)));
         previous = q;
     }
     worst
@@ -220,7 +210,7 @@ fn multibody_machines_have_the_closed_form_accelerations() {
             .ok()
             .flatten()
             .unwrap_or_else(|| panic!("{scene} has a closed form"));
-        assert_within(&format!("{scene} {changes:?} q̈"), &expected, &got, tolerance::CLOSED_FORM_ACCELERATION);
+        assert_close(&format!("{scene} {changes:?} q̈"), &expected, &got, tolerance::CLOSED_FORM_ACCELERATION);
     }
 }
 
@@ -238,13 +228,13 @@ fn single_precision_agrees_with_double() {
         let (q_single, qdot_single) = read_back(scene, &single, &q);
         println!(
             "{scene:22} {engine:18} f32 vs f64 at t = 1: q {:8.1e}  q̇ {:8.1e}",
-            max_abs_difference(&q, &q_single),
-            max_abs_difference(&qdot, &qdot_single)
+            max_abs_diff(&q, &q_single),
+            max_abs_diff(&qdot, &qdot_single)
         );
         let coupled = scene.contains("atwood") && engine == Engine::RapierMultibody;
         let tolerance = if coupled { tolerance::SINGLE_VS_DOUBLE_COUPLED } else { tolerance::SINGLE_VS_DOUBLE };
-        assert_within(&format!("{engine} {scene} q, f32 vs f64"), &q, &q_single, tolerance);
-        assert_within(&format!("{engine} {scene} q̇, f32 vs f64"), &qdot, &qdot_single, tolerance);
+        assert_close(&format!("{engine} {scene} q, f32 vs f64"), &q, &q_single, tolerance);
+        assert_close(&format!("{engine} {scene} q̇, f32 vs f64"), &qdot, &qdot_single, tolerance);
     }
 }
 
@@ -263,7 +253,7 @@ fn constraint_force_error(scene: &str, dt: f64) -> f64 {
         let forces = built.simulation.constraint_forces().unwrap_or_else(|| panic!("{scene}: impulse forces"));
         let reactions = system.reaction_forces(t - 0.5 * dt, &q, &qdot).ok().flatten().map(<[f64]>::to_vec);
         let reactions = reactions.unwrap_or_else(|| panic!("{scene}: reduced reactions"));
-        worst = worst.max(max_abs_difference(&forces, &reactions));
+        worst = worst.max(max_abs_diff(&forces, &reactions));
     }
     worst
 }
@@ -320,7 +310,7 @@ fn deviations_are_carried_in_the_parameters() {
         let changed = expected.iter().filter(|(name, value)| params.get(name) != *value).count();
         assert_eq!(built.deviations.len(), changed, "{engine} {scene}: deviations {:?}", built.deviations);
         for &(name, value) in expected {
-            assert_within(&format!("{engine} {scene} {name}"), &[value], &[built.params.get(name)], 1e-15);
+            assert_close(&format!("{engine} {scene} {name}"), &[value], &[built.params.get(name)], 1e-15);
         }
     }
 }
@@ -334,8 +324,8 @@ fn left_out_pulley_turns_with_the_rope() {
     let (q, qdot) = read_back("atwood", &built, &initial.q);
     let pulley = built.simulation.bodies()[2];
     let a = params.get("pulley_radius");
-    assert_within("pulley (x, y, φ)", &[0.0, 0.0, q[0] / a], &pulley.pose, 1e-15);
-    assert_within("pulley (ẋ, ẏ, φ̇)", &[0.0, 0.0, qdot[0] / a], &pulley.velocity, 1e-15);
+    assert_close("pulley (x, y, φ)", &[0.0, 0.0, q[0] / a], &pulley.pose, 1e-15);
+    assert_close("pulley (ẋ, ẏ, φ̇)", &[0.0, 0.0, qdot[0] / a], &pulley.velocity, 1e-15);
 }
 
 /// `advance_to` takes whole steps to the nearest one, refuses the past, and reports time.
@@ -346,7 +336,7 @@ fn advance_to_takes_whole_steps() {
     let simulation = &mut built.simulation;
     assert!(simulation.advance_to(0.0304).is_ok());
     assert_eq!(simulation.steps(), 3);
-    assert_within("t", &[0.03], &[simulation.t()], 1e-15);
+    assert_close("t", &[0.03], &[simulation.t()], 1e-15);
     assert!(simulation.constraint_violation().is_some_and(|v| v < 1e-3));
     assert!(matches!(simulation.advance_to(0.0), Err(Error::InvalidSetting { what: "time", .. })));
     assert!(matches!(simulation.advance_to(f64::NAN), Err(Error::InvalidSetting { what: "time", .. })));
