@@ -1,5 +1,6 @@
 //! Typed errors: bad input, singular configurations, diverging integrations.
 
+use crate::scalar::Scalar;
 use std::fmt;
 
 /// The stage of an evaluation at which a non-finite value appeared
@@ -156,7 +157,12 @@ pub enum Error {
     },
 }
 
-/// Check that every entry is finite.
-pub(crate) fn all_finite(values: &[f64]) -> bool {
-    values.iter().all(|v| v.is_finite())
+/// Check that every entry is finite (its real part, for dual numbers).
+pub(crate) fn all_finite<S: Scalar>(values: &[S]) -> bool {
+    values.iter().all(|v| v.re().is_finite())
+}
+
+/// The [`Error::NonFinite`] of `stage` at `(t, q)`.
+pub(crate) fn non_finite<S: Scalar>(stage: Stage, t: S, q: &[S]) -> Error {
+    Error::NonFinite { stage, t: t.re(), q: q.iter().map(|v| v.re()).collect() }
 }

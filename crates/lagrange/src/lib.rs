@@ -71,19 +71,33 @@
 //! [`integrate`]. Everything is generic over the scalar ([`Scalar`]), so the engine's own
 //! results can be differentiated again.
 
-mod dynamics;
-pub mod eom;
+// Modules from the bottom layer up; a module uses only modules of its layer or below
+// (checked by the `layering` test of `lagrange-tests`).
 mod error;
-pub mod integrate;
-mod model;
+mod linalg;
 mod pose;
 mod scalar;
+mod seed;
 mod state;
+
+mod mechanism;
+pub mod tree;
+
+mod probe;
+
+mod model;
+
+mod eom;
+mod workspace;
+
+mod dynamics;
+
+pub mod integrate;
+
 mod system;
+
 #[cfg(test)]
 mod test_support;
-pub mod tree;
-mod workspace;
 
 pub use dynamics::Dynamics;
 pub use eom::energy::{energy, kinetic_energy, lagrangian, momenta, potential_energy};
@@ -92,7 +106,8 @@ pub use eom::reactions::reaction_forces;
 pub use eom::{accelerations, mass_matrix};
 pub use error::{Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
-pub use model::{Body, Coordinate, CoordinateKind, Lagrangian, LagrangianFunction, Mechanism, Model};
+pub use mechanism::{Body, Coordinate, CoordinateKind, Lagrangian, LagrangianFunction, Mechanism};
+pub use model::Model;
 pub use pose::Pose;
 pub use scalar::Scalar;
 pub use state::State;

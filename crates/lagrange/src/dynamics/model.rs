@@ -1,8 +1,8 @@
 //! A body [`Model`] as the integrators see it.
 
 use super::Dynamics;
-use super::jacobian::Tangent;
 use crate::eom::{self, energy};
+use crate::seed::Tangent;
 use crate::{Error, Mechanism, Model, Workspace};
 
 /// The body model's workspace is its `f64` [`Workspace`]; the `Dual64` workspace of the

@@ -14,9 +14,9 @@
 //! orientation — a constant linear change of coordinates `q = T⁻¹ r`, handled inside the
 //! passes: `ṙ_i = q̇_i − ω_λ(i)`, `q̈_i = r̈_i + ω̇_λ(i)`, and the joint forces `τ = T⁻ᵀ Q` (pass 2).
 
-use super::solve::PIVOT_RTOL;
 use super::{all_finite, kinematics, non_finite};
 use crate::error::Stage;
+use crate::linalg::PIVOT_RTOL;
 use crate::tree::spatial::{Force, Inertia, Motion, RigidInertia, Translation};
 use crate::{Error, Mechanism, Model, Scalar, Tree, Workspace};
 

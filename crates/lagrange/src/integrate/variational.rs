@@ -2,7 +2,7 @@
 //! *Discrete mechanics and variational integrators*, Acta Numerica 2001, §1.2 and §3.2).
 
 use super::check_step;
-use crate::eom::solve;
+use crate::linalg as solve;
 use crate::{Error, LagrangianFunction};
 use num_dual::{Dual64, HyperDual64};
 
