@@ -149,6 +149,43 @@ pub enum Error {
         /// Final residual norm.
         residual: f64,
     },
+    /// [`Mechanism::poses`](crate::Mechanism::poses) left a component of a body's pose
+    /// unwritten (or wrote NaN) at a probe state: the engine fills the poses with NaN first,
+    /// so that a forgotten body is an error instead of a body at the origin.
+    #[error(
+        "the poses do not write the {component} of body `{body}` at t = {t}, q = {q:?} \
+         (it is still NaN): every body's pose must be written"
+    )]
+    UnwrittenPose {
+        /// The body.
+        body: String,
+        /// `x`, `y` or `angle`.
+        component: &'static str,
+        /// Time of the probe state.
+        t: f64,
+        /// Configuration of the probe state.
+        q: Vec<f64>,
+    },
+    /// An exact derivative of a body's pose (by automatic differentiation) disagrees with
+    /// central differences of the poses: [`Mechanism::poses`](crate::Mechanism::poses) reads
+    /// the real part of the time or of a coordinate (`t.re()`), which drops its derivative.
+    #[error(
+        "the {component} of body `{body}`: ∂/∂{variable} = {exact} by automatic differentiation but \
+         {finite_difference} by finite differences — do the poses read `{variable}.re()`? Use the \
+         scalar argument itself"
+    )]
+    LostDerivative {
+        /// The body.
+        body: String,
+        /// `x`, `y` or `angle`.
+        component: &'static str,
+        /// The coordinate's name, or `t`.
+        variable: String,
+        /// The derivative by automatic differentiation.
+        exact: f64,
+        /// The central difference.
+        finite_difference: f64,
+    },
     /// A mechanism declared a property that its functions contradict.
     #[error("inconsistent mechanism: {what}")]
     Inconsistent {

@@ -53,6 +53,52 @@
 //! # Ok::<(), lagrange::Error>(())
 //! ```
 //!
+//! # Example: a rheonomic mechanism (poses that depend on time)
+//!
+//! The time `t` is a scalar like the coordinates: the engine differentiates the poses through
+//! it, so `∂p/∂t` enters the velocities, the convective term and the energy function. Use `t`
+//! itself in the formulas; `t.re()` would make it a constant and silently drop `∂p/∂t`
+//! ([`Model::new`] compares the exact derivatives with finite differences at probe states and
+//! returns [`Error::LostDerivative`] when that happens).
+//!
+//! ```
+//! use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, accelerations};
+//!
+//! /// A pendulum (bob on a rod of length r) whose pivot is driven, x_p = A sin(ω t); q = (θ).
+//! struct Driven { bodies: [Body; 1], coordinates: [Coordinate; 1], r: f64, a: f64, omega: f64 }
+//!
+//! impl Mechanism for Driven {
+//!     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
+//!     fn bodies(&self) -> &[Body] { &self.bodies }
+//!     fn gravity(&self) -> f64 { 9.81 }
+//!     fn poses<S: Scalar>(&self, q: &[S], t: S, world_from_body: &mut [Pose<S>]) {
+//!         let pivot = (t * self.omega).sin() * self.a;
+//!         world_from_body[0] = Pose::point(pivot + q[0].sin() * self.r, -q[0].cos() * self.r);
+//!     }
+//! }
+//!
+//! let (r, a, omega) = (1.2, 0.1, 3.0);
+//! let model = Model::new(Driven {
+//!     bodies: [Body::point("bob", 0.5)],
+//!     coordinates: [Coordinate::angle("θ")],
+//!     r, a, omega,
+//! })?;
+//! let mut ws = model.workspace();
+//! let (t, theta) = (0.4_f64, 0.3_f64);
+//! let qddot = accelerations(&model, &mut ws, t, &[theta], &[0.0])?;
+//!
+//! // r θ̈ = −g sinθ − ẍ_p cosθ, with ẍ_p = −A ω² sin(ω t).
+//! let expected = (-9.81 * theta.sin() + a * omega * omega * (omega * t).sin() * theta.cos()) / r;
+//! approx::assert_relative_eq!(qddot[0], expected, max_relative = 1e-14);
+//! # Ok::<(), lagrange::Error>(())
+//! ```
+//!
+//! # Constants in generic code
+//!
+//! For a generic scalar `S`, `S * f64`, `S + f64` and `S - f64` compile but `f64 * S` and
+//! `f64 - S` do not: keep the scalar on the left (`x * k`, as in `t * self.omega` above) or
+//! lift the constant first (`S::from(k) * x`, `S::from(k) - x`).
+//!
 //! # Kinematic trees: `O(n)` forward dynamics
 //!
 //! A mechanism whose bodies hang from each other by revolute and prismatic joints, one

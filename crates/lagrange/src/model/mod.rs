@@ -3,5 +3,7 @@
 mod lagrangian;
 #[allow(clippy::module_inception)]
 mod model;
+#[cfg(test)]
+mod tests;
 
 pub use model::Model;

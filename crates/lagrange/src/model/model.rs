@@ -48,7 +48,10 @@ impl<M: Mechanism> Model<M> {
     /// # Errors
     /// [`Error::InvalidParameter`] for a non-finite or negative mass or inertia, non-finite
     /// gravity (negative `g` is allowed: gravity along +y), or a
-    /// mechanism without coordinates or bodies; [`Error::Inconsistent`] if a declared constant
+    /// mechanism without coordinates or bodies; [`Error::UnwrittenPose`] if the poses leave a
+    /// body's pose (or a component of it) unwritten at a probe state; [`Error::LostDerivative`]
+    /// if an exact derivative of the poses disagrees with finite differences (the poses read
+    /// `t.re()` or `q[i].re()`); [`Error::Inconsistent`] if a declared constant
     /// mass matrix or a declared tree is contradicted by the poses; [`Error::SingularMassMatrix`]
     /// if that constant matrix is singular.
     pub fn new(mechanism: M) -> Result<Self, Error> {
@@ -96,6 +99,7 @@ impl<M: Mechanism> Model<M> {
             mechanism,
         };
         let probes = ProbeStates::new(n);
+        probe::check_poses(&model.mechanism, &probes)?;
         // Ask once which optional terms exist.
         let (q, qdot, t) = probes.state(0);
         let mut poses = vec![Pose::<f64>::default(); model.bodies()];

@@ -259,3 +259,105 @@ pub(crate) fn check_tree<M: Mechanism>(mechanism: &M, tree: &Tree, probes: &Prob
     }
     Ok(())
 }
+
+/// The components of a pose, by name.
+const COMPONENTS: [&str; 3] = ["x", "y", "angle"];
+
+fn components<S: Copy>(pose: &Pose<S>) -> [S; 3] {
+    [pose.x, pose.y, pose.angle]
+}
+
+/// `f64` poses at `(q, t)`, pre-filled with NaN so that a component `poses` leaves unwritten
+/// stays NaN.
+fn poses_f64<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], out: &mut [Pose<f64>]) {
+    out.fill(Pose::new(f64::NAN, f64::NAN, f64::NAN));
+    mechanism.poses(q, t, out);
+}
+
+/// Check, at every probe state, that `poses` writes every component of every body (the
+/// buffer is pre-filled with NaN: a forgotten body would otherwise sit wherever the buffer
+/// left it), and that the exact derivatives `∂p/∂t` and `∂p/∂q_j` of the components that carry
+/// mass agree with central differences of the `f64` poses — they differ when `poses` reads the
+/// real part of `t` or of a coordinate (`t.re()`), which silently drops that derivative.
+///
+/// The difference quotient `D(h) = (p(x + h) − p(x − h)) / 2h`, `h = ε^{1/3} max(|x|, 1)`,
+/// errs by its truncation `c h²` and its round-off `≤ k ε P / h` (`P` the size of the
+/// components, `k` the ulps a user's formula may lose; we allow `k = 64`). The truncation is
+/// measured rather than assumed: `D(h) − D(2h) ≈ −3 c h²`, so `|D(h) − D(2h)|` bounds it three
+/// times over. A derivative fails when it differs from `D(h)` by more than
+/// `4 (|D(h) − D(2h)| + 64 ε P / h)`; a dropped derivative is off by its whole size, orders of
+/// magnitude above that for any smooth map.
+pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> Result<(), Error> {
+    let bodies = mechanism.bodies();
+    let n = probes.n;
+    let mut poses = vec![Pose::default(); bodies.len()];
+    let mut moved = [vec![Pose::default(); bodies.len()], vec![Pose::default(); bodies.len()]];
+    let mut wide = [vec![Pose::default(); bodies.len()], vec![Pose::default(); bodies.len()]];
+    let mut jac = vec![0.0; 3 * bodies.len() * n];
+    let mut q_dual = vec![Dual64::from_re(0.0); n];
+    let mut time_poses = vec![Pose::<Dual64>::default(); bodies.len()];
+    for k in 0..probes.len() {
+        let (q, _, t) = probes.state(k);
+        poses_f64(mechanism, t, q, &mut poses);
+        for (body, pose) in bodies.iter().zip(&poses) {
+            if let Some(c) = components(pose).iter().position(|v| v.is_nan()) {
+                return Err(Error::UnwrittenPose {
+                    body: body.name.clone(),
+                    component: COMPONENTS[c],
+                    t,
+                    q: q.to_vec(),
+                });
+            }
+        }
+        // Exact derivatives: J by columns, ∂p/∂t by one pass with t seeded.
+        jacobian(mechanism, t, q, &mut jac);
+        seed::constant(&mut q_dual, q);
+        mechanism.poses(&q_dual, Dual64::new(t, 1.0), &mut time_poses);
+        // Variable j < n is q_j, j = n is t.
+        let mut q_moved = q.to_vec();
+        for j in 0..=n {
+            let x = if j < n { q[j] } else { t };
+            let h = f64::EPSILON.cbrt() * x.abs().max(1.0);
+            for (out, step) in moved.iter_mut().zip([h, -h]).chain(wide.iter_mut().zip([2.0 * h, -2.0 * h])) {
+                if j < n {
+                    q_moved[j] = x + step;
+                    poses_f64(mechanism, t, &q_moved, out);
+                } else {
+                    poses_f64(mechanism, x + step, q, out);
+                }
+            }
+            if j < n {
+                q_moved[j] = x;
+            }
+            for (b, body) in bodies.iter().enumerate() {
+                for c in 0..3 {
+                    let carries_mass = if c < 2 { body.mass != 0.0 } else { body.inertia != 0.0 };
+                    if !carries_mass {
+                        continue;
+                    }
+                    let exact = if j < n { jac[(3 * b + c) * n + j] } else { components(&time_poses[b])[c].eps };
+                    let at = |p: &[Pose<f64>]| components(&p[b])[c];
+                    let (plus, minus) = (at(&moved[0]), at(&moved[1]));
+                    let (plus2, minus2) = (at(&wide[0]), at(&wide[1]));
+                    let narrow = (plus - minus) / (2.0 * h);
+                    let broad = (plus2 - minus2) / (4.0 * h);
+                    let size = [plus, minus, plus2, minus2].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                    let tolerance = 4.0 * ((narrow - broad).abs() + 64.0 * f64::EPSILON * size / h);
+                    // A NaN fails too.
+                    let agrees = (exact - narrow).abs() <= tolerance;
+                    if !agrees {
+                        let coordinates = mechanism.coordinates();
+                        return Err(Error::LostDerivative {
+                            body: body.name.clone(),
+                            component: COMPONENTS[c],
+                            variable: if j < n { coordinates[j].name.clone() } else { "t".into() },
+                            exact,
+                            finite_difference: narrow,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,75 @@
+//! Construction turns silent wrong answers into typed errors.
+
+use crate::test_support::{Cart, Driven};
+use crate::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar};
+
+/// The cart pendulum whose poses forget the cart.
+#[derive(Debug)]
+struct WithoutCart(Cart);
+
+impl Mechanism for WithoutCart {
+    fn coordinates(&self) -> &[Coordinate] {
+        self.0.coordinates()
+    }
+    fn bodies(&self) -> &[Body] {
+        self.0.bodies()
+    }
+    fn gravity(&self) -> f64 {
+        self.0.gravity()
+    }
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+        p[1] = Pose::point(q[0] + q[1].sin() * self.0.r, -q[1].cos() * self.0.r);
+    }
+}
+
+#[test]
+fn a_body_the_poses_forget_is_an_error_naming_it() {
+    let error = Model::new(WithoutCart(Cart::new(2.0, 1.0, 1.5))).unwrap_err();
+    assert!(matches!(&error, Error::UnwrittenPose { body, component: "x", .. } if body == "cart"), "{error}");
+    assert!(error.to_string().contains("body `cart`"), "{error}");
+    // The whole mechanism is fine.
+    assert!(Model::new(Cart::new(2.0, 1.0, 1.5)).is_ok());
+}
+
+/// The driven pendulum, with poses that read the real part of the time or of the angle.
+#[derive(Debug)]
+struct ReadsRealPart {
+    driven: Driven,
+    time: bool,
+}
+
+impl Mechanism for ReadsRealPart {
+    fn coordinates(&self) -> &[Coordinate] {
+        self.driven.coordinates()
+    }
+    fn bodies(&self) -> &[Body] {
+        self.driven.bodies()
+    }
+    fn gravity(&self) -> f64 {
+        self.driven.gravity()
+    }
+    fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
+        let d = &self.driven;
+        let pivot =
+            if self.time { S::from((t.re() * d.omega).sin() * d.amplitude) } else { (t * d.omega).sin() * d.amplitude };
+        let theta = if self.time { q[0] } else { S::from(q[0].re()) };
+        p[0] = Pose::point(pivot + theta.sin() * d.r, -theta.cos() * d.r);
+    }
+}
+
+#[test]
+fn poses_that_read_the_real_part_are_an_error_naming_body_component_and_variable() {
+    let error = Model::new(ReadsRealPart { driven: Driven::new(), time: true }).unwrap_err();
+    assert!(
+        matches!(&error, Error::LostDerivative { body, component: "x", variable, exact, .. }
+            if body == "bob" && variable == "t" && *exact == 0.0),
+        "{error}"
+    );
+    let error = Model::new(ReadsRealPart { driven: Driven::new(), time: false }).unwrap_err();
+    assert!(
+        matches!(&error, Error::LostDerivative { body, component: "x", variable, .. } if body == "bob" && variable == "θ"),
+        "{error}"
+    );
+    // Reading the time as the scalar it is passes.
+    assert!(Model::new(Driven::new()).is_ok());
+}
