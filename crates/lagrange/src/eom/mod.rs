@@ -11,7 +11,7 @@ pub(crate) mod mass_matrix;
 pub(crate) mod raw;
 pub(crate) mod reactions;
 
-use crate::error::Stage;
+use crate::error::{Stage, bad_pivot};
 pub(crate) use crate::error::{all_finite, non_finite};
 use crate::linalg::{self, size};
 use crate::{Error, Mechanism, Model, Scalar, Workspace};
@@ -69,16 +69,11 @@ fn solve_sized<M: Mechanism, S: Scalar, N: size::Size>(
         // Mass matrix and its factor.
         mass_matrix::assemble(model, ws, size);
         ws.factor.copy_from_slice(&ws.mass_matrix);
-        if let Err((j, pivot)) = linalg::ldlt_factor_sized(size, &mut ws.factor) {
+        if let Err(bad) = linalg::ldlt_factor_sized(size, &mut ws.factor) {
             if !all_finite(&ws.mass_matrix) {
                 return Err(non_finite(Stage::Kinematics, t, q));
             }
-            return Err(Error::SingularMassMatrix {
-                t: t.re(),
-                q: q.iter().map(|v| v.re()).collect(),
-                coordinate: model.coordinates()[j].name.clone(),
-                pivot,
-            });
+            return Err(bad_pivot(t, q, &model.coordinates()[bad.index].name, bad.pivot, bad.diagonal));
         }
         // Right-hand side and solve.
         bias::assemble(model, ws, size, t, q, qdot);

@@ -1,7 +1,7 @@
 //! The raw-Lagrangian path: Lagrange's equations from second derivatives of `L(q, q̇, t)`.
 
 use super::check_state;
-use crate::error::Stage;
+use crate::error::{Stage, bad_pivot};
 use crate::linalg;
 use crate::probe::ProbeStates;
 use crate::seed::Tangent;
@@ -198,16 +198,11 @@ impl<F: LagrangianFunction> RawModel<F> {
         }
         // Solve.
         ws.factor.copy_from_slice(&ws.hessian);
-        if let Err((j, pivot)) = linalg::ldlt_factor(n, &mut ws.factor) {
+        if let Err(bad) = linalg::ldlt_factor(n, &mut ws.factor) {
             if !super::all_finite(&ws.hessian) {
                 return Err(super::non_finite(Stage::Lagrangian, t, q));
             }
-            return Err(Error::SingularMassMatrix {
-                t: t.re(),
-                q: q.iter().map(|v| v.re()).collect(),
-                coordinate: self.coordinates()[j].name.clone(),
-                pivot,
-            });
+            return Err(bad_pivot(t, q, &self.coordinates()[bad.index].name, bad.pivot, bad.diagonal));
         }
         ws.qddot.copy_from_slice(&ws.rhs);
         linalg::ldlt_solve(n, &ws.factor, &mut ws.qddot);

@@ -18,20 +18,31 @@ use size::{Size, with_size};
 /// keep ratios ≥ 1e-7.
 pub(crate) const PIVOT_RTOL: f64 = 1e-12;
 
+/// A pivot of [`ldlt_factor`] that is not positive relative to its diagonal entry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct BadPivot {
+    /// Its row (the coordinate).
+    pub index: usize,
+    /// The pivot `D_j`.
+    pub pivot: f64,
+    /// The diagonal entry `A_jj`.
+    pub diagonal: f64,
+}
+
 /// Factor the symmetric matrix `a` (n × n, row-major, both triangles filled) in place as
 /// `L D Lᵀ`: `L` unit lower triangular below the diagonal, `D` on the diagonal; the strict
 /// upper triangle is left untouched.
 ///
-/// Returns `Err((j, ratio))` if pivot `j` is not positive relative to its diagonal entry
+/// Returns the [`BadPivot`] `j` if that pivot is not positive relative to its diagonal entry
 /// (singular or indefinite matrix).
-pub(crate) fn ldlt_factor<S: Scalar>(n: usize, a: &mut [S]) -> Result<(), (usize, f64)> {
+pub(crate) fn ldlt_factor<S: Scalar>(n: usize, a: &mut [S]) -> Result<(), BadPivot> {
     debug_assert_eq!(a.len(), n * n);
     with_size!(n, size => ldlt_factor_sized(size, a))
 }
 
 /// [`ldlt_factor`] compiled for a size.
 #[inline]
-pub(crate) fn ldlt_factor_sized<S: Scalar, N: Size>(size: N, a: &mut [S]) -> Result<(), (usize, f64)> {
+pub(crate) fn ldlt_factor_sized<S: Scalar, N: Size>(size: N, a: &mut [S]) -> Result<(), BadPivot> {
     let n = size.get();
     let a = &mut a[..n * n];
     for j in 0..n {
@@ -44,7 +55,7 @@ pub(crate) fn ldlt_factor_sized<S: Scalar, N: Size>(size: N, a: &mut [S]) -> Res
         }
         let ratio = d.re() / diagonal.re();
         if !(diagonal.re() > 0.0 && ratio > PIVOT_RTOL) {
-            return Err((j, if ratio.is_finite() { ratio } else { d.re() }));
+            return Err(BadPivot { index: j, pivot: d.re(), diagonal: diagonal.re() });
         }
         a[j * n + j] = d;
         // L_ij = (A_ij − Σ_k L_ik L_jk D_k) / D_j.
@@ -217,7 +228,7 @@ mod tests {
     fn ldlt_rejects_singular_and_indefinite() {
         // Rank one: second coordinate dependent on the first.
         let mut a = vec![1.0, 2.0, 2.0, 4.0];
-        assert_eq!(ldlt_factor(2, &mut a).unwrap_err().0, 1);
+        assert_eq!(ldlt_factor(2, &mut a).unwrap_err().index, 1);
         let mut a = vec![1.0, 0.0, 0.0, -1.0];
         assert!(ldlt_factor(2, &mut a).is_err());
         let mut a = vec![0.0];

@@ -73,3 +73,28 @@ fn poses_that_read_the_real_part_are_an_error_naming_body_component_and_variable
     // Reading the time as the scalar it is passes.
     assert!(Model::new(Driven::new()).is_ok());
 }
+
+/// A Lagrangian whose kinetic term is negative: `L = −½ q̇²`.
+#[derive(Debug)]
+struct NegativeKinetic([Coordinate; 1]);
+
+impl crate::Lagrangian for NegativeKinetic {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.0
+    }
+    fn lagrangian<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S]) -> S {
+        -(qdot[0] * qdot[0] * 0.5)
+    }
+}
+
+#[test]
+fn a_negative_definite_velocity_hessian_is_reported_as_indefinite() {
+    let raw = crate::RawModel::new(NegativeKinetic([Coordinate::length("x")])).unwrap();
+    let mut ws = raw.workspace();
+    let error = raw.accelerations(&mut ws, 0.0, &[0.1], &[0.2]).unwrap_err();
+    assert!(
+        matches!(&error, Error::IndefiniteMassMatrix { coordinate, pivot, .. } if coordinate == "x" && *pivot == -1.0)
+    );
+    let message = error.to_string();
+    assert!(message.contains("indefinite") && !message.contains("not independent"), "{message}");
+}

@@ -2,7 +2,7 @@
 //! the checks [`Model::new`](crate::Model::new) runs there: below the model, working on the
 //! user's [`Mechanism`] and [`Tree`] directly (no evaluation stage of `eom`).
 
-use crate::error::Error;
+use crate::error::{Error, bad_pivot};
 use crate::linalg::{self, size::Dynamic};
 use crate::mechanism::{LagrangianFunction, Mechanism};
 use crate::pose::Pose;
@@ -188,12 +188,8 @@ pub(crate) fn constant_terms<M: Mechanism>(mechanism: &M, probes: &ProbeStates) 
     let mut mass_matrix = vec![0.0; n * n];
     linalg::mass_matrix_sized(Dynamic(n), &mass, &inertia, &jac, &mut mass_matrix);
     let mut factor = mass_matrix.clone();
-    linalg::ldlt_factor(n, &mut factor).map_err(|(j, pivot)| Error::SingularMassMatrix {
-        t,
-        q: q.to_vec(),
-        coordinate: mechanism.coordinates()[j].name.clone(),
-        pivot,
-    })?;
+    linalg::ldlt_factor(n, &mut factor)
+        .map_err(|bad| bad_pivot(t, q, &mechanism.coordinates()[bad.index].name, bad.pivot, bad.diagonal))?;
     let gravity = mechanism.gravity();
     let mut gravity_force = vec![0.0; n];
     for (b, m) in mass.iter().enumerate() {
@@ -235,24 +231,22 @@ pub(crate) fn check_tree<M: Mechanism>(mechanism: &M, tree: &Tree, probes: &Prob
         moving_poses(mechanism, &mut seeded, &mut mine, t, q, qdot);
         moving_poses(tree, &mut seeded, &mut theirs, t, q, qdot);
         // Components: x and y of bodies with mass, the angle of bodies with inertia.
-        let components = |poses: &[Pose<Dual2<f64>>]| {
-            poses
-                .iter()
-                .zip(bodies)
-                .flat_map(|(p, body)| {
-                    let translation = if body.mass != 0.0 { [Some(p.x), Some(p.y)] } else { [None, None] };
-                    translation.into_iter().chain([(body.inertia != 0.0).then_some(p.angle)]).flatten()
-                })
-                .collect::<Vec<_>>()
-        };
-        let (a, b) = (components(&mine), components(&theirs));
-        for (order, part) in [("poses", 0), ("velocities", 1), ("convective accelerations", 2)] {
+        let carried = |b: usize, c: usize| if c < 2 { bodies[b].mass != 0.0 } else { bodies[b].inertia != 0.0 };
+        for (order, part) in [("pose", 0), ("velocity", 1), ("convective acceleration", 2)] {
             let get = |d: &Dual2<f64>| [d.re, d.v1, d.v2][part];
-            let scale = a.iter().chain(&b).fold(1.0_f64, |m, d| m.max(get(d).abs()));
+            let pairs = || {
+                (0..b)
+                    .flat_map(move |body| (0..3).map(move |c| (body, c)))
+                    .filter(|&(body, c)| carried(body, c))
+                    .map(|(body, c)| (body, c, get(&components(&mine[body])[c]), get(&components(&theirs[body])[c])))
+            };
+            let scale = pairs().fold(1.0_f64, |m, (_, _, x, y)| m.max(x.abs()).max(y.abs()));
             // A NaN difference fails too.
-            if !a.iter().zip(&b).all(|(x, y)| (get(x) - get(y)).abs() <= 1e-12 * scale) {
+            let agrees = |x: f64, y: f64| (x - y).abs() <= 1e-12 * scale;
+            if let Some((body, c, x, y)) = pairs().find(|&(_, _, x, y)| !agrees(x, y)) {
                 return inconsistent(format!(
-                    "its forward kinematics differ from the mechanism's {order} at q = {q:?}"
+                    "its {order} of body `{}` differs in {}: {} from the tree, {} from the poses, at q = {q:?}",
+                    bodies[body].name, COMPONENTS[c], y, x
                 ));
             }
         }
