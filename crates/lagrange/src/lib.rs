@@ -113,7 +113,7 @@
 //! Model, state, workspace and algorithms are kept apart (as in Pinocchio and MuJoCo):
 //! [`Model`] is what the user describes, validated and immutable; [`State`] is `(t, q, q̇)`;
 //! [`Workspace`] holds every buffer an evaluation needs, allocated once; the algorithms are free
-//! functions ([`accelerations`], [`energy`], [`reaction_forces`], …) and the integrators in
+//! functions ([`accelerations`], [`energy_function`], [`total_energy`], [`reaction_forces`], …) and the integrators in
 //! [`integrate`]. Everything is generic over the scalar ([`Scalar`]), so the engine's own
 //! results can be differentiated again.
 
@@ -146,7 +146,10 @@ mod system;
 mod test_support;
 
 pub use dynamics::Dynamics;
-pub use eom::energy::{energy, kinetic_energy, lagrangian, momenta, potential_energy};
+/// The former name of [`energy_function`] (the energy function `h`, not `T + V`: see
+/// [`total_energy`]), kept while callers move to the new name.
+pub use eom::energy::energy_function as energy;
+pub use eom::energy::{energy_function, kinetic_energy, lagrangian, momenta, potential_energy, total_energy};
 pub use eom::raw::{RawModel, RawWorkspace};
 pub use eom::reactions::reaction_forces;
 pub use eom::{accelerations, mass_matrix};

@@ -98,3 +98,20 @@ fn a_negative_definite_velocity_hessian_is_reported_as_indefinite() {
     let message = error.to_string();
     assert!(message.contains("indefinite") && !message.contains("not independent"), "{message}");
 }
+
+#[test]
+fn the_energy_function_and_the_total_energy_differ_for_a_rheonomic_mechanism() {
+    // The driven pendulum without its spring and damper: h = T + V − ẋ_p m r θ̇ cosθ − m ẋ_p².
+    let model = Model::new(Driven { k: 0.0, c: 0.0, ..Driven::new() }).unwrap();
+    let mut ws = model.workspace();
+    let (t, q, qdot) = (0.3, [0.4], [0.7]);
+    let h = crate::energy_function(&model, &mut ws, t, &q, &qdot).unwrap();
+    let e = crate::total_energy(&model, &mut ws, t, &q, &qdot).unwrap();
+    let d = Driven::new();
+    let (m, r) = (d.bodies[0].mass, d.r);
+    let xdot_p = d.amplitude * d.omega * (d.omega * t).cos();
+    // h = q̇ p − L = T + V − (ẋ_p² m + ẋ_p m r θ̇ cosθ), since p = m r² θ̇ + m r ẋ_p cosθ.
+    let expected = e - m * xdot_p * (xdot_p + r * qdot[0] * q[0].cos());
+    approx::assert_relative_eq!(h, expected, max_relative = 1e-14);
+    assert!((h - e).abs() > 0.01);
+}
