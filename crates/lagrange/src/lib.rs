@@ -17,7 +17,7 @@
 //! A second path takes a raw Lagrangian `L(q, q̇, t)` ([`Lagrangian`], [`RawModel`]) for
 //! velocity-dependent potentials, and solves `∂²L/∂q̇² q̈ = ∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q`.
 //!
-//! # Example: the pendulum on a movable support (lecture 27)
+//! # Example: the pendulum on a movable support (docs/scenes.md#cart_pendulum)
 //!
 //! ```
 //! use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, accelerations};
@@ -46,7 +46,7 @@
 //! let (q, qdot) = ([0.0_f64, 0.3], [0.0_f64, 0.5]);
 //! let qddot = accelerations(&model, &mut ws, 0.0, &q, &qdot)?;
 //!
-//! // The lecture's closed form: Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ).
+//! // The closed form (docs/scenes.md#cart_pendulum): Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ).
 //! let (s, c) = q[1].sin_cos();
 //! let expected = bob_mass * s * (r * qdot[1] * qdot[1] + 9.81 * c) / (cart_mass + bob_mass * s * s);
 //! approx::assert_relative_eq!(qddot[0], expected, max_relative = 1e-14);
