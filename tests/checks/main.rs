@@ -7,6 +7,7 @@ mod constant_mass;
 mod derivatives;
 mod identities;
 mod integrators;
+mod layering;
 mod properties;
 mod raw_path;
 mod reactions;

@@ -1,5 +1,6 @@
 //! Typed errors: bad input, singular configurations, diverging integrations.
 
+use crate::scalar::Scalar;
 use std::fmt;
 
 /// The stage of an evaluation at which a non-finite value appeared
@@ -40,7 +41,7 @@ impl fmt::Display for Stage {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Error {
     /// A physical or numerical parameter is out of its domain.
-    #[error("invalid parameter `{name}` = {value}: {why}")]
+    #[error("invalid parameter `{name}` = {}: {why}", compact(.value))]
     InvalidParameter {
         /// Name of the parameter.
         name: String,
@@ -59,10 +60,14 @@ pub enum Error {
         /// Length received.
         got: usize,
     },
-    /// The mass matrix (or `∂²L/∂q̇²`) is singular or indefinite at this configuration.
+    /// The mass matrix (or `∂²L/∂q̇²`) is singular at this configuration (positive
+    /// semidefinite, a pivot of zero to within 1e-12 of its diagonal entry).
     #[error(
-        "singular mass matrix at t = {t}, q = {q:?}: pivot {pivot:e} for coordinate `{coordinate}` \
-         (the coordinates are not independent here, or this coordinate moves no mass)"
+        "singular mass matrix at t = {}, q = {}: pivot {} for coordinate `{coordinate}` \
+         (the coordinates are not independent here, or this coordinate moves no mass)",
+        compact(.t),
+        compact_all(.q),
+        compact(.pivot)
     )]
     SingularMassMatrix {
         /// Time.
@@ -74,8 +79,31 @@ pub enum Error {
         /// The pivot, relative to the coordinate's own diagonal entry.
         pivot: f64,
     },
+    /// The mass matrix (or `∂²L/∂q̇²`) is indefinite or negative definite at this
+    /// configuration: the kinetic energy is negative along some velocity.
+    #[error(
+        "indefinite mass matrix at t = {}, q = {}: pivot {} for coordinate `{coordinate}` (its diagonal \
+         entry is {}): the kinetic energy is not positive along it — check the signs of the \
+         velocity terms",
+        compact(.t),
+        compact_all(.q),
+        compact(.pivot),
+        compact(.diagonal)
+    )]
+    IndefiniteMassMatrix {
+        /// Time.
+        t: f64,
+        /// Configuration.
+        q: Vec<f64>,
+        /// The coordinate whose pivot is negative.
+        coordinate: String,
+        /// The pivot (`D_j` of the LDLᵀ factorization).
+        pivot: f64,
+        /// The coordinate's diagonal entry.
+        diagonal: f64,
+    },
     /// A stage of an evaluation produced NaN or infinity.
-    #[error("non-finite {stage} at t = {t}, q = {q:?}")]
+    #[error("non-finite {stage} at t = {}, q = {}", compact(.t), compact_all(.q))]
     NonFinite {
         /// Where it appeared.
         stage: Stage,
@@ -85,7 +113,7 @@ pub enum Error {
         q: Vec<f64>,
     },
     /// An integration blew up.
-    #[error("integration diverged at t = {t} after {step} steps: {quantity}")]
+    #[error("integration diverged at t = {} after {step} steps: {quantity}", compact(.t))]
     Diverged {
         /// Time of the last finite state.
         t: f64,
@@ -95,7 +123,7 @@ pub enum Error {
         quantity: String,
     },
     /// A step size or tolerance is not usable.
-    #[error("invalid {what} = {value}: {why}")]
+    #[error("invalid {what} = {}: {why}", compact(.value))]
     InvalidSetting {
         /// `step`, `tolerance`, `horizon`, …
         what: &'static str,
@@ -106,8 +134,10 @@ pub enum Error {
     },
     /// The adaptive integrator's step collapsed.
     #[error(
-        "step size underflow at t = {t}: h = {h:e} cannot meet the tolerance \
-         (the problem may be stiff or singular here)"
+        "step size underflow at t = {}: h = {} cannot meet the tolerance \
+         (the problem may be stiff or singular here)",
+        compact(.t),
+        compact(.h)
     )]
     StepSizeUnderflow {
         /// Time.
@@ -116,7 +146,7 @@ pub enum Error {
         h: f64,
     },
     /// The adaptive integrator needed more steps than allowed.
-    #[error("too many steps: {steps} steps reached t = {t} of {t_end}")]
+    #[error("too many steps: {steps} steps reached t = {} of {}", compact(.t), compact(.t_end))]
     TooManySteps {
         /// Steps taken.
         steps: usize,
@@ -129,8 +159,10 @@ pub enum Error {
     /// after its stiffness test had fired: the problem is stiff, and an L-stable implicit
     /// method takes steps the explicit one cannot.
     #[error(
-        "the problem looks stiff at t = {t} (the explicit step fell to h = {h:e}): use the implicit integrator \
-         (Method::Implicit / --integrator implicit)"
+        "the problem looks stiff at t = {} (the explicit step fell to h = {}): use the implicit integrator \
+         (Method::Implicit / --integrator implicit)",
+        compact(.t),
+        compact(.h)
     )]
     Stiff {
         /// Time reached.
@@ -139,7 +171,11 @@ pub enum Error {
         h: f64,
     },
     /// Newton's method in an implicit integrator did not converge.
-    #[error("Newton iteration did not converge at t = {t} ({iterations} iterations, residual {residual:e})")]
+    #[error(
+        "Newton iteration did not converge at t = {} ({iterations} iterations, residual {})",
+        compact(.t),
+        compact(.residual)
+    )]
     NewtonFailed {
         /// Time at the start of the step.
         t: f64,
@@ -147,6 +183,47 @@ pub enum Error {
         iterations: usize,
         /// Final residual norm.
         residual: f64,
+    },
+    /// [`Mechanism::poses`](crate::Mechanism::poses) left a component of a body's pose
+    /// unwritten (or wrote NaN) at a probe state: the engine fills the poses with NaN first,
+    /// so that a forgotten body is an error instead of a body at the origin.
+    #[error(
+        "the poses do not write the {component} of body `{body}` at t = {}, q = {} \
+         (it is still NaN): every body's pose must be written",
+        compact(.t),
+        compact_all(.q)
+    )]
+    UnwrittenPose {
+        /// The body.
+        body: String,
+        /// `x`, `y` or `angle`.
+        component: &'static str,
+        /// Time of the probe state.
+        t: f64,
+        /// Configuration of the probe state.
+        q: Vec<f64>,
+    },
+    /// An exact derivative of a body's pose (by automatic differentiation) disagrees with
+    /// central differences of the poses: [`Mechanism::poses`](crate::Mechanism::poses) reads
+    /// the real part of the time or of a coordinate (`t.re()`), which drops its derivative.
+    #[error(
+        "the {component} of body `{body}`: ∂/∂{variable} = {} by automatic differentiation but \
+         {} by finite differences — do the poses read `{variable}.re()`? Use the \
+         scalar argument itself",
+        compact(.exact),
+        compact(.finite_difference)
+    )]
+    LostDerivative {
+        /// The body.
+        body: String,
+        /// `x`, `y` or `angle`.
+        component: &'static str,
+        /// The coordinate's name, or `t`.
+        variable: String,
+        /// The derivative by automatic differentiation.
+        exact: f64,
+        /// The central difference.
+        finite_difference: f64,
     },
     /// A mechanism declared a property that its functions contradict.
     #[error("inconsistent mechanism: {what}")]
@@ -156,7 +233,91 @@ pub enum Error {
     },
 }
 
-/// Check that every entry is finite.
-pub(crate) fn all_finite(values: &[f64]) -> bool {
-    values.iter().all(|v| v.is_finite())
+/// Check that every entry is finite (its real part, for dual numbers).
+pub(crate) fn all_finite<S: Scalar>(values: &[S]) -> bool {
+    values.iter().all(|v| v.re().is_finite())
+}
+
+/// The [`Error::NonFinite`] of `stage` at `(t, q)`.
+pub(crate) fn non_finite<S: Scalar>(stage: Stage, t: S, q: &[S]) -> Error {
+    Error::NonFinite { stage, t: t.re(), q: q.iter().map(|v| v.re()).collect() }
+}
+
+/// A failed pivot of an LDLᵀ factorization (`linalg::ldlt_factor`) at `(t, q)`, for the
+/// coordinate named `coordinate`: [`Error::IndefiniteMassMatrix`] when the pivot or the diagonal
+/// entry is negative beyond round-off, otherwise [`Error::SingularMassMatrix`] (pivot relative
+/// to the diagonal entry, or the pivot itself where that ratio is not finite).
+pub(crate) fn bad_pivot<S: Scalar>(t: S, q: &[S], coordinate: &str, pivot: f64, diagonal: f64) -> Error {
+    let (t, q, coordinate) = (t.re(), q.iter().map(|v| v.re()).collect(), coordinate.to_string());
+    let ratio = pivot / diagonal;
+    if diagonal < 0.0 || (diagonal > 0.0 && ratio < -crate::linalg::PIVOT_RTOL) {
+        Error::IndefiniteMassMatrix { t, q, coordinate, pivot, diagonal }
+    } else {
+        Error::SingularMassMatrix { t, q, coordinate, pivot: if ratio.is_finite() { ratio } else { pivot } }
+    }
+}
+
+/// A value for a message, in its shortest exact form: plain between 1e-4 and 1e6, in
+/// scientific notation outside (`1e-16`, not `0.0000000000000001`).
+struct Compact(f64);
+
+impl fmt::Display for Compact {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0;
+        if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) { write!(f, "{v}") } else { write!(f, "{v:e}") }
+    }
+}
+
+fn compact(v: &f64) -> Compact {
+    Compact(*v)
+}
+
+/// A list of values for a message, each [`Compact`].
+struct CompactAll<'a>(&'a [f64]);
+
+impl fmt::Display for CompactAll<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("[")?;
+        for (i, v) in self.0.iter().enumerate() {
+            if i > 0 {
+                f.write_str(", ")?;
+            }
+            write!(f, "{}", Compact(*v))?;
+        }
+        f.write_str("]")
+    }
+}
+
+fn compact_all(v: &[f64]) -> CompactAll<'_> {
+    CompactAll(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_print_compactly() {
+        assert_eq!(Compact(1e-16).to_string(), "1e-16");
+        assert_eq!(Compact(0.25).to_string(), "0.25");
+        assert_eq!(Compact(-3.0).to_string(), "-3");
+        assert_eq!(Compact(1.5e7).to_string(), "1.5e7");
+        assert_eq!(CompactAll(&[0.0, 1e-16, 2.5]).to_string(), "[0, 1e-16, 2.5]");
+        let error = Error::NonFinite { stage: Stage::State, t: 1e-16, q: vec![0.1, 1e-20] };
+        assert_eq!(error.to_string(), "non-finite state at t = 1e-16, q = [0.1, 1e-20]");
+    }
+
+    #[test]
+    fn a_negative_pivot_is_indefinite_and_a_vanishing_one_singular() {
+        // Negative definite: the first pivot is its own (negative) diagonal entry.
+        let e = bad_pivot(0.0, &[1.0], "x", -1.0, -1.0);
+        assert!(matches!(e, Error::IndefiniteMassMatrix { .. }), "{e}");
+        assert!(e.to_string().contains("indefinite") && !e.to_string().contains("not independent"), "{e}");
+        // Indefinite: a positive diagonal entry, a negative pivot.
+        assert!(matches!(bad_pivot(0.0, &[1.0], "x", -0.5, 2.0), Error::IndefiniteMassMatrix { .. }));
+        // Singular: a pivot zero to round-off, or a coordinate that moves no mass.
+        let e = bad_pivot(0.0, &[1.0], "x", -1e-17, 1.0);
+        assert!(matches!(e, Error::SingularMassMatrix { pivot, .. } if pivot == -1e-17), "{e}");
+        assert!(matches!(bad_pivot(0.0, &[1.0], "x", 0.0, 0.0), Error::SingularMassMatrix { pivot: 0.0, .. }));
+    }
 }

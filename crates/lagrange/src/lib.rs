@@ -17,7 +17,7 @@
 //! A second path takes a raw Lagrangian `L(q, q̇, t)` ([`Lagrangian`], [`RawModel`]) for
 //! velocity-dependent potentials, and solves `∂²L/∂q̇² q̈ = ∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q`.
 //!
-//! # Example: the pendulum on a movable support (lecture 27)
+//! # Example: the pendulum on a movable support (docs/scenes.md#cart_pendulum)
 //!
 //! ```
 //! use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, accelerations};
@@ -46,12 +46,58 @@
 //! let (q, qdot) = ([0.0_f64, 0.3], [0.0_f64, 0.5]);
 //! let qddot = accelerations(&model, &mut ws, 0.0, &q, &qdot)?;
 //!
-//! // The lecture's closed form: Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ).
+//! // The closed form (docs/scenes.md#cart_pendulum): Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ).
 //! let (s, c) = q[1].sin_cos();
 //! let expected = bob_mass * s * (r * qdot[1] * qdot[1] + 9.81 * c) / (cart_mass + bob_mass * s * s);
 //! approx::assert_relative_eq!(qddot[0], expected, max_relative = 1e-14);
 //! # Ok::<(), lagrange::Error>(())
 //! ```
+//!
+//! # Example: a rheonomic mechanism (poses that depend on time)
+//!
+//! The time `t` is a scalar like the coordinates: the engine differentiates the poses through
+//! it, so `∂p/∂t` enters the velocities, the convective term and the energy function. Use `t`
+//! itself in the formulas; `t.re()` would make it a constant and silently drop `∂p/∂t`
+//! ([`Model::new`] compares the exact derivatives with finite differences at probe states and
+//! returns [`Error::LostDerivative`] when that happens).
+//!
+//! ```
+//! use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, accelerations};
+//!
+//! /// A pendulum (bob on a rod of length r) whose pivot is driven, x_p = A sin(ω t); q = (θ).
+//! struct Driven { bodies: [Body; 1], coordinates: [Coordinate; 1], r: f64, a: f64, omega: f64 }
+//!
+//! impl Mechanism for Driven {
+//!     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
+//!     fn bodies(&self) -> &[Body] { &self.bodies }
+//!     fn gravity(&self) -> f64 { 9.81 }
+//!     fn poses<S: Scalar>(&self, q: &[S], t: S, world_from_body: &mut [Pose<S>]) {
+//!         let pivot = (t * self.omega).sin() * self.a;
+//!         world_from_body[0] = Pose::point(pivot + q[0].sin() * self.r, -q[0].cos() * self.r);
+//!     }
+//! }
+//!
+//! let (r, a, omega) = (1.2, 0.1, 3.0);
+//! let model = Model::new(Driven {
+//!     bodies: [Body::point("bob", 0.5)],
+//!     coordinates: [Coordinate::angle("θ")],
+//!     r, a, omega,
+//! })?;
+//! let mut ws = model.workspace();
+//! let (t, theta) = (0.4_f64, 0.3_f64);
+//! let qddot = accelerations(&model, &mut ws, t, &[theta], &[0.0])?;
+//!
+//! // r θ̈ = −g sinθ − ẍ_p cosθ, with ẍ_p = −A ω² sin(ω t).
+//! let expected = (-9.81 * theta.sin() + a * omega * omega * (omega * t).sin() * theta.cos()) / r;
+//! approx::assert_relative_eq!(qddot[0], expected, max_relative = 1e-14);
+//! # Ok::<(), lagrange::Error>(())
+//! ```
+//!
+//! # Constants in generic code
+//!
+//! For a generic scalar `S`, `S * f64`, `S + f64` and `S - f64` compile but `f64 * S` and
+//! `f64 - S` do not: keep the scalar on the left (`x * k`, as in `t * self.omega` above) or
+//! lift the constant first (`S::from(k) * x`, `S::from(k) - x`).
 //!
 //! # Kinematic trees: `O(n)` forward dynamics
 //!
@@ -67,32 +113,50 @@
 //! Model, state, workspace and algorithms are kept apart (as in Pinocchio and MuJoCo):
 //! [`Model`] is what the user describes, validated and immutable; [`State`] is `(t, q, q̇)`;
 //! [`Workspace`] holds every buffer an evaluation needs, allocated once; the algorithms are free
-//! functions ([`accelerations`], [`energy`], [`reaction_forces`], …) and the integrators in
+//! functions ([`accelerations`], [`energy_function`], [`total_energy`], [`reaction_forces`], …) and the integrators in
 //! [`integrate`]. Everything is generic over the scalar ([`Scalar`]), so the engine's own
 //! results can be differentiated again.
 
-mod dynamics;
-pub mod eom;
+// Modules from the bottom layer up; a module uses only modules of its layer or below
+// (checked by the `layering` test of `lagrange-tests`).
 mod error;
-pub mod integrate;
-mod model;
+mod linalg;
 mod pose;
 mod scalar;
+mod seed;
 mod state;
-mod system;
-#[cfg(test)]
-mod test_support;
+
+mod mechanism;
 pub mod tree;
+
+mod probe;
+
+mod model;
+
+mod eom;
 mod workspace;
 
+mod dynamics;
+
+pub mod integrate;
+
+mod system;
+
+#[cfg(test)]
+mod test_support;
+
 pub use dynamics::Dynamics;
-pub use eom::energy::{energy, kinetic_energy, lagrangian, momenta, potential_energy};
+/// The former name of [`energy_function`] (the energy function `h`, not `T + V`: see
+/// [`total_energy`]), kept while callers move to the new name.
+pub use eom::energy::energy_function as energy;
+pub use eom::energy::{energy_function, kinetic_energy, lagrangian, momenta, potential_energy, total_energy};
 pub use eom::raw::{RawModel, RawWorkspace};
 pub use eom::reactions::reaction_forces;
 pub use eom::{accelerations, mass_matrix};
 pub use error::{Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
-pub use model::{Body, Coordinate, CoordinateKind, Lagrangian, LagrangianFunction, Mechanism, Model};
+pub use mechanism::{Body, Coordinate, CoordinateKind, Lagrangian, LagrangianFunction, Mechanism};
+pub use model::Model;
 pub use pose::Pose;
 pub use scalar::Scalar;
 pub use state::State;

@@ -1,8 +1,13 @@
 //! Small mechanisms for the solver's own unit tests (the scenes crate has the real ones).
+//!
+//! The unit tests cannot use `lagrange-scenes` instead: it depends on `lagrange`, so as a
+//! dev-dependency it would bring a second copy of this crate whose `Mechanism` is a different
+//! trait from the one under test. These stay minimal (no parameters, no closed forms beyond
+//! the one each test needs).
 
 use crate::{Body, Coordinate, Lagrangian, Mechanism, Pose, Scalar};
 
-/// Pendulum on a cart (lecture 27): q = (X, θ).
+/// Pendulum on a cart (docs/scenes.md#cart_pendulum): q = (X, θ).
 #[derive(Clone, Debug)]
 pub(crate) struct Cart {
     pub bodies: [Body; 2],
@@ -21,7 +26,7 @@ impl Cart {
         }
     }
 
-    /// SYSTEMS.md §1 closed form.
+    /// The closed form of docs/scenes.md#cart_pendulum.
     pub(crate) fn closed_form(&self, q: &[f64], v: &[f64]) -> [f64; 2] {
         let (big, m, r, g) = (self.bodies[0].mass, self.bodies[1].mass, self.r, self.g);
         let (s, c) = q[1].sin_cos();

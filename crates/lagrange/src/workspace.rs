@@ -1,8 +1,11 @@
 //! Every buffer an evaluation of a body model needs, allocated once.
 
-use crate::dynamics::jacobian::Tangent;
 use crate::eom::articulated::ArticulatedBody;
-use crate::{Mechanism, Model, Pose, Scalar};
+use crate::mechanism::Mechanism;
+use crate::model::Model;
+use crate::pose::Pose;
+use crate::scalar::Scalar;
+use crate::seed::Tangent;
 use num_dual::{Dual, Dual2, Dual64};
 
 /// Scratch space for evaluating a [`Model`] in scalar `S` (the *data* of Pinocchio's
@@ -101,5 +104,12 @@ impl<S: Scalar> Workspace<S> {
             articulated: if model.tree.is_some() { vec![ArticulatedBody::zero(); b] } else { Vec::new() },
             tangent: None,
         }
+    }
+}
+
+impl<M: Mechanism> Model<M> {
+    /// A workspace for evaluations in scalar `S` (allocate once, reuse for every step).
+    pub fn workspace<S: Scalar>(&self) -> Workspace<S> {
+        Workspace::new(self)
     }
 }

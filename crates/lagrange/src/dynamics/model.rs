@@ -1,8 +1,8 @@
 //! A body [`Model`] as the integrators see it.
 
 use super::Dynamics;
-use super::jacobian::Tangent;
 use crate::eom::{self, energy};
+use crate::seed::Tangent;
 use crate::{Error, Mechanism, Model, Workspace};
 
 /// The body model's workspace is its `f64` [`Workspace`]; the `Dual64` workspace of the
@@ -49,7 +49,7 @@ impl<M: Mechanism> Dynamics for Model<M> {
     }
 
     fn energy(&self, ws: &mut Workspace<f64>, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
-        energy::energy(self, ws, t, q, qdot)
+        energy::energy_function(self, ws, t, q, qdot)
     }
 
     fn mass_matrix(

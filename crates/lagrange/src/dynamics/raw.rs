@@ -1,7 +1,7 @@
 //! A [`RawModel`] as the integrators see it.
 
 use super::Dynamics;
-use super::jacobian::Tangent;
+use crate::seed::Tangent;
 use crate::{Error, LagrangianFunction, RawModel, RawWorkspace};
 
 impl<F: LagrangianFunction> LagrangianFunction for RawModel<F> {

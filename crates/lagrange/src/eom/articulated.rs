@@ -14,9 +14,9 @@
 //! orientation — a constant linear change of coordinates `q = T⁻¹ r`, handled inside the
 //! passes: `ṙ_i = q̇_i − ω_λ(i)`, `q̈_i = r̈_i + ω̇_λ(i)`, and the joint forces `τ = T⁻ᵀ Q` (pass 2).
 
-use super::solve::PIVOT_RTOL;
 use super::{all_finite, kinematics, non_finite};
-use crate::error::Stage;
+use crate::error::{Stage, bad_pivot};
+use crate::linalg::PIVOT_RTOL;
 use crate::tree::spatial::{Force, Inertia, Motion, RigidInertia, Translation};
 use crate::{Error, Mechanism, Model, Scalar, Tree, Workspace};
 
@@ -231,13 +231,7 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             return Err(non_finite(Stage::Kinematics, t, q));
         }
         if !(diagonal > 0.0 && d > PIVOT_RTOL * diagonal) {
-            let ratio = d / diagonal;
-            return Err(Error::SingularMassMatrix {
-                t: t.re(),
-                q: q.iter().map(|v| v.re()).collect(),
-                coordinate: model.coordinates()[i].name.clone(),
-                pivot: if ratio.is_finite() { ratio } else { d },
-            });
+            return Err(bad_pivot(t, q, &model.coordinates()[i].name, d, diagonal));
         }
         // For pass 3: r̈_i = (u_i − U_iᵀ (X_i a_λ + c_i)) / D_i = β_i − (X_iᵀ U_i / D_i)ᵀ a_λ.
         let transported = x.force_to_parent(body.u_force);

@@ -1,6 +1,6 @@
 //! Right-hand side `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q`, with `F_b = (0, −m_b g, 0)`.
 
-use super::size::Size;
+use crate::linalg::size::Size;
 use crate::{Mechanism, Model, Scalar, Workspace};
 
 /// Assemble `ws.rhs`. Reads `ws.jacobian` and `ws.convective` (general models) or the constant

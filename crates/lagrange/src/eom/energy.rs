@@ -98,7 +98,7 @@ pub fn momenta<'w, M: Mechanism, S: Scalar>(
 /// # Errors
 /// As [`momenta`]; [`Error::NonFinite`] (stage [`Potential`](Stage::Potential)) for a potential
 /// that is not finite here (a singular point).
-pub fn energy<M: Mechanism, S: Scalar>(
+pub fn energy_function<M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &mut Workspace<S>,
     t: S,
@@ -119,4 +119,20 @@ pub fn energy<M: Mechanism, S: Scalar>(
         return Err(non_finite(stage, t, q));
     }
     Ok(energy)
+}
+
+/// The total energy `T + V` (gravity included). It equals the energy function `h` of
+/// [`energy_function`] for scleronomic mechanisms; for rheonomic ones (poses that depend on
+/// time) they differ, and `h`, not `T + V`, is the one conserved when `∂L/∂t = 0`.
+///
+/// # Errors
+/// As [`kinetic_energy`] and [`potential_energy`].
+pub fn total_energy<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<S, Error> {
+    Ok(kinetic_energy(model, ws, t, q, qdot)? + potential_energy(model, ws, t, q)?)
 }

@@ -1,8 +1,12 @@
 //! Position stage: body poses, the pose Jacobian, the potential gradient; velocity stage: body
 //! velocities and convective accelerations.
 
-use crate::{Mechanism, Model, Scalar, Workspace};
-use num_dual::{Dual, Dual2};
+use crate::mechanism::Mechanism;
+use crate::model::Model;
+use crate::scalar::Scalar;
+use crate::workspace::Workspace;
+use crate::{probe, seed};
+use num_dual::Dual;
 
 /// Fill `ws.position`, `ws.jacobian` and — with `potential` and a model that has one —
 /// `ws.potential` and `ws.potential_gradient`.
@@ -19,32 +23,25 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
 ) {
     let n = model.n;
     let potential = potential && model.has_potential;
-    let t_dual = Dual::from_re(t);
-    for (d, &qi) in ws.q_dual.iter_mut().zip(q) {
-        *d = Dual::from_re(qi);
-    }
-    for j in 0..n {
-        // Seed coordinate j.
-        ws.q_dual[j].eps = S::one();
-        model.mechanism.poses(&ws.q_dual, t_dual, &mut ws.poses_dual);
+    let Workspace { q_dual, poses_dual, jacobian, position, potential_gradient, potential: value, .. } = ws;
+    probe::jacobian_columns(&model.mechanism, q_dual, poses_dual, t, q, |j, q_dual, poses, t_dual| {
         // Column j of J; the poses themselves once.
-        for (b, pose) in ws.poses_dual.iter().enumerate() {
-            ws.jacobian[3 * b * n + j] = pose.x.eps;
-            ws.jacobian[(3 * b + 1) * n + j] = pose.y.eps;
-            ws.jacobian[(3 * b + 2) * n + j] = pose.angle.eps;
+        for (b, pose) in poses.iter().enumerate() {
+            jacobian[3 * b * n + j] = pose.x.eps;
+            jacobian[(3 * b + 1) * n + j] = pose.y.eps;
+            jacobian[(3 * b + 2) * n + j] = pose.angle.eps;
             if j == 0 {
-                ws.position[3 * b] = pose.x.re;
-                ws.position[3 * b + 1] = pose.y.re;
-                ws.position[3 * b + 2] = pose.angle.re;
+                position[3 * b] = pose.x.re;
+                position[3 * b + 1] = pose.y.re;
+                position[3 * b + 2] = pose.angle.re;
             }
         }
         // ∂V/∂q_j through the same seeded poses.
-        if potential && let Some(v) = model.mechanism.potential(&ws.q_dual, &ws.poses_dual, t_dual) {
-            ws.potential_gradient[j] = v.eps;
-            ws.potential = v.re;
+        if potential && let Some(v) = model.mechanism.potential(q_dual, poses, t_dual) {
+            potential_gradient[j] = v.eps;
+            *value = v.re;
         }
-        ws.q_dual[j].eps = S::zero();
-    }
+    });
 }
 
 /// Fill `ws.velocity` (`ṗ = J q̇ + ∂p/∂t`) and `ws.convective` (`γ = d²/ds² p(q + s q̇, t + s)`):
@@ -56,11 +53,7 @@ pub(crate) fn velocity_pass<M: Mechanism, S: Scalar>(
     q: &[S],
     qdot: &[S],
 ) {
-    for ((d, &qi), &vi) in ws.q_dual2.iter_mut().zip(q).zip(qdot) {
-        *d = Dual2::new(qi, vi, S::zero());
-    }
-    let t_dual = Dual2::new(t, S::one(), S::zero());
-    model.mechanism.poses(&ws.q_dual2, t_dual, &mut ws.poses_dual2);
+    probe::moving_poses(&model.mechanism, &mut ws.q_dual2, &mut ws.poses_dual2, t, q, qdot);
     for (b, pose) in ws.poses_dual2.iter().enumerate() {
         ws.velocity[3 * b] = pose.x.v1;
         ws.velocity[3 * b + 1] = pose.y.v1;
@@ -74,9 +67,7 @@ pub(crate) fn velocity_pass<M: Mechanism, S: Scalar>(
 /// Fill `ws.position` only (one real pass).
 pub(crate) fn position_pass<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S]) {
     // Reuse the first-order buffers with zero dual parts.
-    for (d, &qi) in ws.q_dual.iter_mut().zip(q) {
-        *d = Dual::from_re(qi);
-    }
+    seed::constant(&mut ws.q_dual, q);
     model.mechanism.poses(&ws.q_dual, Dual::from_re(t), &mut ws.poses_dual);
     for (b, pose) in ws.poses_dual.iter().enumerate() {
         ws.position[3 * b] = pose.x.re;

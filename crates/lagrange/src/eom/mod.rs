@@ -10,10 +10,10 @@ pub(crate) mod kinematics;
 pub(crate) mod mass_matrix;
 pub(crate) mod raw;
 pub(crate) mod reactions;
-pub(crate) mod size;
-pub mod solve;
 
-use crate::error::Stage;
+use crate::error::{Stage, bad_pivot};
+pub(crate) use crate::error::{all_finite, non_finite};
+use crate::linalg::{self, size};
 use crate::{Error, Mechanism, Model, Scalar, Workspace};
 
 /// Generalized accelerations `q̈ = M(q, t)⁻¹ f(q, q̇, t)` of a body model.
@@ -61,7 +61,7 @@ fn solve_sized<M: Mechanism, S: Scalar, N: size::Size>(
         }
         bias::assemble(model, ws, size, t, q, qdot);
         ws.qddot.copy_from_slice(&ws.rhs);
-        solve::ldlt_solve_sized(size, &ws.constant_factor, &mut ws.qddot);
+        linalg::ldlt_solve_sized(size, &ws.constant_factor, &mut ws.qddot);
     } else {
         // Position and velocity stages.
         kinematics::jacobian_pass(model, ws, t, q, true);
@@ -69,21 +69,16 @@ fn solve_sized<M: Mechanism, S: Scalar, N: size::Size>(
         // Mass matrix and its factor.
         mass_matrix::assemble(model, ws, size);
         ws.factor.copy_from_slice(&ws.mass_matrix);
-        if let Err((j, pivot)) = solve::ldlt_factor_sized(size, &mut ws.factor) {
+        if let Err(bad) = linalg::ldlt_factor_sized(size, &mut ws.factor) {
             if !all_finite(&ws.mass_matrix) {
                 return Err(non_finite(Stage::Kinematics, t, q));
             }
-            return Err(Error::SingularMassMatrix {
-                t: t.re(),
-                q: q.iter().map(|v| v.re()).collect(),
-                coordinate: model.coordinates()[j].name.clone(),
-                pivot,
-            });
+            return Err(bad_pivot(t, q, &model.coordinates()[bad.index].name, bad.pivot, bad.diagonal));
         }
         // Right-hand side and solve.
         bias::assemble(model, ws, size, t, q, qdot);
         ws.qddot.copy_from_slice(&ws.rhs);
-        solve::ldlt_solve_sized(size, &ws.factor, &mut ws.qddot);
+        linalg::ldlt_solve_sized(size, &ws.factor, &mut ws.qddot);
     }
     if !all_finite(&ws.qddot) {
         return Err(diagnose(model, ws, t, q));
@@ -103,14 +98,6 @@ fn diagnose<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &Workspace<S>, t: S, 
         Stage::Accelerations
     };
     non_finite(stage, t, q)
-}
-
-pub(crate) fn all_finite<S: Scalar>(values: &[S]) -> bool {
-    values.iter().all(|v| v.re().is_finite())
-}
-
-pub(crate) fn non_finite<S: Scalar>(stage: Stage, t: S, q: &[S]) -> Error {
-    Error::NonFinite { stage, t: t.re(), q: q.iter().map(|v| v.re()).collect() }
 }
 
 /// Check lengths and finiteness of a state handed to the engine.

@@ -1,9 +1,10 @@
 //! The raw-Lagrangian path: Lagrange's equations from second derivatives of `L(q, q̇, t)`.
 
-use super::{check_state, solve};
-use crate::dynamics::jacobian::Tangent;
-use crate::error::Stage;
-use crate::model::probe::ProbeStates;
+use super::check_state;
+use crate::error::{Stage, bad_pivot};
+use crate::linalg;
+use crate::probe::ProbeStates;
+use crate::seed::Tangent;
 use crate::{Coordinate, Error, LagrangianFunction, Scalar};
 use num_dual::{Dual64, HyperDual};
 
@@ -197,19 +198,14 @@ impl<F: LagrangianFunction> RawModel<F> {
         }
         // Solve.
         ws.factor.copy_from_slice(&ws.hessian);
-        if let Err((j, pivot)) = solve::ldlt_factor(n, &mut ws.factor) {
+        if let Err(bad) = linalg::ldlt_factor(n, &mut ws.factor) {
             if !super::all_finite(&ws.hessian) {
                 return Err(super::non_finite(Stage::Lagrangian, t, q));
             }
-            return Err(Error::SingularMassMatrix {
-                t: t.re(),
-                q: q.iter().map(|v| v.re()).collect(),
-                coordinate: self.coordinates()[j].name.clone(),
-                pivot,
-            });
+            return Err(bad_pivot(t, q, &self.coordinates()[bad.index].name, bad.pivot, bad.diagonal));
         }
         ws.qddot.copy_from_slice(&ws.rhs);
-        solve::ldlt_solve(n, &ws.factor, &mut ws.qddot);
+        linalg::ldlt_solve(n, &ws.factor, &mut ws.qddot);
         if !super::all_finite(&ws.qddot) {
             let stage = if super::all_finite(&ws.rhs) { Stage::Accelerations } else { Stage::Lagrangian };
             return Err(super::non_finite(stage, t, q));

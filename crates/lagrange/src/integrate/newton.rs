@@ -20,7 +20,7 @@
 //! §IV.10, on second-order problems): the same Newton step for a quarter of the factorization
 //! work. For SDIRK (`s = 1`, `C = γ`) it is `I − γh A_v − (γh)² A_q`, i.e. `I − γh ∂f/∂y`.
 
-use crate::eom::solve;
+use crate::linalg as solve;
 
 /// The Jacobian, the factored reduced Newton matrix and scratch, for `s` stages of `n`
 /// coordinates.

@@ -4,7 +4,7 @@
 use super::check_step;
 use super::integrator::{Grid, Integrator, Stats, diverged};
 use super::non_finite_quantity;
-use crate::eom::solve;
+use crate::linalg as solve;
 use crate::{Dynamics, Error, LagrangianFunction, State};
 use num_dual::{Dual64, HyperDual64};
 

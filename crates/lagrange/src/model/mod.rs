@@ -1,11 +1,9 @@
-//! The model: what the user describes, validated and immutable.
+//! The model: a user's mechanism, validated and immutable.
 
 mod lagrangian;
-mod mechanism;
 #[allow(clippy::module_inception)]
 mod model;
-pub(crate) mod probe;
+#[cfg(test)]
+mod tests;
 
-pub use lagrangian::{Lagrangian, LagrangianFunction};
-pub use mechanism::{Body, Coordinate, CoordinateKind, Mechanism};
 pub use model::Model;

@@ -321,6 +321,11 @@ fn a_declared_tree_that_contradicts_the_mechanism_is_rejected() {
     heavier.bodies[1].mass = 3.0;
     let mut weaker = chain.clone();
     weaker.g = 1.0;
+    // The message names the body whose pose differs, and the component.
+    let error = Model::new(wrong_anchor.clone()).unwrap_err().to_string();
+    let name = &chain.bodies[1].name;
+    assert!(error.contains(&format!("pose of body `{name}` differs in ")), "{error}");
+    assert!(["in x:", "in y:", "in angle:"].iter().any(|c| error.contains(c)), "{error}");
     for (what, mechanism) in [("anchor", wrong_anchor), ("relative angle", relative), ("mass", heavier), ("g", weaker)]
     {
         let result = Model::new(mechanism.clone());

@@ -1,10 +1,14 @@
-//! In-place dense factorizations for the small systems of the engine.
+//! Dense linear algebra for the small systems of the engine, below every other module: the
+//! in-place LDLᵀ and LU factorizations, the mass-matrix product `Σ_b J_bᵀ D_b J_b`, and the
+//! number of coordinates as a type ([`size`]).
 //!
 //! Generic over the scalar (so that accelerations can be differentiated), which is why the
 //! engine does not call nalgebra's decompositions (they require `RealField`).
 
-use super::size::{Size, with_size};
-use crate::Scalar;
+pub(crate) mod size;
+
+use crate::scalar::Scalar;
+use size::{Size, with_size};
 
 /// Relative pivot below which a symmetric positive definite factorization is declared
 /// singular: the pivot of coordinate `j` (its diagonal entry after eliminating the coordinates
@@ -12,22 +16,33 @@ use crate::Scalar;
 /// the coordinate is dependent on the others to within ~1e4 ulps — a configuration where the
 /// accelerations lose all digits. Extreme but regular scenes (mass ratios 1e6, angles 1e-8)
 /// keep ratios ≥ 1e-7.
-pub const PIVOT_RTOL: f64 = 1e-12;
+pub(crate) const PIVOT_RTOL: f64 = 1e-12;
+
+/// A pivot of [`ldlt_factor`] that is not positive relative to its diagonal entry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct BadPivot {
+    /// Its row (the coordinate).
+    pub index: usize,
+    /// The pivot `D_j`.
+    pub pivot: f64,
+    /// The diagonal entry `A_jj`.
+    pub diagonal: f64,
+}
 
 /// Factor the symmetric matrix `a` (n × n, row-major, both triangles filled) in place as
 /// `L D Lᵀ`: `L` unit lower triangular below the diagonal, `D` on the diagonal; the strict
 /// upper triangle is left untouched.
 ///
-/// Returns `Err((j, ratio))` if pivot `j` is not positive relative to its diagonal entry
+/// Returns the [`BadPivot`] `j` if that pivot is not positive relative to its diagonal entry
 /// (singular or indefinite matrix).
-pub fn ldlt_factor<S: Scalar>(n: usize, a: &mut [S]) -> Result<(), (usize, f64)> {
+pub(crate) fn ldlt_factor<S: Scalar>(n: usize, a: &mut [S]) -> Result<(), BadPivot> {
     debug_assert_eq!(a.len(), n * n);
     with_size!(n, size => ldlt_factor_sized(size, a))
 }
 
 /// [`ldlt_factor`] compiled for a size.
 #[inline]
-pub(crate) fn ldlt_factor_sized<S: Scalar, N: Size>(size: N, a: &mut [S]) -> Result<(), (usize, f64)> {
+pub(crate) fn ldlt_factor_sized<S: Scalar, N: Size>(size: N, a: &mut [S]) -> Result<(), BadPivot> {
     let n = size.get();
     let a = &mut a[..n * n];
     for j in 0..n {
@@ -40,7 +55,7 @@ pub(crate) fn ldlt_factor_sized<S: Scalar, N: Size>(size: N, a: &mut [S]) -> Res
         }
         let ratio = d.re() / diagonal.re();
         if !(diagonal.re() > 0.0 && ratio > PIVOT_RTOL) {
-            return Err((j, if ratio.is_finite() { ratio } else { d.re() }));
+            return Err(BadPivot { index: j, pivot: d.re(), diagonal: diagonal.re() });
         }
         a[j * n + j] = d;
         // L_ij = (A_ij − Σ_k L_ik L_jk D_k) / D_j.
@@ -56,7 +71,7 @@ pub(crate) fn ldlt_factor_sized<S: Scalar, N: Size>(size: N, a: &mut [S]) -> Res
 }
 
 /// Solve `L D Lᵀ x = b` in place (`b` becomes `x`) with a factor from [`ldlt_factor`].
-pub fn ldlt_solve<S: Scalar>(n: usize, factor: &[S], b: &mut [S]) {
+pub(crate) fn ldlt_solve<S: Scalar>(n: usize, factor: &[S], b: &mut [S]) {
     with_size!(n, size => ldlt_solve_sized(size, factor, b))
 }
 
@@ -90,7 +105,7 @@ pub(crate) fn ldlt_solve_sized<S: Scalar, N: Size>(size: N, factor: &[S], b: &mu
 /// Factor a general matrix `a` (n × n, row-major) in place as `P A = L U` with partial pivoting;
 /// `pivots[i]` is the row swapped into row `i`. Returns `Err(j)` at an exactly zero or
 /// non-finite pivot.
-pub fn lu_factor(n: usize, a: &mut [f64], pivots: &mut [usize]) -> Result<(), usize> {
+pub(crate) fn lu_factor(n: usize, a: &mut [f64], pivots: &mut [usize]) -> Result<(), usize> {
     for j in 0..n {
         // Pivot: the largest entry of column j at or below the diagonal.
         let mut p = j;
@@ -122,7 +137,7 @@ pub fn lu_factor(n: usize, a: &mut [f64], pivots: &mut [usize]) -> Result<(), us
 }
 
 /// Solve `A x = b` in place with a factor from [`lu_factor`].
-pub fn lu_solve(n: usize, factor: &[f64], pivots: &[usize], b: &mut [f64]) {
+pub(crate) fn lu_solve(n: usize, factor: &[f64], pivots: &[usize], b: &mut [f64]) {
     for j in 0..n {
         b.swap(j, pivots[j]);
     }
@@ -139,6 +154,47 @@ pub fn lu_solve(n: usize, factor: &[f64], pivots: &[usize], b: &mut [f64]) {
             s -= factor[i * n + k] * b[k];
         }
         b[i] = s / factor[i * n + i];
+    }
+}
+
+/// The mass matrix `M = Σ_b J_bᵀ D_b J_b`, `D_b = diag(m_b, m_b, I_b)`, from the pose Jacobian
+/// `jacobian` (3B × n, body-major rows) into `out` (n × n): upper triangle, mirrored.
+pub(crate) fn mass_matrix_sized<S: Scalar, N: Size>(
+    size: N,
+    mass: &[f64],
+    inertia: &[f64],
+    jacobian: &[S],
+    out: &mut [S],
+) {
+    let n = size.get();
+    let (mm, jac) = (&mut out[..n * n], jacobian);
+    mm.fill(S::zero());
+    for (b, (&m, &inertia)) in mass.iter().zip(inertia).enumerate() {
+        let rows = &jac[3 * b * n..3 * (b + 1) * n];
+        // Translational part m (Jxᵀ Jx + Jyᵀ Jy), upper triangle.
+        if m != 0.0 {
+            for i in 0..n {
+                let (xi, yi) = (rows[i] * m, rows[n + i] * m);
+                for j in i..n {
+                    mm[i * n + j] += xi * rows[j] + yi * rows[n + j];
+                }
+            }
+        }
+        // Rotational part I Jφᵀ Jφ.
+        if inertia != 0.0 {
+            for i in 0..n {
+                let ai = rows[2 * n + i] * inertia;
+                for j in i..n {
+                    mm[i * n + j] += ai * rows[2 * n + j];
+                }
+            }
+        }
+    }
+    // Mirror the upper triangle.
+    for i in 1..n {
+        for j in 0..i {
+            mm[i * n + j] = mm[j * n + i];
+        }
     }
 }
 
@@ -172,7 +228,7 @@ mod tests {
     fn ldlt_rejects_singular_and_indefinite() {
         // Rank one: second coordinate dependent on the first.
         let mut a = vec![1.0, 2.0, 2.0, 4.0];
-        assert_eq!(ldlt_factor(2, &mut a).unwrap_err().0, 1);
+        assert_eq!(ldlt_factor(2, &mut a).unwrap_err().index, 1);
         let mut a = vec![1.0, 0.0, 0.0, -1.0];
         assert!(ldlt_factor(2, &mut a).is_err());
         let mut a = vec![0.0];

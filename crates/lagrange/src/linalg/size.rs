@@ -34,23 +34,23 @@ macro_rules! with_size {
     ($n:expr, $size:ident => $body:expr) => {
         match $n {
             1 => {
-                let $size = $crate::eom::size::Fixed::<1>;
+                let $size = $crate::linalg::size::Fixed::<1>;
                 $body
             }
             2 => {
-                let $size = $crate::eom::size::Fixed::<2>;
+                let $size = $crate::linalg::size::Fixed::<2>;
                 $body
             }
             3 => {
-                let $size = $crate::eom::size::Fixed::<3>;
+                let $size = $crate::linalg::size::Fixed::<3>;
                 $body
             }
             4 => {
-                let $size = $crate::eom::size::Fixed::<4>;
+                let $size = $crate::linalg::size::Fixed::<4>;
                 $body
             }
             n => {
-                let $size = $crate::eom::size::Dynamic(n);
+                let $size = $crate::linalg::size::Dynamic(n);
                 $body
             }
         }

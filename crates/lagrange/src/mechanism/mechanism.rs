@@ -1,6 +1,8 @@
 //! What a user writes: coordinates, bodies, and where each body is as a function of them.
 
-use crate::{Pose, Scalar, Tree};
+use crate::pose::Pose;
+use crate::scalar::Scalar;
+use crate::tree::Tree;
 
 /// What a generalized coordinate measures, for units and display.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,0 +1,9 @@
+//! What a user writes: coordinates, bodies and their poses ([`Mechanism`]), or a Lagrangian
+//! ([`Lagrangian`]); below the probes and the [`Model`](crate::Model) that check and prepare them.
+
+mod lagrangian;
+#[allow(clippy::module_inception)]
+mod mechanism;
+
+pub use lagrangian::{Lagrangian, LagrangianFunction};
+pub use mechanism::{Body, Coordinate, CoordinateKind, Mechanism};

@@ -1,0 +1,117 @@
+//! Construction turns silent wrong answers into typed errors.
+
+use crate::test_support::{Cart, Driven};
+use crate::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar};
+
+/// The cart pendulum whose poses forget the cart.
+#[derive(Debug)]
+struct WithoutCart(Cart);
+
+impl Mechanism for WithoutCart {
+    fn coordinates(&self) -> &[Coordinate] {
+        self.0.coordinates()
+    }
+    fn bodies(&self) -> &[Body] {
+        self.0.bodies()
+    }
+    fn gravity(&self) -> f64 {
+        self.0.gravity()
+    }
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+        p[1] = Pose::point(q[0] + q[1].sin() * self.0.r, -q[1].cos() * self.0.r);
+    }
+}
+
+#[test]
+fn a_body_the_poses_forget_is_an_error_naming_it() {
+    let error = Model::new(WithoutCart(Cart::new(2.0, 1.0, 1.5))).unwrap_err();
+    assert!(matches!(&error, Error::UnwrittenPose { body, component: "x", .. } if body == "cart"), "{error}");
+    assert!(error.to_string().contains("body `cart`"), "{error}");
+    // The whole mechanism is fine.
+    assert!(Model::new(Cart::new(2.0, 1.0, 1.5)).is_ok());
+}
+
+/// The driven pendulum, with poses that read the real part of the time or of the angle.
+#[derive(Debug)]
+struct ReadsRealPart {
+    driven: Driven,
+    time: bool,
+}
+
+impl Mechanism for ReadsRealPart {
+    fn coordinates(&self) -> &[Coordinate] {
+        self.driven.coordinates()
+    }
+    fn bodies(&self) -> &[Body] {
+        self.driven.bodies()
+    }
+    fn gravity(&self) -> f64 {
+        self.driven.gravity()
+    }
+    fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
+        let d = &self.driven;
+        let pivot =
+            if self.time { S::from((t.re() * d.omega).sin() * d.amplitude) } else { (t * d.omega).sin() * d.amplitude };
+        let theta = if self.time { q[0] } else { S::from(q[0].re()) };
+        p[0] = Pose::point(pivot + theta.sin() * d.r, -theta.cos() * d.r);
+    }
+}
+
+#[test]
+fn poses_that_read_the_real_part_are_an_error_naming_body_component_and_variable() {
+    let error = Model::new(ReadsRealPart { driven: Driven::new(), time: true }).unwrap_err();
+    assert!(
+        matches!(&error, Error::LostDerivative { body, component: "x", variable, exact, .. }
+            if body == "bob" && variable == "t" && *exact == 0.0),
+        "{error}"
+    );
+    let error = Model::new(ReadsRealPart { driven: Driven::new(), time: false }).unwrap_err();
+    assert!(
+        matches!(&error, Error::LostDerivative { body, component: "x", variable, .. } if body == "bob" && variable == "θ"),
+        "{error}"
+    );
+    // Reading the time as the scalar it is passes.
+    assert!(Model::new(Driven::new()).is_ok());
+}
+
+/// A Lagrangian whose kinetic term is negative: `L = −½ q̇²`.
+#[derive(Debug)]
+struct NegativeKinetic([Coordinate; 1]);
+
+impl crate::Lagrangian for NegativeKinetic {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.0
+    }
+    fn lagrangian<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S]) -> S {
+        -(qdot[0] * qdot[0] * 0.5)
+    }
+}
+
+#[test]
+fn a_negative_definite_velocity_hessian_is_reported_as_indefinite() {
+    let raw = crate::RawModel::new(NegativeKinetic([Coordinate::length("x")])).unwrap();
+    let mut ws = raw.workspace();
+    let error = raw.accelerations(&mut ws, 0.0, &[0.1], &[0.2]).unwrap_err();
+    assert!(
+        matches!(&error, Error::IndefiniteMassMatrix { coordinate, pivot, .. } if coordinate == "x" && *pivot == -1.0)
+    );
+    let message = error.to_string();
+    assert!(message.contains("indefinite") && !message.contains("not independent"), "{message}");
+}
+
+#[test]
+fn the_energy_function_and_the_total_energy_differ_for_a_rheonomic_mechanism() {
+    // The driven pendulum without its spring and damper: h = T + V − ẋ_p m r θ̇ cosθ − m ẋ_p².
+    let model = Model::new(Driven { k: 0.0, c: 0.0, ..Driven::new() }).unwrap();
+    let mut ws = model.workspace();
+    let (t, q, qdot) = (0.3, [0.4], [0.7]);
+    let h = crate::energy_function(&model, &mut ws, t, &q, &qdot).unwrap();
+    let e = crate::total_energy(&model, &mut ws, t, &q, &qdot).unwrap();
+    let d = Driven::new();
+    let (m, r) = (d.bodies[0].mass, d.r);
+    let xdot_p = d.amplitude * d.omega * (d.omega * t).cos();
+    // h = q̇ p − L = T + V − (ẋ_p² m + ẋ_p m r θ̇ cosθ), since p = m r² θ̇ + m r ẋ_p cosθ.
+    let expected = e - m * xdot_p * (xdot_p + r * qdot[0] * q[0].cos());
+    approx::assert_relative_eq!(h, expected, max_relative = 1e-14);
+    assert!((h - e).abs() > 0.01);
+}

@@ -1,0 +1,357 @@
+//! Deterministic probe states at which the engine checks a mechanism's structure once, and
+//! the checks [`Model::new`](crate::Model::new) runs there: below the model, working on the
+//! user's [`Mechanism`] and [`Tree`] directly (no evaluation stage of `eom`).
+
+use crate::error::{Error, bad_pivot};
+use crate::linalg::{self, size::Dynamic};
+use crate::mechanism::{LagrangianFunction, Mechanism};
+use crate::pose::Pose;
+use crate::seed;
+use crate::tree::Tree;
+use num_dual::{Dual, Dual2, Dual64};
+
+/// A few fixed, generic states `(q, q̇, t)`: away from 0 and from special angles, so that an
+/// identity that holds at all of them holds structurally (it is evaluated exactly by AD).
+pub(crate) struct ProbeStates {
+    n: usize,
+    q: Vec<f64>,
+    qdot: Vec<f64>,
+    t: Vec<f64>,
+}
+
+const PROBES: usize = 3;
+
+impl ProbeStates {
+    pub(crate) fn new(n: usize) -> Self {
+        // splitmix64: a fixed, portable sequence.
+        let mut seed: u64 = 0x5EED_1A6A_A6E0_0001;
+        let mut next = move || {
+            seed = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = seed;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let q = (0..PROBES * n).map(|_| 0.35 + 0.5 * next()).collect();
+        let qdot = (0..PROBES * n).map(|_| 0.8 * next() - 0.4).collect();
+        let t = (0..PROBES).map(|_| 0.1 + next()).collect();
+        Self { n, q, qdot, t }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        PROBES
+    }
+
+    /// Probe state `k`: `(q, q̇, t)`.
+    pub(crate) fn state(&self, k: usize) -> (&[f64], &[f64], f64) {
+        let r = k * self.n..(k + 1) * self.n;
+        (&self.q[r.clone()], &self.qdot[r], self.t[k])
+    }
+
+    /// Which coordinates are cyclic (`∂L/∂q_j` exactly zero at every probe), and whether the
+    /// Lagrangian is autonomous (`∂L/∂t` exactly zero at every probe).
+    pub(crate) fn lagrangian_structure<F: LagrangianFunction>(&self, f: &F) -> (Vec<bool>, bool) {
+        let n = self.n;
+        let mut scratch = f.scratch::<Dual64>();
+        let mut q = vec![Dual64::from(0.0); n];
+        let mut qdot = vec![Dual64::from(0.0); n];
+        let mut cyclic = vec![true; n];
+        let mut autonomous = true;
+        for k in 0..PROBES {
+            let (q0, qdot0, t0) = self.state(k);
+            seed::constant(&mut qdot, qdot0);
+            seed::constant(&mut q, q0);
+            for j in 0..n {
+                q[j].eps = 1.0;
+                let l = f.lagrangian_with(&mut scratch, Dual64::from(t0), &q, &qdot);
+                q[j].eps = 0.0;
+                cyclic[j] &= l.eps == 0.0;
+            }
+            let l = f.lagrangian_with(&mut scratch, Dual64::new(t0, 1.0), &q, &qdot);
+            autonomous &= l.eps == 0.0;
+        }
+        (cyclic, autonomous)
+    }
+}
+
+/// Terms computed once for a mechanism that declares a constant mass matrix.
+#[derive(Clone, Debug)]
+pub(crate) struct ConstantTerms {
+    /// `J` (3B × n), body-major rows.
+    pub jacobian: Vec<f64>,
+    /// `M` (n × n).
+    pub mass_matrix: Vec<f64>,
+    /// LDLᵀ factor of `M` (n × n): unit lower triangle below the diagonal, `D` on it.
+    pub factor: Vec<f64>,
+    /// `Σ_b J_bᵀ (0, −m_b g, 0)` (n).
+    pub gravity_force: Vec<f64>,
+}
+
+/// The pose Jacobian column by column: `n` first-order dual passes of the poses at `(q, t)`,
+/// pass `j` with `q_j` seeded; `column(j, seeded q, seeded poses)` reads each. The one
+/// Jacobian pass of the engine (the evaluation stage `eom::kinematics` runs it too).
+pub(crate) fn jacobian_columns<M: Mechanism, S: crate::scalar::Scalar>(
+    mechanism: &M,
+    q_dual: &mut [Dual<S>],
+    poses: &mut [Pose<Dual<S>>],
+    t: S,
+    q: &[S],
+    mut column: impl FnMut(usize, &[Dual<S>], &[Pose<Dual<S>>], Dual<S>),
+) {
+    let t_dual = Dual::from_re(t);
+    seed::constant(q_dual, q);
+    for j in 0..q.len() {
+        q_dual[j].eps = S::one();
+        mechanism.poses(q_dual, t_dual, poses);
+        column(j, q_dual, poses, t_dual);
+        q_dual[j].eps = S::zero();
+    }
+}
+
+/// Poses moving along `(q̇, 1)`: one second-order dual pass; `v1` parts are the body
+/// velocities `ṗ = J q̇ + ∂p/∂t`, `v2` parts the convective accelerations `γ = p̈ − J q̈`.
+pub(crate) fn moving_poses<M: Mechanism, S: crate::scalar::Scalar>(
+    mechanism: &M,
+    q_dual2: &mut [Dual2<S>],
+    poses: &mut [Pose<Dual2<S>>],
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) {
+    seed::along2(q_dual2, q, qdot);
+    mechanism.poses(q_dual2, Dual2::new(t, S::one(), S::zero()), poses);
+}
+
+/// `J` (3B × n, body-major rows) of `mechanism` at `(q, t)`, in `f64`.
+fn jacobian<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], jacobian: &mut [f64]) {
+    let n = q.len();
+    let mut q_dual = vec![Dual64::from_re(0.0); n];
+    let mut poses = vec![Pose::default(); mechanism.bodies().len()];
+    jacobian_columns(mechanism, &mut q_dual, &mut poses, t, q, |j, _, poses, _| {
+        for (b, pose) in poses.iter().enumerate() {
+            jacobian[3 * b * n + j] = pose.x.eps;
+            jacobian[(3 * b + 1) * n + j] = pose.y.eps;
+            jacobian[(3 * b + 2) * n + j] = pose.angle.eps;
+        }
+    });
+}
+
+/// Body velocities and convective accelerations (3B each) of `mechanism` at `(q, q̇, t)`.
+fn velocities<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], qdot: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let mut q_dual2 = vec![Dual2::from_re(0.0); q.len()];
+    let mut poses = vec![Pose::default(); mechanism.bodies().len()];
+    moving_poses(mechanism, &mut q_dual2, &mut poses, t, q, qdot);
+    let velocity = poses.iter().flat_map(|p| [p.x.v1, p.y.v1, p.angle.v1]).collect();
+    let convective = poses.iter().flat_map(|p| [p.x.v2, p.y.v2, p.angle.v2]).collect();
+    (velocity, convective)
+}
+
+/// Check a declared constant mass matrix at the probe states and compute its terms.
+pub(crate) fn constant_terms<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> Result<ConstantTerms, Error> {
+    let n = probes.n;
+    let bodies = mechanism.bodies();
+    let mut jac = vec![0.0; 3 * bodies.len() * n];
+    let mut reference: Option<Vec<f64>> = None;
+    for k in 0..probes.len() {
+        let (q, qdot, t) = probes.state(k);
+        jacobian(mechanism, t, q, &mut jac);
+        let (velocity, convective) = velocities(mechanism, t, q, qdot);
+        match &reference {
+            None => reference = Some(jac.clone()),
+            Some(j0) => {
+                let scale = j0.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+                if j0.iter().zip(&jac).any(|(a, b)| (a - b).abs() > 1e-12 * scale) {
+                    return Err(Error::Inconsistent {
+                        what: "declared a constant mass matrix, but the pose Jacobian changes with q or t".into(),
+                    });
+                }
+            }
+        }
+        let scale = velocity.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+        if convective.iter().any(|g| g.abs() > 1e-12 * scale) {
+            return Err(Error::Inconsistent {
+                what: "declared a constant mass matrix, but the convective term p̈ − J q̈ is not zero".into(),
+            });
+        }
+    }
+    // Probe 0 again, with q̇ = 0: a time-dependent pose would show a velocity.
+    let (q, _, t) = probes.state(0);
+    let (velocity, _) = velocities(mechanism, t, q, &vec![0.0; n]);
+    if velocity.iter().any(|v| *v != 0.0) {
+        return Err(Error::Inconsistent {
+            what: "declared a constant mass matrix, but the poses depend on time".into(),
+        });
+    }
+    jacobian(mechanism, t, q, &mut jac);
+    let mass: Vec<f64> = bodies.iter().map(|b| b.mass).collect();
+    let inertia: Vec<f64> = bodies.iter().map(|b| b.inertia).collect();
+    let mut mass_matrix = vec![0.0; n * n];
+    linalg::mass_matrix_sized(Dynamic(n), &mass, &inertia, &jac, &mut mass_matrix);
+    let mut factor = mass_matrix.clone();
+    linalg::ldlt_factor(n, &mut factor)
+        .map_err(|bad| bad_pivot(t, q, &mechanism.coordinates()[bad.index].name, bad.pivot, bad.diagonal))?;
+    let gravity = mechanism.gravity();
+    let mut gravity_force = vec![0.0; n];
+    for (b, m) in mass.iter().enumerate() {
+        for j in 0..n {
+            gravity_force[j] -= jac[(3 * b + 1) * n + j] * m * gravity;
+        }
+    }
+    Ok(ConstantTerms { jacobian: jac, mass_matrix, factor, gravity_force })
+}
+
+/// Check a declared tree against the mechanism: bodies, gravity, and — at every probe state —
+/// poses, velocities and convective accelerations from one second-order dual pass of each.
+pub(crate) fn check_tree<M: Mechanism>(mechanism: &M, tree: &Tree, probes: &ProbeStates) -> Result<(), Error> {
+    let inconsistent =
+        |what: String| Err(Error::Inconsistent { what: format!("declared a kinematic tree, but {what}") });
+    let bodies = mechanism.bodies();
+    let (n, gravity) = (probes.n, mechanism.gravity());
+    if tree.len() != bodies.len() || tree.len() != n {
+        return inconsistent(format!(
+            "it has {} bodies and coordinates where the mechanism has {} bodies and {} coordinates",
+            tree.len(),
+            bodies.len(),
+            n
+        ));
+    }
+    for (mine, theirs) in bodies.iter().zip(tree.bodies()) {
+        if (mine.mass, mine.inertia) != (theirs.mass, theirs.inertia) {
+            return inconsistent(format!("its body `{}` differs from the mechanism's `{}`", theirs.name, mine.name));
+        }
+    }
+    if tree.gravity() != gravity {
+        return inconsistent(format!("its g = {} differs from the mechanism's {}", tree.gravity(), gravity));
+    }
+    let b = bodies.len();
+    let (mut mine, mut theirs) = (vec![Pose::<Dual2<f64>>::default(); b], vec![Pose::<Dual2<f64>>::default(); b]);
+    let mut seeded = vec![Dual2::from_re(0.0); n];
+    for k in 0..probes.len() {
+        let (q, qdot, t) = probes.state(k);
+        moving_poses(mechanism, &mut seeded, &mut mine, t, q, qdot);
+        moving_poses(tree, &mut seeded, &mut theirs, t, q, qdot);
+        // Components: x and y of bodies with mass, the angle of bodies with inertia.
+        let carried = |b: usize, c: usize| if c < 2 { bodies[b].mass != 0.0 } else { bodies[b].inertia != 0.0 };
+        for (order, part) in [("pose", 0), ("velocity", 1), ("convective acceleration", 2)] {
+            let get = |d: &Dual2<f64>| [d.re, d.v1, d.v2][part];
+            let pairs = || {
+                (0..b)
+                    .flat_map(move |body| (0..3).map(move |c| (body, c)))
+                    .filter(|&(body, c)| carried(body, c))
+                    .map(|(body, c)| (body, c, get(&components(&mine[body])[c]), get(&components(&theirs[body])[c])))
+            };
+            let scale = pairs().fold(1.0_f64, |m, (_, _, x, y)| m.max(x.abs()).max(y.abs()));
+            // A NaN difference fails too.
+            let agrees = |x: f64, y: f64| (x - y).abs() <= 1e-12 * scale;
+            if let Some((body, c, x, y)) = pairs().find(|&(_, _, x, y)| !agrees(x, y)) {
+                return inconsistent(format!(
+                    "its {order} of body `{}` differs in {}: {} from the tree, {} from the poses, at q = {q:?}",
+                    bodies[body].name, COMPONENTS[c], y, x
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The components of a pose, by name.
+const COMPONENTS: [&str; 3] = ["x", "y", "angle"];
+
+fn components<S: Copy>(pose: &Pose<S>) -> [S; 3] {
+    [pose.x, pose.y, pose.angle]
+}
+
+/// `f64` poses at `(q, t)`, pre-filled with NaN so that a component `poses` leaves unwritten
+/// stays NaN.
+fn poses_f64<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], out: &mut [Pose<f64>]) {
+    out.fill(Pose::new(f64::NAN, f64::NAN, f64::NAN));
+    mechanism.poses(q, t, out);
+}
+
+/// Check, at every probe state, that `poses` writes every component of every body (the
+/// buffer is pre-filled with NaN: a forgotten body would otherwise sit wherever the buffer
+/// left it), and that the exact derivatives `∂p/∂t` and `∂p/∂q_j` of the components that carry
+/// mass agree with central differences of the `f64` poses — they differ when `poses` reads the
+/// real part of `t` or of a coordinate (`t.re()`), which silently drops that derivative.
+///
+/// The difference quotient `D(h) = (p(x + h) − p(x − h)) / 2h`, `h = ε^{1/3} max(|x|, 1)`,
+/// errs by its truncation `c h²` and its round-off `≤ k ε P / h` (`P` the size of the
+/// components, `k` the ulps a user's formula may lose; we allow `k = 64`). The truncation is
+/// measured rather than assumed: `D(h) − D(2h) ≈ −3 c h²`, so `|D(h) − D(2h)|` bounds it three
+/// times over. A derivative fails when it differs from `D(h)` by more than
+/// `4 (|D(h) − D(2h)| + 64 ε P / h)`; a dropped derivative is off by its whole size, orders of
+/// magnitude above that for any smooth map.
+pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> Result<(), Error> {
+    let bodies = mechanism.bodies();
+    let n = probes.n;
+    let mut poses = vec![Pose::default(); bodies.len()];
+    let mut moved = [vec![Pose::default(); bodies.len()], vec![Pose::default(); bodies.len()]];
+    let mut wide = [vec![Pose::default(); bodies.len()], vec![Pose::default(); bodies.len()]];
+    let mut jac = vec![0.0; 3 * bodies.len() * n];
+    let mut q_dual = vec![Dual64::from_re(0.0); n];
+    let mut time_poses = vec![Pose::<Dual64>::default(); bodies.len()];
+    for k in 0..probes.len() {
+        let (q, _, t) = probes.state(k);
+        poses_f64(mechanism, t, q, &mut poses);
+        for (body, pose) in bodies.iter().zip(&poses) {
+            if let Some(c) = components(pose).iter().position(|v| v.is_nan()) {
+                return Err(Error::UnwrittenPose {
+                    body: body.name.clone(),
+                    component: COMPONENTS[c],
+                    t,
+                    q: q.to_vec(),
+                });
+            }
+        }
+        // Exact derivatives: J by columns, ∂p/∂t by one pass with t seeded.
+        jacobian(mechanism, t, q, &mut jac);
+        seed::constant(&mut q_dual, q);
+        mechanism.poses(&q_dual, Dual64::new(t, 1.0), &mut time_poses);
+        // Variable j < n is q_j, j = n is t.
+        let mut q_moved = q.to_vec();
+        for j in 0..=n {
+            let x = if j < n { q[j] } else { t };
+            let h = f64::EPSILON.cbrt() * x.abs().max(1.0);
+            for (out, step) in moved.iter_mut().zip([h, -h]).chain(wide.iter_mut().zip([2.0 * h, -2.0 * h])) {
+                if j < n {
+                    q_moved[j] = x + step;
+                    poses_f64(mechanism, t, &q_moved, out);
+                } else {
+                    poses_f64(mechanism, x + step, q, out);
+                }
+            }
+            if j < n {
+                q_moved[j] = x;
+            }
+            for (b, body) in bodies.iter().enumerate() {
+                for c in 0..3 {
+                    let carries_mass = if c < 2 { body.mass != 0.0 } else { body.inertia != 0.0 };
+                    if !carries_mass {
+                        continue;
+                    }
+                    let exact = if j < n { jac[(3 * b + c) * n + j] } else { components(&time_poses[b])[c].eps };
+                    let at = |p: &[Pose<f64>]| components(&p[b])[c];
+                    let (plus, minus) = (at(&moved[0]), at(&moved[1]));
+                    let (plus2, minus2) = (at(&wide[0]), at(&wide[1]));
+                    let narrow = (plus - minus) / (2.0 * h);
+                    let broad = (plus2 - minus2) / (4.0 * h);
+                    let size = [plus, minus, plus2, minus2].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                    let tolerance = 4.0 * ((narrow - broad).abs() + 64.0 * f64::EPSILON * size / h);
+                    // A NaN fails too.
+                    let agrees = (exact - narrow).abs() <= tolerance;
+                    if !agrees {
+                        let coordinates = mechanism.coordinates();
+                        return Err(Error::LostDerivative {
+                            body: body.name.clone(),
+                            component: COMPONENTS[c],
+                            variable: if j < n { coordinates[j].name.clone() } else { "t".into() },
+                            exact,
+                            finite_difference: narrow,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
