@@ -44,13 +44,19 @@ impl MechanismVisitor for Identities<'_> {
             let plain = |x: &[f64]| x.iter().map(|a| Dual64::from(*a)).collect::<Vec<_>>();
             // dh/dt as the sum of its three partial contributions, each kept for the scale.
             let parts = [
-                lagrange::energy(&model, &mut dual, Dual64::new(s.t, 1.0), &plain(&s.q), &plain(&s.qdot))
+                lagrange::energy_function(&model, &mut dual, Dual64::new(s.t, 1.0), &plain(&s.q), &plain(&s.qdot))
                     .expect("valid")
                     .eps,
-                lagrange::energy(&model, &mut dual, Dual64::from(s.t), &seeded(&s.q, &s.qdot), &plain(&s.qdot))
-                    .expect("valid")
-                    .eps,
-                lagrange::energy(&model, &mut dual, Dual64::from(s.t), &plain(&s.q), &seeded(&s.qdot, &qddot))
+                lagrange::energy_function(
+                    &model,
+                    &mut dual,
+                    Dual64::from(s.t),
+                    &seeded(&s.q, &s.qdot),
+                    &plain(&s.qdot),
+                )
+                .expect("valid")
+                .eps,
+                lagrange::energy_function(&model, &mut dual, Dual64::from(s.t), &plain(&s.q), &seeded(&s.qdot, &qddot))
                     .expect("valid")
                     .eps,
             ];

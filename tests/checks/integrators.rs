@@ -91,7 +91,7 @@ fn variational_conserves_cart_momentum_and_energy_over_a_million_steps() {
     initial.qdot[0] = 0.3; // a moving cart: p_X ≠ 0
     let mut system = s.build(&params).expect("valid");
     let p0 = system.momenta(initial.t, &initial.q, &initial.qdot).expect("valid")[0];
-    let e0 = system.energy(initial.t, &initial.q, &initial.qdot).expect("valid");
+    let e0 = system.energy_function(initial.t, &initial.q, &initial.qdot).expect("valid");
     let dt = 0.01;
     let steps = 1_000_000;
     let trajectory = system

@@ -94,7 +94,7 @@ fn evaluate(what: &str, system: &mut dyn System, state: &State, kind: Kind) {
         ("mass matrix", no_panic(what, || system.mass_matrix(t, q, qdot).map(<[f64]>::to_vec))),
         ("momenta", no_panic(what, || system.momenta(t, q, qdot).map(<[f64]>::to_vec))),
         ("reactions", no_panic(what, || system.reaction_forces(t, q, qdot).map(|r| r.unwrap_or(&[]).to_vec()))),
-        ("energy", no_panic(what, || system.energy(t, q, qdot).map(|e| vec![e]))),
+        ("energy", no_panic(what, || system.energy_function(t, q, qdot).map(|e| vec![e]))),
     ];
     for (call, result) in &results {
         let what = format!("{what}: {call}");
@@ -185,7 +185,7 @@ fn every_call_on_every_scene_returns_a_value_or_a_typed_error() {
 fn energy_of_an_overflowing_state_is_an_error_not_nan() {
     let scene = lagrange_scenes::find("cart_pendulum").expect("registered");
     let mut system = scene.build(&scene.default_params()).expect("valid");
-    let energy = system.energy(0.0, &[0.0, 0.3], &[1e200, 1e200]);
+    let energy = system.energy_function(0.0, &[0.0, 0.3], &[1e200, 1e200]);
     assert!(matches!(energy, Err(Error::NonFinite { .. })), "{energy:?}");
 }
 

@@ -31,8 +31,8 @@ impl MechanismVisitor for RawVsBody<'_> {
             );
             // The energy function and the momenta, also assembled independently.
             let (h_body, h_raw) = (
-                body.energy(&mut ws, s.t, &s.q, &s.qdot).unwrap(),
-                Dynamics::energy(&raw, &mut rws, s.t, &s.q, &s.qdot).unwrap(),
+                body.energy_function(&mut ws, s.t, &s.q, &s.qdot).unwrap(),
+                Dynamics::energy_function(&raw, &mut rws, s.t, &s.q, &s.qdot).unwrap(),
             );
             let scale =
                 body.momenta(&mut ws, s.t, &s.q, &s.qdot, &mut a).map(|_| max_abs(&a) * max_abs(&s.qdot)).unwrap()

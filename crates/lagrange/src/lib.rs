@@ -146,9 +146,6 @@ mod system;
 mod test_support;
 
 pub use dynamics::Dynamics;
-/// The former name of [`energy_function`] (the energy function `h`, not `T + V`: see
-/// [`total_energy`]), kept while callers move to the new name.
-pub use eom::energy::energy_function as energy;
 pub use eom::energy::{energy_function, kinetic_energy, lagrangian, momenta, potential_energy, total_energy};
 pub use eom::raw::{RawModel, RawWorkspace};
 pub use eom::reactions::reaction_forces;

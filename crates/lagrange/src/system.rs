@@ -29,7 +29,7 @@ pub trait System {
     ///
     /// # Errors
     /// On a malformed state.
-    fn energy(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error>;
+    fn energy_function(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error>;
 
     /// The mass matrix `M = ∂²L/∂q̇²` (n × n, row-major).
     ///
@@ -116,8 +116,8 @@ impl<D: Dynamics> System for Simulation<D> {
         Ok(&self.jacobian)
     }
 
-    fn energy(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
-        self.system.energy(&mut self.ws, t, q, qdot)
+    fn energy_function(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
+        self.system.energy_function(&mut self.ws, t, q, qdot)
     }
 
     fn mass_matrix(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<&[f64], Error> {

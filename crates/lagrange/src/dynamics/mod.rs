@@ -54,7 +54,7 @@ pub trait Dynamics: LagrangianFunction {
     ///
     /// # Errors
     /// On a malformed or non-finite state.
-    fn energy(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error>;
+    fn energy_function(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error>;
 
     /// Write the mass matrix `M = ∂²L/∂q̇²` (n × n, row-major) at `(t, q, q̇)` into `mass`
     /// (for body models it does not depend on `q̇`).

@@ -48,7 +48,7 @@ impl<M: Mechanism> Dynamics for Model<M> {
         })
     }
 
-    fn energy(&self, ws: &mut Workspace<f64>, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
+    fn energy_function(&self, ws: &mut Workspace<f64>, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
         energy::energy_function(self, ws, t, q, qdot)
     }
 

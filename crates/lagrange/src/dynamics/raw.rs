@@ -67,8 +67,8 @@ impl<F: LagrangianFunction> Dynamics for RawModel<F> {
         })
     }
 
-    fn energy(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
-        RawModel::energy(self, ws, t, q, qdot)
+    fn energy_function(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
+        RawModel::energy_function(self, ws, t, q, qdot)
     }
 
     fn mass_matrix(

@@ -166,8 +166,8 @@ impl<D: Dynamics> Dynamics for WithoutJacobian<D> {
     fn accelerations(&self, ws: &mut D::Workspace, t: f64, q: &[f64], v: &[f64], a: &mut [f64]) -> Result<(), Error> {
         self.0.accelerations(ws, t, q, v, a)
     }
-    fn energy(&self, ws: &mut D::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
-        self.0.energy(ws, t, q, qdot)
+    fn energy_function(&self, ws: &mut D::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
+        self.0.energy_function(ws, t, q, qdot)
     }
     fn mass_matrix(&self, ws: &mut D::Workspace, t: f64, q: &[f64], v: &[f64], m: &mut [f64]) -> Result<(), Error> {
         self.0.mass_matrix(ws, t, q, v, m)

@@ -282,7 +282,13 @@ impl<F: LagrangianFunction> RawModel<F> {
     ///
     /// # Errors
     /// On a malformed or non-finite state, or an energy that overflows.
-    pub fn energy<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
+    pub fn energy_function<S: Scalar>(
+        &self,
+        ws: &mut RawWorkspace<F, S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+    ) -> Result<S, Error> {
         check_state(self.n, t, q, Some(qdot))?;
         Self::reset(ws, q, qdot);
         for (d, v) in ws.qdot.iter_mut().zip(qdot) {

@@ -228,7 +228,7 @@ fn energy<D: Dynamics>(
     sample: usize,
     step: usize,
 ) -> Result<f64, Error> {
-    system.energy(ws, t, q, qdot).map_err(|error| match error {
+    system.energy_function(ws, t, q, qdot).map_err(|error| match error {
         Error::NonFinite { stage, .. } if sample > 0 => {
             let largest = q.iter().chain(qdot).fold(0.0_f64, |m, v| m.max(v.abs()));
             Error::Diverged {

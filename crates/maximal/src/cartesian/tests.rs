@@ -195,9 +195,9 @@ fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
         let mut ws = system.workspace();
         let start = maps::body_states(id, &params, &initial).unwrap();
         let (z0, zdot0) = flatten(&start);
-        let e0 = system.energy(&mut ws, initial.t, &z0, &zdot0).unwrap();
+        let e0 = system.energy_function(&mut ws, initial.t, &z0, &zdot0).unwrap();
         let (z1, zdot1) = flatten(&bodies);
-        let e1 = system.energy(&mut ws, HORIZON, &z1, &zdot1).unwrap();
+        let e1 = system.energy_function(&mut ws, HORIZON, &z1, &zdot1).unwrap();
         let drift = (e1 - e0).abs() / e0.abs().max(1.0);
         assert!(drift <= ENERGY_RTOL, "{id}: energy {e0} → {e1}, relative change {drift:e}");
         report.energy = Some(drift);
@@ -434,7 +434,7 @@ fn dynamics_interface_matches_the_bodies() {
                 assert_eq!(momenta[j], m * zdot[j], "{id}: p[{j}]");
             }
         }
-        let energy = system.energy(&mut ws, state.t, &z, &zdot).unwrap();
+        let energy = system.energy_function(&mut ws, state.t, &z, &zdot).unwrap();
         let expected = maps::energy(id, &params, state.t, &states).unwrap();
         assert!((energy - expected).abs() <= 1e-14 * expected.abs().max(1.0), "{id}: energy {energy} vs {expected}");
         let mut reaction = vec![0.0; n];

@@ -124,7 +124,7 @@ fn evaluate(tally: &mut Tally, system: &mut dyn System, state: &State, overflowi
     if let Some(Ok(p)) = tally.call(&what("momenta"), || system.momenta(t, q, v).map(<[f64]>::to_vec)) {
         tally.finite(&if overflowing { what("momenta") } else { what("momenta (regular state)") }, &p);
     }
-    if let Some(Ok(e)) = tally.call(&what("energy"), || system.energy(t, q, v)) {
+    if let Some(Ok(e)) = tally.call(&what("energy"), || system.energy_function(t, q, v)) {
         tally.finite(&if overflowing { what("energy") } else { what("energy (regular state)") }, &[e]);
     }
 }

@@ -113,7 +113,7 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
                 1e-10 => m.check(Check::Finite, None, None),
                 _ => m.check(Check::FiniteOrTypedError, None, None),
             });
-            let (value, status, note, error) = outcome(system.energy(0.0, &q, &qdot).map(|e| vec![e]));
+            let (value, status, note, error) = outcome(system.energy_function(0.0, &q, &qdot).map(|e| vec![e]));
             let mut m = Measurement::new(format!("r = {r:.0e}"), id, "engine", "energy (|value|)").note(note);
             m.value = value;
             m.status = status;

@@ -140,9 +140,9 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         // the motion is that linear mode, its energy multiplied by |R|^{2N}.
         let (_, mut pendulum) = system("spring_pendulum", &[("stiffness", k)])?;
         let r_eq = 1.0 + 9.81 / k;
-        let e_eq = pendulum.energy(0.0, &[r_eq, 0.0], &[0.0, 0.0])?;
+        let e_eq = pendulum.energy_function(0.0, &[r_eq, 0.0], &[0.0, 0.0])?;
         let radial = State::new(0.0, [r_eq + 1e-3, 0.0], [0.0, 0.0]);
-        let e_radial = pendulum.energy(0.0, &radial.q, &radial.qdot)? - e_eq;
+        let e_radial = pendulum.energy_function(0.0, &radial.q, &radial.qdot)? - e_eq;
         let start = Instant::now();
         let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-12, |dt| {
             let steps = 2.0 * PROBE_STEPS as f64;
@@ -157,7 +157,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
 
         // RK4 on the spring pendulum, swinging.
         let swinging = State::new(0.0, [r_eq + 1e-3, 0.3], [0.0, 0.0]);
-        let e0 = pendulum.energy(0.0, &swinging.q, &swinging.qdot)? - e_eq;
+        let e0 = pendulum.energy_function(0.0, &swinging.q, &swinging.qdot)? - e_eq;
         let start = Instant::now();
         let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-10, |dt| {
             let steps = 2.0 * PROBE_STEPS as f64;
@@ -196,7 +196,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         let theta0: f64 = 1.0;
         let released = State::new(0.0, [1.0 + 9.81 * theta0.cos() / k, theta0], [0.0, 0.0]);
         let tol = 1e-6;
-        let e_release = pendulum.energy(0.0, &released.q, &released.qdot)? - e_eq;
+        let e_release = pendulum.energy_function(0.0, &released.q, &released.qdot)? - e_eq;
         for method in
             [Method::Implicit { tol: Tolerances::uniform(tol) }, Method::Adaptive { tol: Tolerances::uniform(tol) }]
         {

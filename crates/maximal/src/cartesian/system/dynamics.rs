@@ -77,7 +77,7 @@ impl Dynamics for CartesianSystem {
         Ok(())
     }
 
-    fn energy(&self, ws: &mut CartesianWorkspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
+    fn energy_function(&self, ws: &mut CartesianWorkspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
         self.total_energy(ws, t, q, qdot)
     }
 
