@@ -57,11 +57,18 @@ fn status(availability: &Availability) -> (&'static str, Option<String>) {
 fn method_report(index: usize, family: &FamilyRuns, own_front: &Front) -> MethodReport {
     let (status, reason) = status(&family.availability);
     let on_front = |j: usize| own_front.points.iter().any(|p| p.family == index && p.run == j);
-    let note = match family.availability {
+    let per_step = match family.availability {
         Availability::Ready { honours_substeps: false } if matches!(family.family, Family::Maximal(e) if e.is_rapier()) => {
-            Some("the build applies per-step forces and runs one substep per step whatever is asked: swept over dt alone".into())
+            Some("the build applies per-step forces and runs one substep per step whatever is asked: swept over dt alone".to_string())
         }
         _ => None,
+    };
+    let floor = family.floor.map(|h| {
+        format!("the error stopped falling at h = 1/{:.0} s (the floor): finer substeps were not run", 1.0 / h)
+    });
+    let note = match (per_step, floor) {
+        (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+        (a, b) => a.or(b),
     };
     MethodReport {
         method: family.family.name(),

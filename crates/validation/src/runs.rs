@@ -114,6 +114,31 @@ pub struct FamilyRuns {
     pub reference: Option<ReferenceKind>,
     /// The runs, in sweep order.
     pub runs: Vec<Run>,
+    /// The rapier substep `h` (s) below which the sweep stopped because the error had stopped
+    /// falling there ([`floor_reached`]).
+    pub floor: Option<f64>,
+}
+
+/// The substep `h` of a rapier setting (`None` for other settings).
+fn substep(setting: Setting) -> Option<f64> {
+    match setting {
+        Setting::Rapier { dt, substeps } => Some(dt / substeps as f64),
+        _ => None,
+    }
+}
+
+/// The smallest substep at which a rapier sweep has reached its floor: a run whose error is no
+/// smaller than that of a run at a coarser substep (rapier is first order in `h`, so a finer
+/// substep that does not reduce the error shows round-off — f32 — or coupling drift in charge).
+/// Finer substeps would cost more and draw no new point of the front; the sweep stops there.
+pub fn floor_reached(runs: &[Run]) -> Option<f64> {
+    let measured: Vec<(f64, f64)> =
+        runs.iter().filter_map(|run| Some((substep(run.setting)?, run.outcome.as_ref().ok()?.max_error()))).collect();
+    measured
+        .iter()
+        .filter(|&&(h, error)| measured.iter().any(|&(coarser, e)| coarser > h * (1.0 + 1e-9) && error >= e))
+        .map(|&(h, _)| h)
+        .reduce(f64::min)
 }
 
 /// Every run of one scene.
@@ -152,9 +177,15 @@ impl SceneRuns {
                 deviations: Vec::new(),
                 reference: None,
                 runs: Vec::new(),
+                floor: None,
             };
             for &setting in settings {
                 progress(&format!("{id}: {} {}", family.name(), setting.describe()));
+                if let (Some(floor), Some(h)) = (result.floor, substep(setting))
+                    && h < floor * (1.0 - 1e-9)
+                {
+                    continue;
+                }
                 let outcome = match *family {
                     Family::Maximal(engine) => {
                         run_maximal(engine, scene_plan, plan, setting, conserves_energy, &mut references, &mut result)
@@ -168,6 +199,7 @@ impl SceneRuns {
                 };
                 let outcome = outcome.and_then(|m| if m.is_finite() { Ok(m) } else { Err(Error::NonFinite) });
                 result.runs.push(Run { setting, outcome });
+                result.floor = floor_reached(&result.runs);
             }
             families.push(result);
         }
@@ -214,5 +246,36 @@ fn reduced_method(family: Family, setting: Setting) -> Result<Method, Error> {
         (Family::Reduced(kind), Setting::Step { dt }) if kind.is_fixed_step() => Ok(kind.with(dt)),
         (Family::Reduced(kind), Setting::Tolerance { tol }) if !kind.is_fixed_step() => Ok(kind.with(tol)),
         (family, setting) => Err(Error::NoSuchSetting { family: family.name(), setting: setting.describe() }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(substeps: usize, error: f64) -> Run {
+        let measured = Measured {
+            errors: vec![0.0, error],
+            energy_error: None,
+            constraint_violation: None,
+            steps: 1,
+            wall_time: 0.0,
+            timed_repetitions: 1,
+        };
+        Run { setting: Setting::Rapier { dt: 1.0 / 60.0, substeps }, outcome: Ok(measured) }
+    }
+
+    #[test]
+    fn a_sweep_reaches_its_floor_where_the_error_stops_falling() {
+        // First order: the error falls 4× per 4× finer substep, no floor.
+        let falling = [run(1, 0.24), run(4, 0.06), run(16, 0.015), run(64, 3.8e-3)];
+        assert_eq!(floor_reached(&falling), None);
+        // f32 round-off: the error rises at 64 substeps; the floor is h = 1/3840 s.
+        let rising = [run(1, 0.24), run(4, 0.059), run(16, 0.0104), run(64, 0.0127)];
+        let floor = floor_reached(&rising).expect("floor");
+        assert!((floor * 3840.0 - 1.0).abs() < 1e-12, "{floor}");
+        // Equal errors at equal h (two settings with the same substep) are no floor.
+        let same = [run(4, 0.06), Run { setting: Setting::Rapier { dt: 1.0 / 240.0, substeps: 1 }, ..run(4, 0.06) }];
+        assert_eq!(floor_reached(&same), None);
     }
 }

@@ -45,6 +45,8 @@ pub struct TimingReport {
     pub max_timed_repetitions: usize,
     /// Repetitions stop once their total reaches this (s).
     pub repetition_budget_s: f64,
+    /// A measured run at least this long (s) is also the first timed repetition.
+    pub measured_is_timed_above_s: f64,
     /// What is timed and which statistic is kept.
     pub statistic: &'static str,
 }

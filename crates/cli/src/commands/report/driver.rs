@@ -82,6 +82,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             warmup_runs: plan.timing.warmup,
             max_timed_repetitions: plan.timing.repetitions,
             repetition_budget_s: plan.timing.budget,
+            measured_is_timed_above_s: plan.timing.measured_is_timed_above,
             statistic: "minimum wall time (std::time::Instant) of the timed part of a run: the whole \
                         simulate call for the reduced solver, the advance_to calls through the saved times \
                         for a maximal engine (building it and reading it back are not timed)",
