@@ -152,7 +152,7 @@ pub use eom::reactions::reaction_forces;
 pub use eom::{accelerations, mass_matrix};
 pub use error::{Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
-pub use mechanism::{Body, Coordinate, CoordinateKind, Lagrangian, LagrangianFunction, Mechanism};
+pub use mechanism::{Body, Coordinate, CoordinateKind, Lagrangian, LagrangianFunction, Loads, Mechanism};
 pub use model::Model;
 pub use pose::Pose;
 pub use scalar::Scalar;

@@ -37,6 +37,14 @@ pub struct Workspace<S> {
     pub potential_gradient: Vec<S>,
     /// Generalized forces `Q` (n), filled by the bias stage.
     pub generalized_force: Vec<S>,
+    /// Applied wrenches `w_b = (F_x, F_y, τ)` about each centre of mass (3B; empty unless the
+    /// model has [applied forces](crate::Mechanism::applied_forces)), filled by the bias stage.
+    pub applied_wrench: Vec<S>,
+    /// Their generalized forces `Σ_b J_bᵀ w_b` (n; empty unless the model has applied forces),
+    /// filled by the bias stage.
+    pub applied_force: Vec<S>,
+    /// Body poses handed to [`Mechanism::applied_forces`] (B; empty unless the model has them).
+    pub(crate) applied_poses: Vec<Pose<S>>,
     /// Mass matrix `M = Σ_b J_bᵀ D_b J_b` (n × n), filled by `mass_matrix::assemble`.
     pub mass_matrix: Vec<S>,
     /// LDLᵀ factor of `M` (n × n): unit lower triangle below the diagonal, `D` on it.
@@ -91,6 +99,9 @@ impl<S: Scalar> Workspace<S> {
             potential: zero,
             potential_gradient: vec![zero; n],
             generalized_force: vec![zero; n],
+            applied_wrench: if model.has_applied { vec![zero; 3 * b] } else { Vec::new() },
+            applied_force: if model.has_applied { vec![zero; n] } else { Vec::new() },
+            applied_poses: if model.has_applied { vec![Pose::default(); b] } else { Vec::new() },
             mass_matrix: vec![zero; n * n],
             factor: vec![zero; n * n],
             rhs: vec![zero; n],

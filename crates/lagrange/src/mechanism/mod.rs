@@ -2,8 +2,11 @@
 //! ([`Lagrangian`]); below the probes and the [`Model`](crate::Model) that check and prepare them.
 
 mod lagrangian;
+mod loads;
 #[allow(clippy::module_inception)]
 mod mechanism;
 
 pub use lagrangian::{Lagrangian, LagrangianFunction};
+pub use loads::Loads;
+pub(crate) use loads::project;
 pub use mechanism::{Body, Coordinate, CoordinateKind, Mechanism};
