@@ -281,3 +281,41 @@ fn an_applied_force_on_a_missing_body_is_a_construction_error() {
     let error = Model::new(WrongBody(Pushed::new(1.0, 1.0, 0.0, false))).unwrap_err();
     assert!(matches!(&error, Error::InvalidParameter { name, .. } if name == "applied force"), "{error}");
 }
+
+/// The pushed pendulum in the short form: the poses and the push, nothing else.
+struct PushedPoses {
+    r: f64,
+    push: f64,
+}
+
+impl crate::Poses for PushedPoses {
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+        p[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
+    }
+    fn applied_forces<S: Scalar>(
+        &self,
+        _t: S,
+        _q: &[S],
+        _qdot: &[S],
+        _p: &[Pose<S>],
+        loads: &mut Loads<'_, S>,
+    ) -> bool {
+        loads.force_at_centre(0, [S::from(self.push), S::zero()]);
+        true
+    }
+}
+
+#[test]
+fn the_short_form_gives_the_same_numbers_as_the_long_form() -> Result<(), Error> {
+    let (m, r, push) = (0.5, 1.2, 2.0);
+    let short = Model::new(crate::Described::new(PushedPoses { r, push }).angle("θ").point("bob", m).gravity(G))?;
+    let long = Model::new(Pushed::new(m, r, push, false))?;
+    assert_eq!(short.coordinates(), long.coordinates());
+    assert_eq!(short.mechanism().bodies(), long.mechanism().bodies());
+    assert!(short.has_applied_forces() && !short.has_potential() && !short.has_generalized_force());
+    let (mut ws, mut wl) = (short.workspace(), long.workspace());
+    let (q, qdot) = ([0.8], [-0.3]);
+    assert_eq!(accelerations(&short, &mut ws, 0.0, &q, &qdot)?, accelerations(&long, &mut wl, 0.0, &q, &qdot)?);
+    assert_eq!(reaction_forces(&short, &mut ws, 0.0, &q, &qdot)?, reaction_forces(&long, &mut wl, 0.0, &q, &qdot)?);
+    Ok(())
+}
