@@ -150,6 +150,10 @@
 //! functions ([`accelerations`], [`energy_function`], [`total_energy`], [`reaction_forces`], …) and the integrators in
 //! [`integrate`]. Everything is generic over the scalar ([`Scalar`]), so the engine's own
 //! results can be differentiated again.
+//!
+//! The raw path's names work on a body model too, and the reverse: [`Model::workspace_in`]
+//! and [`RawModel::workspace_in`] allocate a workspace in any scalar, [`Model::velocity_hessian`]
+//! and [`RawModel::mass_matrix`] are the mass matrix under either name.
 
 // Modules from the bottom layer up; a module uses only modules of its layer or below
 // (checked by the `layering` test of `lagrange-tests`).

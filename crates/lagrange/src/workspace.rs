@@ -1,6 +1,7 @@
 //! Every buffer an evaluation of a body model needs, allocated once.
 
 use crate::eom::articulated::ArticulatedBody;
+use crate::error::Error;
 use crate::mechanism::Mechanism;
 use crate::model::Model;
 use crate::pose::Pose;
@@ -122,5 +123,29 @@ impl<M: Mechanism> Model<M> {
     /// A workspace for evaluations in scalar `S` (allocate once, reuse for every step).
     pub fn workspace<S: Scalar>(&self) -> Workspace<S> {
         Workspace::new(self)
+    }
+
+    /// The same as [`workspace`](Self::workspace), under the raw path's name
+    /// ([`RawModel::workspace_in`](crate::RawModel::workspace_in)).
+    pub fn workspace_in<S: Scalar>(&self) -> Workspace<S> {
+        Workspace::new(self)
+    }
+
+    /// The mass matrix `M = ∂²L/∂q̇²` under the raw path's name
+    /// ([`RawModel::velocity_hessian`](crate::RawModel::velocity_hessian)): the same as
+    /// [`mass_matrix`](crate::mass_matrix), which does not depend on `q̇` for a body model
+    /// (`q̇` is checked, then ignored).
+    ///
+    /// # Errors
+    /// As [`mass_matrix`](crate::mass_matrix), and for a malformed or non-finite `q̇`.
+    pub fn velocity_hessian<'w, S: Scalar>(
+        &self,
+        ws: &'w mut Workspace<S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+    ) -> Result<&'w [S], Error> {
+        crate::eom::check_state(self.dof(), t, q, Some(qdot))?;
+        crate::eom::mass_matrix(self, ws, t, q)
     }
 }

@@ -319,3 +319,54 @@ fn the_short_form_gives_the_same_numbers_as_the_long_form() -> Result<(), Error>
     assert_eq!(reaction_forces(&short, &mut ws, 0.0, &q, &qdot)?, reaction_forces(&long, &mut wl, 0.0, &q, &qdot)?);
     Ok(())
 }
+
+/// A block of mass `m` on a horizontal rail (`x`), pushed at a corner: constant `M`.
+#[derive(Debug)]
+struct PushedBlock {
+    bodies: [Body; 1],
+    coordinates: [Coordinate; 1],
+    push: [f64; 2],
+}
+
+impl Mechanism for PushedBlock {
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
+    fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+    fn gravity(&self) -> f64 {
+        G
+    }
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+        p[0] = Pose::point(q[0], S::zero());
+    }
+    fn applied_forces<S: Scalar>(
+        &self,
+        _t: S,
+        _q: &[S],
+        _qdot: &[S],
+        _p: &[Pose<S>],
+        loads: &mut Loads<'_, S>,
+    ) -> bool {
+        loads.force(0, [S::from(0.3), S::from(0.2)], [S::from(self.push[0]), S::from(self.push[1])]);
+        true
+    }
+    fn constant_mass_matrix(&self) -> bool {
+        true
+    }
+}
+
+#[test]
+fn a_constant_mass_matrix_takes_applied_forces_too() -> Result<(), Error> {
+    let (m, push) = (2.5, [1.5, 4.0]);
+    let model =
+        Model::new(PushedBlock { bodies: [Body::point("block", m)], coordinates: [Coordinate::length("x")], push })?;
+    assert!(model.has_constant_mass_matrix());
+    let mut ws = model.workspace();
+    assert_close(accelerations(&model, &mut ws, 0.0, &[0.4], &[1.0])?[0], push[0] / m, 1e-15);
+    // The rail carries the weight minus the push's vertical part.
+    let reaction = reaction_forces(&model, &mut ws, 0.0, &[0.4], &[1.0])?;
+    assert_close(reaction[1], m * G - push[1], 1e-15);
+    Ok(())
+}
