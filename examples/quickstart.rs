@@ -1,42 +1,42 @@
-//! A double pendulum in a few lines: choose coordinates, write where the bodies are, simulate.
-use lagrange::{Body, Coordinate, Mechanism, Method, Model, Output, Pose, Scalar, State};
+//! A double pendulum in a few lines: name the coordinates and bodies, write where the bodies are, simulate.
+use lagrange::{Described, Method, Model, Output, Pose, Poses, Scalar, State, accelerations, simulate};
 
-/// Two point masses on massless rods; θ1, θ2 from the downward vertical.
+/// Two point masses on massless rods of lengths l1, l2; θ1, θ2 from the downward vertical.
 struct DoublePendulum {
-    bodies: [Body; 2],
-    coordinates: [Coordinate; 2],
-    lengths: [f64; 2],
+    l1: f64,
+    l2: f64,
 }
 
-impl Mechanism for DoublePendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        9.81
-    }
+impl Poses for DoublePendulum {
     // Where each body is, as a function of q: written once, differentiated exactly.
     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
-        let (s1, c1) = q[0].sin_cos();
-        let (s2, c2) = q[1].sin_cos();
-        let (x1, y1) = (s1 * self.lengths[0], -c1 * self.lengths[0]);
+        let (x1, y1) = (q[0].sin() * self.l1, -q[0].cos() * self.l1);
         world_from_body[0] = Pose::point(x1, y1);
-        world_from_body[1] = Pose::point(x1 + s2 * self.lengths[1], y1 - c2 * self.lengths[1]);
+        world_from_body[1] = Pose::point(x1 + q[1].sin() * self.l2, y1 - q[1].cos() * self.l2);
     }
 }
 
 fn main() -> Result<(), lagrange::Error> {
-    let model = Model::new(DoublePendulum {
-        bodies: [Body::point("bob 1", 1.0), Body::point("bob 2", 1.0)],
-        coordinates: [Coordinate::angle("θ1"), Coordinate::angle("θ2")],
-        lengths: [1.0, 1.0],
-    })?;
-    let start = State::new(0.0, [1.0, 0.5], [0.0, 0.0]);
+    let (m1, m2, l1, l2, g) = (1.0, 1.0, 1.0, 1.0, 9.81);
+    let pendulum = Described::new(DoublePendulum { l1, l2 }).angle("θ1").angle("θ2");
+    let model = Model::new(pendulum.point("bob 1", m1).point("bob 2", m2).gravity(g))?;
+
+    // q̈ against the textbook closed form of the double pendulum.
+    let (q, qdot) = ([1.0_f64, 0.5], [0.3_f64, -0.2]);
+    let qddot = accelerations(&model, &mut model.workspace(), 0.0, &q, &qdot)?.to_vec();
+    let (d, w1, w2) = (q[0] - q[1], qdot[0], qdot[1]);
+    let den = 2.0 * m1 + m2 - m2 * (2.0 * d).cos();
+    let a1 = (-g * (2.0 * m1 + m2) * q[0].sin()
+        - m2 * g * (q[0] - 2.0 * q[1]).sin()
+        - 2.0 * d.sin() * m2 * (w2 * w2 * l2 + w1 * w1 * l1 * d.cos()))
+        / (l1 * den);
+    let a2 = 2.0 * d.sin() * (w1 * w1 * l1 * (m1 + m2) + g * (m1 + m2) * q[0].cos() + w2 * w2 * l2 * m2 * d.cos())
+        / (l2 * den);
+    assert!((qddot[0] - a1).abs() < 1e-13 && (qddot[1] - a2).abs() < 1e-13, "{qddot:?} vs [{a1}, {a2}]");
+
     // Variational integrator: symplectic, energy error bounded over long runs.
-    let run = lagrange::simulate(&model, &start, 10.0, Method::Variational { dt: 1e-3 }, &Output::Every(2.0))?;
+    let start = State::new(0.0, [1.0, 0.5], [0.0, 0.0]);
+    let run = simulate(&model, &start, 10.0, Method::Variational { dt: 1e-3 }, &Output::Every(2.0))?;
     for k in 0..run.len() {
         println!("t = {:4.1}  θ = {:+.6?}  energy = {:.9}", run.t[k], run.q(k), run.energy[k]);
     }

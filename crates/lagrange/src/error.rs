@@ -15,6 +15,9 @@ pub enum Stage {
     Potential,
     /// The non-conservative generalized forces.
     GeneralizedForce,
+    /// The forces and torques applied at points of bodies
+    /// ([`Mechanism::applied_forces`](crate::Mechanism::applied_forces)).
+    AppliedForce,
     /// The Lagrangian or its derivatives (raw-Lagrangian path, variational integrator).
     Lagrangian,
     /// The solved accelerations.
@@ -30,6 +33,7 @@ impl fmt::Display for Stage {
             Stage::Kinematics => "kinematics",
             Stage::Potential => "potential",
             Stage::GeneralizedForce => "generalized force",
+            Stage::AppliedForce => "applied force",
             Stage::Lagrangian => "Lagrangian",
             Stage::Accelerations => "accelerations",
             Stage::Jacobian => "acceleration Jacobian",

@@ -2,7 +2,8 @@
 //!
 //! You choose generalized coordinates `q`, write where every body is as a function of them,
 //! `p_b(q, t) = (x_b, y_b, φ_b)`, and name masses `m_b`, inertias `I_b`, an optional potential
-//! `V` and optional non-conservative forces `Q`. The engine forms
+//! `V`, optional non-conservative forces `Q` and optional forces applied at points of bodies
+//! ([`Mechanism::applied_forces`]). The engine forms
 //! `T = Σ_b ½ m_b (ẋ_b² + ẏ_b²) + ½ I_b φ̇_b²`, `L = T − V` and solves Lagrange's equations
 //! `d/dt ∂L/∂q̇ − ∂L/∂q = Q` exactly — by automatic differentiation (num-dual), with no finite
 //! differences and no hand-derived formulas — in the form
@@ -16,6 +17,39 @@
 //!
 //! A second path takes a raw Lagrangian `L(q, q̇, t)` ([`Lagrangian`], [`RawModel`]) for
 //! velocity-dependent potentials, and solves `∂²L/∂q̇² q̈ = ∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q`.
+//!
+//! # The short form: a double pendulum
+//!
+//! Only the physics is code: the poses, in a [`Poses`] implementation; [`Described`] adds the
+//! names, masses and gravity (the longer form, a type implementing [`Mechanism`] with its own
+//! accessors, is below).
+//!
+//! ```
+//! use lagrange::{Described, Model, Pose, Poses, Scalar, accelerations};
+//!
+//! struct DoublePendulum { l1: f64, l2: f64 }
+//!
+//! impl Poses for DoublePendulum {
+//!     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+//!         let (x1, y1) = (q[0].sin() * self.l1, -q[0].cos() * self.l1);
+//!         world_from_body[0] = Pose::point(x1, y1);
+//!         world_from_body[1] = Pose::point(x1 + q[1].sin() * self.l2, y1 - q[1].cos() * self.l2);
+//!     }
+//! }
+//!
+//! let (m1, m2, l1, l2, g) = (1.0, 2.0, 1.0, 0.5, 9.81);
+//! let pendulum = Described::new(DoublePendulum { l1, l2 }).angle("θ1").angle("θ2");
+//! let model = Model::new(pendulum.point("bob 1", m1).point("bob 2", m2).gravity(g))?;
+//! let mut ws = model.workspace();
+//! let (q, qdot) = ([0.4_f64, -0.3], [0.0_f64, 0.0]);
+//! let qddot = accelerations(&model, &mut ws, 0.0, &q, &qdot)?;
+//!
+//! // At rest: θ̈1 = −g ((2 m1 + m2) sinθ1 + m2 sin(θ1 − 2θ2)) / (l1 (2 m1 + m2 − m2 cos 2(θ1 − θ2))).
+//! let den = 2.0 * m1 + m2 - m2 * (2.0 * (q[0] - q[1])).cos();
+//! let expected = -g * ((2.0 * m1 + m2) * q[0].sin() + m2 * (q[0] - 2.0 * q[1]).sin()) / (l1 * den);
+//! approx::assert_relative_eq!(qddot[0], expected, max_relative = 1e-14);
+//! # Ok::<(), lagrange::Error>(())
+//! ```
 //!
 //! # Example: the pendulum on a movable support (docs/scenes.md#cart_pendulum)
 //!
@@ -116,6 +150,10 @@
 //! functions ([`accelerations`], [`energy_function`], [`total_energy`], [`reaction_forces`], …) and the integrators in
 //! [`integrate`]. Everything is generic over the scalar ([`Scalar`]), so the engine's own
 //! results can be differentiated again.
+//!
+//! The raw path's names work on a body model too, and the reverse: [`Model::workspace_in`]
+//! and [`RawModel::workspace_in`] allocate a workspace in any scalar, [`Model::velocity_hessian`]
+//! and [`RawModel::mass_matrix`] are the mass matrix under either name.
 
 // Modules from the bottom layer up; a module uses only modules of its layer or below
 // (checked by the `layering` test of `lagrange-tests`).
@@ -152,7 +190,9 @@ pub use eom::reactions::reaction_forces;
 pub use eom::{accelerations, mass_matrix};
 pub use error::{Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
-pub use mechanism::{Body, Coordinate, CoordinateKind, Lagrangian, LagrangianFunction, Mechanism};
+pub use mechanism::{
+    Body, Coordinate, CoordinateKind, Described, Lagrangian, LagrangianFunction, Loads, Mechanism, Poses,
+};
 pub use model::Model;
 pub use pose::Pose;
 pub use scalar::Scalar;

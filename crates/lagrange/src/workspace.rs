@@ -1,6 +1,7 @@
 //! Every buffer an evaluation of a body model needs, allocated once.
 
 use crate::eom::articulated::ArticulatedBody;
+use crate::error::Error;
 use crate::mechanism::Mechanism;
 use crate::model::Model;
 use crate::pose::Pose;
@@ -37,6 +38,14 @@ pub struct Workspace<S> {
     pub potential_gradient: Vec<S>,
     /// Generalized forces `Q` (n), filled by the bias stage.
     pub generalized_force: Vec<S>,
+    /// Applied wrenches `w_b = (F_x, F_y, τ)` about each centre of mass (3B; empty unless the
+    /// model has [applied forces](crate::Mechanism::applied_forces)), filled by the bias stage.
+    pub applied_wrench: Vec<S>,
+    /// Their generalized forces `Σ_b J_bᵀ w_b` (n; empty unless the model has applied forces),
+    /// filled by the bias stage.
+    pub applied_force: Vec<S>,
+    /// Body poses handed to [`Mechanism::applied_forces`] (B; empty unless the model has them).
+    pub(crate) applied_poses: Vec<Pose<S>>,
     /// Mass matrix `M = Σ_b J_bᵀ D_b J_b` (n × n), filled by `mass_matrix::assemble`.
     pub mass_matrix: Vec<S>,
     /// LDLᵀ factor of `M` (n × n): unit lower triangle below the diagonal, `D` on it.
@@ -91,6 +100,9 @@ impl<S: Scalar> Workspace<S> {
             potential: zero,
             potential_gradient: vec![zero; n],
             generalized_force: vec![zero; n],
+            applied_wrench: if model.has_applied { vec![zero; 3 * b] } else { Vec::new() },
+            applied_force: if model.has_applied { vec![zero; n] } else { Vec::new() },
+            applied_poses: if model.has_applied { vec![Pose::default(); b] } else { Vec::new() },
             mass_matrix: vec![zero; n * n],
             factor: vec![zero; n * n],
             rhs: vec![zero; n],
@@ -111,5 +123,29 @@ impl<M: Mechanism> Model<M> {
     /// A workspace for evaluations in scalar `S` (allocate once, reuse for every step).
     pub fn workspace<S: Scalar>(&self) -> Workspace<S> {
         Workspace::new(self)
+    }
+
+    /// The same as [`workspace`](Self::workspace), under the raw path's name
+    /// ([`RawModel::workspace_in`](crate::RawModel::workspace_in)).
+    pub fn workspace_in<S: Scalar>(&self) -> Workspace<S> {
+        Workspace::new(self)
+    }
+
+    /// The mass matrix `M = ∂²L/∂q̇²` under the raw path's name
+    /// ([`RawModel::velocity_hessian`](crate::RawModel::velocity_hessian)): the same as
+    /// [`mass_matrix`](crate::mass_matrix), which does not depend on `q̇` for a body model
+    /// (`q̇` is checked, then ignored).
+    ///
+    /// # Errors
+    /// As [`mass_matrix`](crate::mass_matrix), and for a malformed or non-finite `q̇`.
+    pub fn velocity_hessian<'w, S: Scalar>(
+        &self,
+        ws: &'w mut Workspace<S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+    ) -> Result<&'w [S], Error> {
+        crate::eom::check_state(self.dof(), t, q, Some(qdot))?;
+        crate::eom::mass_matrix(self, ws, t, q)
     }
 }

@@ -74,7 +74,7 @@ impl<M: Mechanism> Dynamics for Model<M> {
     }
 
     fn has_generalized_force(&self) -> bool {
-        self.has_force
+        self.has_force || self.has_applied
     }
 
     fn conserves_energy(&self) -> bool {

@@ -105,7 +105,8 @@ impl<S: Scalar> ArticulatedBody<S> {
 
 /// `ws.qddot` by the articulated-body algorithm on `tree` (which [`Model::new`] checked against
 /// the mechanism). The potential gradient, when the model has a potential, still takes `n`
-/// dual passes of the poses ([`kinematics::jacobian_pass`]).
+/// dual passes of the poses ([`kinematics::jacobian_pass`]), and so do applied forces (their
+/// pose Jacobian), `O(n B)`: cheaper than the generic path's `O(n³)` solve.
 pub(crate) fn solve<M: Mechanism, S: Scalar>(
     model: &Model<M>,
     tree: &Tree,
@@ -115,11 +116,14 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
     qdot: &[S],
 ) -> Result<(), Error> {
     // Joint-space forces Q − ∂V/∂q in the user's coordinates (into ws.rhs).
-    let forces = model.has_potential || model.has_force;
+    // Applied forces need the pose Jacobian: `n` dual passes, as the potential gradient.
+    let forces = model.has_potential || model.has_force || model.has_applied;
     if forces {
         ws.rhs.fill(S::zero());
-        if model.has_potential {
+        if model.has_potential || model.has_applied {
             kinematics::jacobian_pass(model, ws, t, q, true);
+        }
+        if model.has_potential {
             for (r, g) in ws.rhs.iter_mut().zip(&ws.potential_gradient) {
                 *r -= *g;
             }
@@ -130,6 +134,9 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             for (r, f) in ws.rhs.iter_mut().zip(&ws.generalized_force) {
                 *r += *f;
             }
+        }
+        if model.has_applied {
+            super::applied::add(model, ws, false, t, q, qdot);
         }
     }
     let links = tree.links();
@@ -282,6 +289,8 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             Stage::Potential
         } else if model.has_force && !all_finite(&ws.generalized_force) {
             Stage::GeneralizedForce
+        } else if model.has_applied && !all_finite(&ws.applied_force) {
+            Stage::AppliedForce
         } else {
             Stage::Accelerations
         };

@@ -4,7 +4,8 @@ use crate::linalg::size::Size;
 use crate::{Mechanism, Model, Scalar, Workspace};
 
 /// Assemble `ws.rhs`. Reads `ws.jacobian` and `ws.convective` (general models) or the constant
-/// terms (constant `M`), and `ws.potential_gradient` when the model has a potential.
+/// terms (constant `M`), `ws.potential_gradient` when the model has a potential, and
+/// `ws.position` when it has applied forces.
 pub(crate) fn assemble<M: Mechanism, S: Scalar, N: Size>(
     model: &Model<M>,
     ws: &mut Workspace<S>,
@@ -51,5 +52,9 @@ pub(crate) fn assemble<M: Mechanism, S: Scalar, N: Size>(
         for (r, f) in ws.rhs.iter_mut().zip(&ws.generalized_force) {
             *r += *f;
         }
+    }
+    // + Σ_b J_bᵀ w_b (forces applied at points of bodies; the caller filled the poses).
+    if model.has_applied {
+        super::applied::add(model, ws, model.constant.is_some(), t, q, qdot);
     }
 }

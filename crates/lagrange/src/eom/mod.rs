@@ -3,6 +3,7 @@
 //! trees the articulated-body algorithm (`articulated`) instead; plus the quantities derived
 //! from the same passes (`energy`, `reactions`) and the raw-Lagrangian path (`raw`).
 
+pub(crate) mod applied;
 pub(crate) mod articulated;
 pub(crate) mod bias;
 pub(crate) mod energy;
@@ -58,6 +59,8 @@ fn solve_sized<M: Mechanism, S: Scalar, N: size::Size>(
         // Constant M: potential gradient, right-hand side, stored factor.
         if model.has_potential {
             kinematics::jacobian_pass(model, ws, t, q, true);
+        } else if model.has_applied {
+            kinematics::position_pass(model, ws, t, q);
         }
         bias::assemble(model, ws, size, t, q, qdot);
         ws.qddot.copy_from_slice(&ws.rhs);
@@ -94,6 +97,8 @@ fn diagnose<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &Workspace<S>, t: S, 
         Stage::Potential
     } else if model.has_force && !all_finite(&ws.generalized_force) {
         Stage::GeneralizedForce
+    } else if model.has_applied && !all_finite(&ws.applied_force) {
+        Stage::AppliedForce
     } else {
         Stage::Accelerations
     };

@@ -248,6 +248,21 @@ impl<F: LagrangianFunction> RawModel<F> {
         Ok(&ws.hessian)
     }
 
+    /// The same matrix under the body path's name ([`mass_matrix`](crate::mass_matrix)): for a
+    /// raw Lagrangian it may depend on `q̇`, hence the extra argument.
+    ///
+    /// # Errors
+    /// As [`velocity_hessian`](Self::velocity_hessian).
+    pub fn mass_matrix<'w, S: Scalar>(
+        &self,
+        ws: &'w mut RawWorkspace<F, S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+    ) -> Result<&'w [S], Error> {
+        self.velocity_hessian(ws, t, q, qdot)
+    }
+
     /// `L(q, q̇, t)`.
     pub fn lagrangian<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: S, q: &[S], qdot: &[S]) -> S {
         Self::reset(ws, q, qdot);

@@ -5,11 +5,12 @@ use crate::{Error, Mechanism, Model, Scalar, Workspace};
 use num_dual::Dual;
 
 /// The constraint force and torque `(F_x, F_y, τ)` on every body (3B, body-major), borrowed
-/// from the workspace: `R_b = D_b p̈_b − F_b^gravity + ∂V/∂p_b`, with `p̈_b = J_b q̈ + γ_b`.
+/// from the workspace: `R_b = D_b p̈_b − F_b^gravity − w_b + ∂V/∂p_b`, with `p̈_b = J_b q̈ + γ_b`
+/// and `w_b` the wrench of the forces applied to the body ([`Mechanism::applied_forces`]).
 ///
 /// This is what the eliminated constraints (rods, ropes, inclines, rails) exert on the body:
 /// the rope tension on an Atwood mass, the normal force on the block. Forces the mechanism
-/// writes through the body poses in its potential are applied forces and are subtracted; the
+/// writes through the body poses in its potential, and its applied forces, are subtracted; the
 /// parts of `V` written directly in `q` and the generalized forces `Q` act along coordinates,
 /// cannot be attributed to one body, and therefore remain in the reaction.
 pub fn reaction_forces<'w, M: Mechanism, S: Scalar>(
@@ -58,7 +59,8 @@ pub fn reaction_forces<'w, M: Mechanism, S: Scalar>(
         }
         let inertia = if c == 2 { model.inertia[b] } else { model.mass[b] };
         let gravity = if c == 1 { -model.mass[b] * model.gravity } else { 0.0 };
-        ws.reaction[r] = accel * inertia - gravity + ws.potential_pose_gradient[r];
+        let applied = if model.has_applied { ws.applied_wrench[r] } else { S::zero() };
+        ws.reaction[r] = accel * inertia - gravity - applied + ws.potential_pose_gradient[r];
     }
     Ok(&ws.reaction)
 }

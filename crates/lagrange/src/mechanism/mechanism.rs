@@ -1,5 +1,6 @@
 //! What a user writes: coordinates, bodies, and where each body is as a function of them.
 
+use super::loads::Loads;
 use crate::pose::Pose;
 use crate::scalar::Scalar;
 use crate::tree::Tree;
@@ -108,6 +109,61 @@ pub trait Mechanism {
     /// potential, the answer must not depend on the inputs.
     fn generalized_force<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
         let _ = (t, q, qdot, force);
+        false
+    }
+
+    /// List the forces and torques applied at points of bodies (drives, drag, a push at a
+    /// bob) as functions of `(t, q, q̇)` and the body poses `world_from_body`, adding each to
+    /// `loads` ([`Loads::force`], [`Loads::force_at_centre`], [`Loads::torque`]), and return
+    /// `true`; return `false` (writing nothing) if the mechanism has none (the default).
+    ///
+    /// The engine converts them to generalized forces, `Q += Σ J_pᵀ F + Σ (∂φ_b/∂q) τ`, with
+    /// `J_p` the exact Jacobian of the point of application. As for the potential, the answer
+    /// must not depend on the inputs: [`Model::new`](crate::Model::new) asks once, and models
+    /// without applied forces skip the stage entirely. Applied forces are not reactions:
+    /// [`reaction_forces`](crate::reaction_forces) subtracts them.
+    ///
+    /// ```
+    /// use lagrange::{Body, Coordinate, Loads, Mechanism, Model, Pose, Scalar, accelerations};
+    ///
+    /// /// A pendulum (bob of mass m on a rod of length r) pushed sideways by a constant force F.
+    /// struct Pushed { bodies: [Body; 1], coordinates: [Coordinate; 1], r: f64, push: f64 }
+    ///
+    /// impl Mechanism for Pushed {
+    ///     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
+    ///     fn bodies(&self) -> &[Body] { &self.bodies }
+    ///     fn gravity(&self) -> f64 { 9.81 }
+    ///     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    ///         world_from_body[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
+    ///     }
+    ///     fn applied_forces<S: Scalar>(
+    ///         &self, _t: S, _q: &[S], _qdot: &[S], _world_from_body: &[Pose<S>], loads: &mut Loads<'_, S>,
+    ///     ) -> bool {
+    ///         loads.force_at_centre(0, [S::from(self.push), S::zero()]);
+    ///         true
+    ///     }
+    /// }
+    ///
+    /// let (m, r, push, theta) = (0.5, 1.2, 2.0, 0.3_f64);
+    /// let model = Model::new(Pushed {
+    ///     bodies: [Body::point("bob", m)], coordinates: [Coordinate::angle("θ")], r, push,
+    /// })?;
+    /// let mut ws = model.workspace();
+    /// let qddot = accelerations(&model, &mut ws, 0.0, &[theta], &[0.0])?;
+    /// // m r² θ̈ = −m g r sinθ + F r cosθ.
+    /// let expected = (-m * 9.81 * r * theta.sin() + push * r * theta.cos()) / (m * r * r);
+    /// approx::assert_relative_eq!(qddot[0], expected, max_relative = 1e-14);
+    /// # Ok::<(), lagrange::Error>(())
+    /// ```
+    fn applied_forces<S: Scalar>(
+        &self,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+        world_from_body: &[Pose<S>],
+        loads: &mut Loads<'_, S>,
+    ) -> bool {
+        let _ = (t, q, qdot, world_from_body, loads);
         false
     }
 

@@ -51,6 +51,11 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
     }
 
     fn generalized_force_with<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
-        self.has_force && self.mechanism.generalized_force(t, q, qdot, force)
+        let has_force = self.has_force && self.mechanism.generalized_force(t, q, qdot, force);
+        if self.has_applied {
+            // Allocates: only mechanisms with applied forces pay for it.
+            crate::probe::applied_force_allocating(&self.mechanism, t, q, qdot, force);
+        }
+        has_force || self.has_applied
     }
 }

@@ -1,7 +1,7 @@
 //! The validated, immutable model built from a user's [`Mechanism`].
 
 use crate::error::Error;
-use crate::mechanism::{Body, Coordinate, Mechanism};
+use crate::mechanism::{Body, Coordinate, Loads, Mechanism};
 use crate::pose::Pose;
 use crate::probe::{self, ConstantTerms, ProbeStates};
 use crate::tree::Tree;
@@ -35,6 +35,8 @@ pub struct Model<M> {
     pub(crate) gravity: f64,
     pub(crate) has_potential: bool,
     pub(crate) has_force: bool,
+    /// Whether the mechanism lists forces applied at points of bodies.
+    pub(crate) has_applied: bool,
     pub(crate) constant: Option<ConstantTerms>,
     pub(crate) cyclic: Vec<bool>,
     pub(crate) autonomous: bool,
@@ -48,7 +50,8 @@ impl<M: Mechanism> Model<M> {
     /// # Errors
     /// [`Error::InvalidParameter`] for a non-finite or negative mass or inertia, non-finite
     /// gravity (negative `g` is allowed: gravity along +y), or a
-    /// mechanism without coordinates or bodies; [`Error::UnwrittenPose`] if the poses leave a
+    /// mechanism without coordinates or bodies, or whose applied forces name a body it does not
+    /// have; [`Error::UnwrittenPose`] if the poses leave a
     /// body's pose (or a component of it) unwritten at a probe state; [`Error::LostDerivative`]
     /// if an exact derivative of the poses disagrees with finite differences (the poses read
     /// `t.re()` or `q[i].re()`); [`Error::Inconsistent`] if a declared constant
@@ -92,6 +95,7 @@ impl<M: Mechanism> Model<M> {
             gravity,
             has_potential: false,
             has_force: false,
+            has_applied: false,
             constant: None,
             cyclic: vec![false; n],
             autonomous: false,
@@ -107,6 +111,12 @@ impl<M: Mechanism> Model<M> {
         model.has_potential = model.mechanism.potential(q, &poses, t).is_some();
         let mut force = vec![0.0; n];
         model.has_force = model.mechanism.generalized_force(t, q, qdot, &mut force);
+        let mut wrench = vec![0.0; 3 * model.bodies()];
+        let mut loads = Loads::new(&poses, &mut wrench);
+        model.has_applied = model.mechanism.applied_forces(t, q, qdot, &poses, &mut loads);
+        if let Some(body) = loads.bad_body() {
+            return Err(invalid("applied force", body as f64, "names a body the mechanism does not have"));
+        }
         if model.mechanism.constant_mass_matrix() {
             model.constant = Some(probe::constant_terms(&model.mechanism, &probes)?);
         }
@@ -158,6 +168,12 @@ impl<M: Mechanism> Model<M> {
         self.has_force
     }
 
+    /// Whether the mechanism lists forces applied at points of bodies
+    /// ([`Mechanism::applied_forces`]).
+    pub fn has_applied_forces(&self) -> bool {
+        self.has_applied
+    }
+
     /// Whether `M` is constant (declared, and checked at construction).
     pub fn has_constant_mass_matrix(&self) -> bool {
         self.constant.is_some()
@@ -183,9 +199,10 @@ impl<M: Mechanism> Model<M> {
         self.autonomous
     }
 
-    /// Whether the energy function `h` is a constant of the motion: autonomous, no `Q`.
+    /// Whether the energy function `h` is a constant of the motion: autonomous, no `Q`, no
+    /// applied forces.
     pub fn conserves_energy(&self) -> bool {
-        self.autonomous && !self.has_force
+        self.autonomous && !self.has_force && !self.has_applied
     }
 }
 

@@ -115,3 +115,21 @@ fn the_energy_function_and_the_total_energy_differ_for_a_rheonomic_mechanism() {
     approx::assert_relative_eq!(h, expected, max_relative = 1e-14);
     assert!((h - e).abs() > 0.01);
 }
+
+#[test]
+fn the_body_and_raw_paths_answer_to_the_same_names() -> Result<(), Error> {
+    let model = Model::new(Cart::new(2.0, 1.0, 1.5))?;
+    let raw = crate::RawModel::new(Model::new(Cart::new(2.0, 1.0, 1.5))?)?;
+    let (q, qdot) = ([0.2, 0.7], [-0.4, 0.9]);
+    let mut ws = model.workspace_in::<f64>();
+    let by_name = crate::mass_matrix(&model, &mut ws, 0.0, &q)?.to_vec();
+    assert_eq!(model.velocity_hessian(&mut ws, 0.0, &q, &qdot)?, &by_name[..]);
+    assert!(matches!(model.velocity_hessian(&mut ws, 0.0, &q, &[0.0]), Err(Error::DimensionMismatch { .. })));
+    let mut raw_ws = raw.workspace();
+    let hessian = raw.velocity_hessian(&mut raw_ws, 0.0, &q, &qdot)?.to_vec();
+    assert_eq!(raw.mass_matrix(&mut raw_ws, 0.0, &q, &qdot)?, &hessian[..]);
+    for (a, b) in hessian.iter().zip(&by_name) {
+        assert!((a - b).abs() <= 1e-14 * b.abs().max(1.0), "{a} vs {b}");
+    }
+    Ok(())
+}

@@ -108,6 +108,40 @@ pub(crate) fn jacobian_columns<M: Mechanism, S: crate::scalar::Scalar>(
     }
 }
 
+/// Add the generalized applied forces at `(t, q, q̇)` to `force`, allocating its own buffers
+/// (the Lagrangian-function view of a model: variational integrator, raw path over a model).
+pub(crate) fn applied_force_allocating<M: Mechanism, S: crate::scalar::Scalar>(
+    mechanism: &M,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+    force: &mut [S],
+) {
+    let (n, bodies) = (q.len(), mechanism.bodies().len());
+    let mut q_dual = vec![Dual::from_re(S::zero()); n];
+    let mut poses_dual = vec![Pose::default(); bodies];
+    let mut jacobian = vec![S::zero(); 3 * bodies * n];
+    let mut poses = vec![Pose::<S>::default(); bodies];
+    jacobian_columns(mechanism, &mut q_dual, &mut poses_dual, t, q, |j, _, seeded, _| {
+        for (b, pose) in seeded.iter().enumerate() {
+            jacobian[3 * b * n + j] = pose.x.eps;
+            jacobian[(3 * b + 1) * n + j] = pose.y.eps;
+            jacobian[(3 * b + 2) * n + j] = pose.angle.eps;
+            if j == 0 {
+                poses[b] = Pose::new(pose.x.re, pose.y.re, pose.angle.re);
+            }
+        }
+    });
+    let mut wrench = vec![S::zero(); 3 * bodies];
+    let mut loads = crate::mechanism::Loads::new(&poses, &mut wrench);
+    mechanism.applied_forces(t, q, qdot, &poses, &mut loads);
+    let mut applied = vec![S::zero(); n];
+    crate::mechanism::project(&jacobian, &wrench, n, &mut applied);
+    for (f, a) in force.iter_mut().zip(&applied) {
+        *f += *a;
+    }
+}
+
 /// Poses moving along `(q̇, 1)`: one second-order dual pass; `v1` parts are the body
 /// velocities `ṗ = J q̇ + ∂p/∂t`, `v2` parts the convective accelerations `γ = p̈ − J q̈`.
 pub(crate) fn moving_poses<M: Mechanism, S: crate::scalar::Scalar>(
