@@ -10,7 +10,7 @@ use crate::scalar::Scalar;
 /// force `F` (world frame) at the point `r` (body frame, from the centre of mass) adds `F` and
 /// the moment `d × F` with `d = R(φ_b) r`. The engine then adds `Q = Σ_b J_bᵀ w_b` — which is
 /// `Σ J_pᵀ F` with `J_p = ∂x_p/∂q = ∂x_b/∂q + ∂R/∂φ r ∂φ_b/∂q` the Jacobian of the point of
-/// application, and `Σ (∂φ_b/∂q) τ` for torques (docs/method.md#the-body-form).
+/// application, and `Σ (∂φ_b/∂q) τ` for torques (docs/method.md#forces-applied-at-points-of-bodies).
 ///
 /// A body index outside the mechanism is ignored here and reported by
 /// [`Model::new`](crate::Model::new) as [`Error::InvalidParameter`](crate::Error::InvalidParameter).
