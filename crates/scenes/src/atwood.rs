@@ -1,79 +1,50 @@
 //! Atwood machine with a massive pulley (docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
 
-/// Parameters: masses `m1`, `m2`, pulley inertia `I`, pulley radius `a`, rope length `l`, `g`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass_1", "m1", "kg", 2.0, Domain::Positive, "mass on the left end of the rope"),
-    ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass on the right end of the rope"),
-    ParamSpec::new("pulley_inertia", "I", "kg m²", 0.1, Domain::NonNegative, "moment of inertia of the pulley"),
-    ParamSpec::new("pulley_radius", "a", "m", 0.5, Domain::Positive, "radius of the pulley"),
-    ParamSpec::new("rope_length", "l", "m", 10.0, Domain::Positive, "length of the rope"),
-    GRAVITY,
-];
-
-/// Masses `m1` at `(−a, −x)` and `m2` at `(a, −(l − πa − x))` on a rope over a pulley of radius
-/// `a` and inertia `I` at the origin, turning by `x/a` (no slip); `q = (x)`, the depth of `m1`
-/// below the axle, measured downward (docs/scenes.md#atwood).
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Atwood {
-    /// Mass `m₁` (kg) on the left, at depth `x`.
-    pub mass_1: f64,
-    /// Mass `m₂` (kg) on the right, at depth `l − πa − x`.
-    pub mass_2: f64,
-    /// Pulley moment of inertia `I` (kg m²); 0 for the ideal machine.
-    pub pulley_inertia: f64,
-    /// Pulley radius `a` (m).
-    pub pulley_radius: f64,
-    /// Rope length `l` (m), including the `πa` around the pulley. `l > πa` is not required:
-    /// it shifts `m2`'s height only.
-    pub rope_length: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    coordinates: [Coordinate; 1],
-    bodies: [Body; 3],
+scene_params! {
+    /// Masses `m1` at `(−a, −x)` and `m2` at `(a, −(l − πa − x))` on a rope over a pulley of radius
+    /// `a` and inertia `I` at the origin, turning by `x/a` (no slip); `q = (x)`, the depth of `m1`
+    /// below the axle, measured downward (docs/scenes.md#atwood).
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct Atwood {
+        /// Mass `m₁` (kg) on the left, at depth `x`.
+        pub mass_1: f64 = ["m1", "kg", 2.0, Domain::Positive, "mass on the left end of the rope"],
+        /// Mass `m₂` (kg) on the right, at depth `l − πa − x`.
+        pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on the right end of the rope"],
+        /// Pulley moment of inertia `I` (kg m²); 0 for the ideal machine.
+        pub pulley_inertia: f64 = ["I", "kg m²", 0.1, Domain::NonNegative, "moment of inertia of the pulley"],
+        /// Pulley radius `a` (m).
+        pub pulley_radius: f64 = ["a", "m", 0.5, Domain::Positive, "radius of the pulley"],
+        /// Rope length `l` (m), including the `πa` around the pulley. `l > πa` is not required:
+        /// it shifts `m2`'s height only.
+        pub rope_length: f64 = ["l", "m", 10.0, Domain::Positive, "length of the rope"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+    }
+    /// An Atwood machine with masses `m1`, `m2`, pulley inertia `I`, pulley radius `a`, rope
+    /// length `l` and gravity `g`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 1] = [Coordinate::length("x")],
+        bodies: [Body; 3] = [
+            Body::point("mass 1", mass_1),
+            Body::point("mass 2", mass_2),
+            Body::rigid("pulley", 0.0, pulley_inertia),
+        ],
+    }
 }
 
 impl Atwood {
-    /// An Atwood machine with masses `m1`, `m2`, pulley inertia `I`, pulley radius `a`, rope
-    /// length `l` and gravity `g`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(
-        mass_1: f64,
-        mass_2: f64,
-        pulley_inertia: f64,
-        pulley_radius: f64,
-        rope_length: f64,
-        gravity: f64,
-    ) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity])?;
-        Ok(Self {
-            mass_1,
-            mass_2,
-            pulley_inertia,
-            pulley_radius,
-            rope_length,
-            gravity,
-            coordinates: [Coordinate::length("x")],
-            bodies: [
-                Body::point("mass 1", mass_1),
-                Body::point("mass 2", mass_2),
-                Body::rigid("pulley", 0.0, pulley_inertia),
-            ],
-        })
-    }
-
     /// The constant `ẍ = (m1 − m2) g / (m1 + m2 + I/a²)` (docs/scenes.md#atwood, "Closed form"; the
     /// lecture's result). Positive when `m1` descends.
     pub fn acceleration(&self) -> f64 {
@@ -132,15 +103,10 @@ impl SceneType for Atwood {
     const TITLE: &'static str = "Atwood machine with a massive pulley";
     const REFERENCE: &'static str =
         "docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture), example: Atwood machine";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity] = params.values_of(PARAMS)?;
-        Self::new(mass_1, mass_2, pulley_inertia, pulley_radius, rope_length, gravity)
     }
 
     /// `x = 1`, at rest.

@@ -2,59 +2,62 @@
 //! (docs/scenes.md#cart_pendulum; the lecture (docs/scenes.md#the-lecture), the first example).
 
 use crate::checks::fixed;
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
-/// Parameters: cart mass `M`, bob mass `m`, rod length `r`, gravity `g`, bob inertia `I_b`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("cart_mass", "M", "kg", 2.0, Domain::Positive, "mass of the cart"),
-    ParamSpec::new("bob_mass", "m", "kg", 1.0, Domain::Positive, "mass of the pendulum bob"),
-    ParamSpec::new("rod_length", "r", "m", 1.0, Domain::Positive, "length of the massless rod"),
-    GRAVITY,
-    ParamSpec::new(
-        "bob_inertia",
-        "I_b",
-        "kg m²",
-        0.0,
-        Domain::NonNegative,
-        "moment of inertia of the bob about its centre (0: point bob; > 0: a compound bob fixed to the rod)",
-    ),
-];
-
-/// A cart of mass `M` at `(X, 0)` on a horizontal rail, and a bob of mass `m` on a massless rod
-/// of length `r` at `(X + r sinθ, −r cosθ)`; `q = (X, θ)`, `θ` from the downward vertical,
-/// counter-clockwise (docs/scenes.md#cart_pendulum). The bob may have a moment of inertia `I_b` about its
-/// centre (a compound bob fixed to the rod, turning with it: its angle is `θ`); the lecture's
-/// point bob is `I_b = 0`. Rigid-body engines whose revolute joints cannot hold a point bob
-/// are compared against this model with `I_b > 0`.
-///
-/// It describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): the cart on a prismatic
-/// joint along x from the ground, the bob on a revolute joint at the cart's centre with the
-/// absolute angle `θ` ([`AngleReference::World`](lagrange::tree::AngleReference); the cart never
-/// turns, so it is also the angle relative to the cart), `(0, r)` in the bob's frame; so
-/// [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params), which validate the
-/// parameters and build the body list; the fields are public for reading (changing one
-/// afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct CartPendulum {
-    /// Cart mass `M` (kg).
-    pub cart_mass: f64,
-    /// Bob mass `m` (kg).
-    pub bob_mass: f64,
-    /// Rod length `r` (m).
-    pub rod_length: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    /// Moment of inertia of the bob about its centre `I_b` (kg m²); 0 for a point bob.
-    pub bob_inertia: f64,
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 2],
-    tree: Tree,
+scene_params! {
+    /// A cart of mass `M` at `(X, 0)` on a horizontal rail, and a bob of mass `m` on a massless rod
+    /// of length `r` at `(X + r sinθ, −r cosθ)`; `q = (X, θ)`, `θ` from the downward vertical,
+    /// counter-clockwise (docs/scenes.md#cart_pendulum). The bob may have a moment of inertia `I_b` about its
+    /// centre (a compound bob fixed to the rod, turning with it: its angle is `θ`); the lecture's
+    /// point bob is `I_b = 0`. Rigid-body engines whose revolute joints cannot hold a point bob
+    /// are compared against this model with `I_b > 0`.
+    ///
+    /// It describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): the cart on a prismatic
+    /// joint along x from the ground, the bob on a revolute joint at the cart's centre with the
+    /// absolute angle `θ` ([`AngleReference::World`](lagrange::tree::AngleReference); the cart never
+    /// turns, so it is also the angle relative to the cart), `(0, r)` in the bob's frame; so
+    /// [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params), which validate the
+    /// parameters and build the body list; the fields are public for reading (changing one
+    /// afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct CartPendulum {
+        /// Cart mass `M` (kg).
+        pub cart_mass: f64 = ["M", "kg", 2.0, Domain::Positive, "mass of the cart"],
+        /// Bob mass `m` (kg).
+        pub bob_mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the pendulum bob"],
+        /// Rod length `r` (m).
+        pub rod_length: f64 = ["r", "m", 1.0, Domain::Positive, "length of the massless rod"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+        /// Moment of inertia of the bob about its centre `I_b` (kg m²); 0 for a point bob.
+        pub bob_inertia: f64 = [
+            "I_b",
+            "kg m²",
+            0.0,
+            Domain::NonNegative,
+            "moment of inertia of the bob about its centre (0: point bob; > 0: a compound bob fixed to the rod)"
+        ],
+    }
+    /// As [`new`](Self::new), with a compound bob of inertia `I_b` about its centre.
+    pub fn with_bob_inertia;
+    derived {
+        coordinates: [Coordinate; 2] = [Coordinate::length("X"), Coordinate::angle("θ")],
+        bodies: [Body; 2] = [Body::point("cart", cart_mass), Body::rigid("bob", bob_mass, bob_inertia)],
+        // The cart slides along the rail; the bob hangs a rod length below the cart's centre.
+        tree: Tree = {
+            let joints = vec![
+                Joint::prismatic("X", Parent::Ground, [0.0, 0.0], [1.0, 0.0], [0.0, 0.0]),
+                Joint::absolute_revolute("θ", Parent::Body(0), [0.0, 0.0], [0.0, rod_length]),
+            ];
+            Tree::new(joints, bodies.to_vec(), gravity)?
+        },
+    }
 }
 
 impl CartPendulum {
@@ -65,37 +68,6 @@ impl CartPendulum {
     /// masses and the rod length must be positive and finite, `g` non-negative.
     pub fn new(cart_mass: f64, bob_mass: f64, rod_length: f64, gravity: f64) -> Result<Self, Error> {
         Self::with_bob_inertia(cart_mass, bob_mass, rod_length, gravity, 0.0)
-    }
-
-    /// As [`new`](Self::new), with a compound bob of inertia `I_b` about its centre.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new); `I_b` must be finite and non-negative.
-    pub fn with_bob_inertia(
-        cart_mass: f64,
-        bob_mass: f64,
-        rod_length: f64,
-        gravity: f64,
-        bob_inertia: f64,
-    ) -> Result<Self, Error> {
-        check_all(PARAMS, &[cart_mass, bob_mass, rod_length, gravity, bob_inertia])?;
-        let bodies = [Body::point("cart", cart_mass), Body::rigid("bob", bob_mass, bob_inertia)];
-        // The cart slides along the rail; the bob hangs a rod length below the cart's centre.
-        let joints = vec![
-            Joint::prismatic("X", Parent::Ground, [0.0, 0.0], [1.0, 0.0], [0.0, 0.0]),
-            Joint::absolute_revolute("θ", Parent::Body(0), [0.0, 0.0], [0.0, rod_length]),
-        ];
-        let tree = Tree::new(joints, bodies.to_vec(), gravity)?;
-        Ok(Self {
-            cart_mass,
-            bob_mass,
-            rod_length,
-            gravity,
-            bob_inertia,
-            coordinates: [Coordinate::length("X"), Coordinate::angle("θ")],
-            bodies,
-            tree,
-        })
     }
 
     /// `(Ẍ, θ̈)` in closed form (docs/scenes.md#cart_pendulum, "Closed form (exact, any amplitude)"):
@@ -199,15 +171,10 @@ impl SceneType for CartPendulum {
     const ID: &'static str = "cart_pendulum";
     const TITLE: &'static str = "Pendulum on a movable support (cart)";
     const REFERENCE: &'static str = "docs/scenes.md#cart_pendulum; the lecture (docs/scenes.md#the-lecture), example: pendulum attached to a movable support";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [cart_mass, bob_mass, rod_length, gravity, bob_inertia] = params.values_of(PARAMS)?;
-        Self::with_bob_inertia(cart_mass, bob_mass, rod_length, gravity, bob_inertia)
     }
 
     /// `X = 0`, `θ = 0.5`, at rest.

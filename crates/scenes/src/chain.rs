@@ -1,46 +1,44 @@
 //! A hanging chain of `N` uniform rigid links (beyond the lecture).
 
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use nalgebra::{DMatrix, DVector};
 
-/// Parameters: number of links `N`, link mass `m`, link length `l`, `g`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("links", "N", "", 4.0, Domain::Integer { min: 1, max: 256 }, "number of links"),
-    ParamSpec::new("link_mass", "m", "kg", 1.0, Domain::Positive, "mass of each link"),
-    ParamSpec::new("link_length", "l", "m", 1.0, Domain::Positive, "length of each link"),
-    GRAVITY,
-];
-
-/// `N` uniform rods (mass `m`, length `l`, inertia `m l²/12` about the centre) hinged end to end,
-/// the first one to the origin; `q = (θ₁, …, θ_N)`, absolute angles from the downward vertical,
-/// counter-clockwise. With `u(θ) = (sinθ, −cosθ)`: pivot₁ = 0, rod `i`'s centre at
-/// `pivot_i + (l/2) u(θ_i)`, its angle `θ_i`, and `pivot_{i+1} = pivot_i + l u(θ_i)`.
-///
-/// The chain describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): rod `i` hangs from
-/// rod `i − 1` (rod 1 from the ground) by a revolute joint whose coordinate is the absolute angle
-/// `θ_i` ([`AngleReference::World`](lagrange::tree::AngleReference)), at `(0, −l/2)` in the rod
-/// above and `(0, l/2)` in its own centre-of-mass frame. So [`Model::new`](lagrange::Model::new) checks the tree against
-/// the poses above and computes `q̈` with the articulated-body algorithm, `O(N)`;
-/// [`Model::new_generic`](lagrange::Model::new_generic) assembles `M` from the poses instead.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Chain {
-    /// Number of links `N` (1 to 256).
-    pub links: usize,
-    /// Mass of each link `m` (kg).
-    pub link_mass: f64,
-    /// Length of each link `l` (m).
-    pub link_length: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    /// Bodies, coordinates and joints.
-    tree: Tree,
+scene_params! {
+    /// `N` uniform rods (mass `m`, length `l`, inertia `m l²/12` about the centre) hinged end to end,
+    /// the first one to the origin; `q = (θ₁, …, θ_N)`, absolute angles from the downward vertical,
+    /// counter-clockwise. With `u(θ) = (sinθ, −cosθ)`: pivot₁ = 0, rod `i`'s centre at
+    /// `pivot_i + (l/2) u(θ_i)`, its angle `θ_i`, and `pivot_{i+1} = pivot_i + l u(θ_i)`.
+    ///
+    /// The chain describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): rod `i` hangs from
+    /// rod `i − 1` (rod 1 from the ground) by a revolute joint whose coordinate is the absolute angle
+    /// `θ_i` ([`AngleReference::World`](lagrange::tree::AngleReference)), at `(0, −l/2)` in the rod
+    /// above and `(0, l/2)` in its own centre-of-mass frame. So [`Model::new`](lagrange::Model::new) checks the tree against
+    /// the poses above and computes `q̈` with the articulated-body algorithm, `O(N)`;
+    /// [`Model::new_generic`](lagrange::Model::new_generic) assembles `M` from the poses instead.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct Chain {
+        /// Number of links `N` (1 to 256).
+        pub links: usize = ["N", "", 4.0, Domain::Integer { min: 1, max: 256 }, "number of links"],
+        /// Mass of each link `m` (kg).
+        pub link_mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of each link"],
+        /// Length of each link `l` (m).
+        pub link_length: f64 = ["l", "m", 1.0, Domain::Positive, "length of each link"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+    }
+    /// A chain of `N` links of mass `m` and length `l` under gravity `g`.
+    pub fn new;
+    derived {
+        // Bodies, coordinates and joints.
+        tree: Tree = hanging_rods(&vec![link_mass; links], link_length, gravity)?,
+    }
 }
 
 /// The tree of [`Chain`] with one mass per rod, top first (the stability suite's chains with
@@ -69,17 +67,6 @@ pub fn hanging_rods(masses: &[f64], length: f64, gravity: f64) -> Result<Tree, E
 }
 
 impl Chain {
-    /// A chain of `N` links of mass `m` and length `l` under gravity `g`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(links: usize, link_mass: f64, link_length: f64, gravity: f64) -> Result<Self, Error> {
-        // usize → f64 is exact up to 2⁵³, far beyond the allowed 256.
-        check_all(PARAMS, &[links as f64, link_mass, link_length, gravity])?;
-        let tree = hanging_rods(&vec![link_mass; links], link_length, gravity)?;
-        Ok(Self { links, link_mass, link_length, gravity, tree })
-    }
-
     /// `S_ij = Σ_k a_ki a_kj` (0-based `i`, `j`), where `a_ki` = 1 if rod `i` is above rod `k`,
     /// ½ if `i = k`, 0 otherwise (rod `k`'s centre is `l Σ_i a_ki u(θ_i)`): rods `k ≥ max(i, j)`
     /// contribute, so `S_ij = N − max(i, j) − ½` for `i ≠ j` and `S_ii = N − i − ¾`.
@@ -158,17 +145,10 @@ impl SceneType for Chain {
     const ID: &'static str = "chain";
     const TITLE: &'static str = "Hanging chain of N rigid links";
     const REFERENCE: &'static str = "beyond the lecture; closed form derived in chain.rs";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [links, link_mass, link_length, gravity] = params.values_of(PARAMS)?;
-        // Check the count as a real number before it becomes an integer (2.5 must not become 2).
-        check_all(PARAMS, &[links, link_mass, link_length, gravity])?;
-        Self::new(links as usize, link_mass, link_length, gravity)
     }
 
     /// Every `θ_i = 0.5`, at rest.

@@ -2,44 +2,34 @@
 //! raw Lagrangian (beyond the lecture).
 
 use crate::checks::fixed;
-use crate::params::check_all;
+use crate::params::{param_table, scene_params};
 use crate::scene::raw_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Coordinate, Error, Lagrangian, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Coordinate, Lagrangian, Scalar, State};
 
-/// Parameters: mass `m`, charge `e`, field `B`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass of the particle"),
-    ParamSpec::new("charge", "e", "C", 1.0, Domain::Finite, "charge of the particle"),
-    ParamSpec::new("field", "B", "T", 1.0, Domain::Finite, "uniform magnetic field along +z"),
-];
-
-/// A particle of mass `m` and charge `e` in the plane, in a uniform magnetic field `B` along
-/// `+z`, with the symmetric-gauge vector potential `A = (B/2)(−y, x)`:
-/// `L = ½ m (ẋ² + ẏ²) + (e B / 2)(x ẏ − y ẋ)`; `q = (x, y)`. A velocity-dependent potential, so
-/// it is given as a raw [`Lagrangian`] rather than as bodies (Goldstein, *Classical Mechanics*,
-/// §1.5, `L = T − qφ + q A·v`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct ChargedParticle {
-    /// Mass `m` (kg).
-    pub mass: f64,
-    /// Charge `e` (C); any sign.
-    pub charge: f64,
-    /// Field `B` along `+z` (T); any sign.
-    pub field: f64,
-    coordinates: [Coordinate; 2],
+scene_params! {
+    /// A particle of mass `m` and charge `e` in the plane, in a uniform magnetic field `B` along
+    /// `+z`, with the symmetric-gauge vector potential `A = (B/2)(−y, x)`:
+    /// `L = ½ m (ẋ² + ẏ²) + (e B / 2)(x ẏ − y ẋ)`; `q = (x, y)`. A velocity-dependent potential, so
+    /// it is given as a raw [`Lagrangian`] rather than as bodies (Goldstein, *Classical Mechanics*,
+    /// §1.5, `L = T − qφ + q A·v`).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct ChargedParticle {
+        /// Mass `m` (kg).
+        pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
+        /// Charge `e` (C); any sign.
+        pub charge: f64 = ["e", "C", 1.0, Domain::Finite, "charge of the particle"],
+        /// Field `B` along `+z` (T); any sign.
+        pub field: f64 = ["B", "T", 1.0, Domain::Finite, "uniform magnetic field along +z"],
+    }
+    /// A particle of mass `m` and charge `e` in the field `B`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 2] = [Coordinate::length("x"), Coordinate::length("y")],
+    }
 }
 
 impl ChargedParticle {
-    /// A particle of mass `m` and charge `e` in the field `B`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(mass: f64, charge: f64, field: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass, charge, field])?;
-        Ok(Self { mass, charge, field, coordinates: [Coordinate::length("x"), Coordinate::length("y")] })
-    }
-
     /// The cyclotron (signed angular) frequency `ω_c = e B / m` (rad/s).
     pub fn cyclotron_frequency(&self) -> f64 {
         self.charge * self.field / self.mass
@@ -99,15 +89,10 @@ impl SceneType for ChargedParticle {
     const TITLE: &'static str = "Charged particle in a uniform magnetic field";
     const REFERENCE: &'static str =
         "beyond the lecture (velocity-dependent potential, raw Lagrangian); Goldstein, Classical Mechanics, §1.5";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, charge, field] = params.values_of(PARAMS)?;
-        Self::new(mass, charge, field)
     }
 
     /// `x = 1`, `y = 0`, `ẋ = 0`, `ẏ = 1`.

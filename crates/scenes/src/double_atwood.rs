@@ -1,92 +1,48 @@
 //! Double Atwood machine, optionally with a massive movable pulley (docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
-/// Parameters: masses `m1`, `m2`, `m3`, rope lengths `l`, `l'`, movable-pulley mass `m_p`, `g`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass_1", "m1", "kg", 3.0, Domain::Positive, "mass on the upper rope"),
-    ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass on the lower rope, side x'"),
-    ParamSpec::new("mass_3", "m3", "kg", 1.5, Domain::Positive, "mass on the lower rope, other side"),
-    ParamSpec::new("rope_length", "l", "m", 5.0, Domain::Positive, "length of the upper rope"),
-    ParamSpec::new("lower_rope_length", "l'", "m", 2.0, Domain::Positive, "length of the lower rope"),
-    ParamSpec::new(
-        "lower_pulley_mass",
-        "m_p",
-        "kg",
-        0.0,
-        Domain::NonNegative,
-        "mass of the movable pulley (0: the lecture's massless pulley)",
-    ),
-    GRAVITY,
-];
-
-/// A fixed upper pulley whose rope (length `l`) carries `m1` on one end and a movable pulley on
-/// the other; the movable pulley's rope (length `l'`) carries `m2` and `m3`. Radii neglected,
-/// depths measured downward from the upper pulley: `x₁ = x`, movable pulley at `x_p = l − x`,
-/// `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`; body `i` at `(0, −x_i)`; `q = (x, x')`
-/// (docs/scenes.md#double_atwood). The movable pulley is a point body of mass `m_p` (0 in the lecture).
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct DoubleAtwood {
-    /// Mass `m₁` (kg) on the upper rope.
-    pub mass_1: f64,
-    /// Mass `m₂` (kg) on the lower rope, at `x'` below the movable pulley.
-    pub mass_2: f64,
-    /// Mass `m₃` (kg) on the lower rope, at `l' − x'` below the movable pulley.
-    pub mass_3: f64,
-    /// Upper rope length `l` (m).
-    pub rope_length: f64,
-    /// Lower rope length `l'` (m).
-    pub lower_rope_length: f64,
-    /// Movable pulley mass `m_p` (kg); 0 for the lecture's massless pulley.
-    pub lower_pulley_mass: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 4],
+scene_params! {
+    /// A fixed upper pulley whose rope (length `l`) carries `m1` on one end and a movable pulley on
+    /// the other; the movable pulley's rope (length `l'`) carries `m2` and `m3`. Radii neglected,
+    /// depths measured downward from the upper pulley: `x₁ = x`, movable pulley at `x_p = l − x`,
+    /// `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`; body `i` at `(0, −x_i)`; `q = (x, x')`
+    /// (docs/scenes.md#double_atwood). The movable pulley is a point body of mass `m_p` (0 in the lecture).
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct DoubleAtwood {
+        /// Mass `m₁` (kg) on the upper rope.
+        pub mass_1: f64 = ["m1", "kg", 3.0, Domain::Positive, "mass on the upper rope"],
+        /// Mass `m₂` (kg) on the lower rope, at `x'` below the movable pulley.
+        pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on the lower rope, side x'"],
+        /// Mass `m₃` (kg) on the lower rope, at `l' − x'` below the movable pulley.
+        pub mass_3: f64 = ["m3", "kg", 1.5, Domain::Positive, "mass on the lower rope, other side"],
+        /// Upper rope length `l` (m).
+        pub rope_length: f64 = ["l", "m", 5.0, Domain::Positive, "length of the upper rope"],
+        /// Lower rope length `l'` (m).
+        pub lower_rope_length: f64 = ["l'", "m", 2.0, Domain::Positive, "length of the lower rope"],
+        /// Movable pulley mass `m_p` (kg); 0 for the lecture's massless pulley.
+        pub lower_pulley_mass: f64 = ["m_p", "kg", 0.0, Domain::NonNegative, "mass of the movable pulley (0: the lecture's massless pulley)"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+    }
+    /// A double Atwood machine with masses `m1`, `m2`, `m3`, rope lengths `l`, `l'`, movable
+    /// pulley mass `m_p` and gravity `g`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 2] = [Coordinate::length("x"), Coordinate::length("x'")],
+        bodies: [Body; 4] = [Body::point("mass 1", mass_1), Body::point("mass 2", mass_2), Body::point("mass 3", mass_3), Body::point("movable pulley", lower_pulley_mass)],
+    }
 }
 
 impl DoubleAtwood {
-    /// A double Atwood machine with masses `m1`, `m2`, `m3`, rope lengths `l`, `l'`, movable
-    /// pulley mass `m_p` and gravity `g`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(
-        mass_1: f64,
-        mass_2: f64,
-        mass_3: f64,
-        rope_length: f64,
-        lower_rope_length: f64,
-        lower_pulley_mass: f64,
-        gravity: f64,
-    ) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity])?;
-        Ok(Self {
-            mass_1,
-            mass_2,
-            mass_3,
-            rope_length,
-            lower_rope_length,
-            lower_pulley_mass,
-            gravity,
-            coordinates: [Coordinate::length("x"), Coordinate::length("x'")],
-            bodies: [
-                Body::point("mass 1", mass_1),
-                Body::point("mass 2", mass_2),
-                Body::point("mass 3", mass_3),
-                Body::point("movable pulley", lower_pulley_mass),
-            ],
-        })
-    }
-
     /// The constant mass matrix `M = [[m1 + m2 + m3 + m_p, m3 − m2], [m3 − m2, m2 + m3]]`, from
     /// `T = ½ m1 ẋ² + ½ m2 (ẋ' − ẋ)² + ½ m3 (ẋ + ẋ')² + ½ m_p ẋ²` (docs/scenes.md#double_atwood plus the pulley).
     pub fn mass_matrix(&self) -> [[f64; 2]; 2] {
@@ -170,16 +126,10 @@ impl SceneType for DoubleAtwood {
     const ID: &'static str = "double_atwood";
     const TITLE: &'static str = "Double Atwood machine";
     const REFERENCE: &'static str = "docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture), example: double Atwood machine (massive pulley beyond the lecture)";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity] =
-            params.values_of(PARAMS)?;
-        Self::new(mass_1, mass_2, mass_3, rope_length, lower_rope_length, lower_pulley_mass, gravity)
     }
 
     /// `x = 2`, `x' = 1`, at rest.

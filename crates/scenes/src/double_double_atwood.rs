@@ -2,59 +2,58 @@
 //! lecture's homework remark).
 
 use crate::checks::fixed;
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
-/// Parameters: masses `m2`–`m5`, rope lengths `l`, `l'`, `l''`, pulley masses `m_A`, `m_B`, `g`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass on pulley B's rope, side x'"),
-    ParamSpec::new("mass_3", "m3", "kg", 1.5, Domain::Positive, "mass on pulley B's rope, other side"),
-    ParamSpec::new("mass_4", "m4", "kg", 2.0, Domain::Positive, "mass on pulley A's rope, side x''"),
-    ParamSpec::new("mass_5", "m5", "kg", 0.5, Domain::Positive, "mass on pulley A's rope, other side"),
-    ParamSpec::new("rope_length", "l", "m", 5.0, Domain::Positive, "length of the upper rope"),
-    ParamSpec::new("rope_length_b", "l'", "m", 2.0, Domain::Positive, "length of pulley B's rope"),
-    ParamSpec::new("rope_length_a", "l''", "m", 2.0, Domain::Positive, "length of pulley A's rope"),
-    ParamSpec::new("pulley_a_mass", "m_A", "kg", 0.0, Domain::NonNegative, "mass of movable pulley A (0: massless)"),
-    ParamSpec::new("pulley_b_mass", "m_B", "kg", 0.0, Domain::NonNegative, "mass of movable pulley B (0: massless)"),
-    GRAVITY,
-];
-
-/// A fixed upper pulley whose rope (length `l`) carries movable pulley A (depth `x`) and
-/// movable pulley B (depth `l − x`); B's rope (length `l'`) carries `m2`, `m3`; A's rope
-/// (length `l''`) carries `m4`, `m5`. Radii neglected, depths downward from the upper pulley:
-/// `x_A = x`, `x_B = l − x`, `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`, `x₄ = x + x''`,
-/// `x₅ = x + (l'' − x'')`; body `i` at `(0, −x_i)`; `q = (x, x', x'')` (docs/scenes.md#double_double_atwood). The
-/// pulleys are point bodies of masses `m_A`, `m_B` (0 in docs/scenes.md).
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct DoubleDoubleAtwood {
-    /// Mass `m₂` (kg), at `x'` below pulley B.
-    pub mass_2: f64,
-    /// Mass `m₃` (kg), at `l' − x'` below pulley B.
-    pub mass_3: f64,
-    /// Mass `m₄` (kg), at `x''` below pulley A.
-    pub mass_4: f64,
-    /// Mass `m₅` (kg), at `l'' − x''` below pulley A.
-    pub mass_5: f64,
-    /// Upper rope length `l` (m).
-    pub rope_length: f64,
-    /// Pulley B's rope length `l'` (m).
-    pub rope_length_b: f64,
-    /// Pulley A's rope length `l''` (m).
-    pub rope_length_a: f64,
-    /// Pulley A's mass `m_A` (kg).
-    pub pulley_a_mass: f64,
-    /// Pulley B's mass `m_B` (kg).
-    pub pulley_b_mass: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    coordinates: [Coordinate; 3],
-    bodies: [Body; 6],
+scene_params! {
+    /// A fixed upper pulley whose rope (length `l`) carries movable pulley A (depth `x`) and
+    /// movable pulley B (depth `l − x`); B's rope (length `l'`) carries `m2`, `m3`; A's rope
+    /// (length `l''`) carries `m4`, `m5`. Radii neglected, depths downward from the upper pulley:
+    /// `x_A = x`, `x_B = l − x`, `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`, `x₄ = x + x''`,
+    /// `x₅ = x + (l'' − x'')`; body `i` at `(0, −x_i)`; `q = (x, x', x'')` (docs/scenes.md#double_double_atwood). The
+    /// pulleys are point bodies of masses `m_A`, `m_B` (0 in docs/scenes.md).
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct DoubleDoubleAtwood {
+        /// Mass `m₂` (kg), at `x'` below pulley B.
+        pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on pulley B's rope, side x'"],
+        /// Mass `m₃` (kg), at `l' − x'` below pulley B.
+        pub mass_3: f64 = ["m3", "kg", 1.5, Domain::Positive, "mass on pulley B's rope, other side"],
+        /// Mass `m₄` (kg), at `x''` below pulley A.
+        pub mass_4: f64 = ["m4", "kg", 2.0, Domain::Positive, "mass on pulley A's rope, side x''"],
+        /// Mass `m₅` (kg), at `l'' − x''` below pulley A.
+        pub mass_5: f64 = ["m5", "kg", 0.5, Domain::Positive, "mass on pulley A's rope, other side"],
+        /// Upper rope length `l` (m).
+        pub rope_length: f64 = ["l", "m", 5.0, Domain::Positive, "length of the upper rope"],
+        /// Pulley B's rope length `l'` (m).
+        pub rope_length_b: f64 = ["l'", "m", 2.0, Domain::Positive, "length of pulley B's rope"],
+        /// Pulley A's rope length `l''` (m).
+        pub rope_length_a: f64 = ["l''", "m", 2.0, Domain::Positive, "length of pulley A's rope"],
+        /// Pulley A's mass `m_A` (kg).
+        pub pulley_a_mass: f64 = ["m_A", "kg", 0.0, Domain::NonNegative, "mass of movable pulley A (0: massless)"],
+        /// Pulley B's mass `m_B` (kg).
+        pub pulley_b_mass: f64 = ["m_B", "kg", 0.0, Domain::NonNegative, "mass of movable pulley B (0: massless)"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+    }
+    /// The machine with the parameters in [`PARAMS`]' order.
+    fn with_values;
+    derived {
+        coordinates: [Coordinate; 3] = [Coordinate::length("x"), Coordinate::length("x'"), Coordinate::length("x''")],
+        bodies: [Body; 6] = [
+            Body::point("pulley A", pulley_a_mass),
+            Body::point("pulley B", pulley_b_mass),
+            Body::point("mass 2", mass_2),
+            Body::point("mass 3", mass_3),
+            Body::point("mass 4", mass_4),
+            Body::point("mass 5", mass_5),
+        ],
+    }
 }
 
 impl DoubleDoubleAtwood {
@@ -65,43 +64,8 @@ impl DoubleDoubleAtwood {
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
     pub fn new(masses: [f64; 4], rope_lengths: [f64; 3], pulley_masses: [f64; 2], gravity: f64) -> Result<Self, Error> {
-        let [mass_2, mass_3, mass_4, mass_5] = masses;
-        let [rope_length, rope_length_b, rope_length_a] = rope_lengths;
-        let [pulley_a_mass, pulley_b_mass] = pulley_masses;
-        let values = [
-            mass_2,
-            mass_3,
-            mass_4,
-            mass_5,
-            rope_length,
-            rope_length_b,
-            rope_length_a,
-            pulley_a_mass,
-            pulley_b_mass,
-            gravity,
-        ];
-        check_all(PARAMS, &values)?;
-        Ok(Self {
-            mass_2,
-            mass_3,
-            mass_4,
-            mass_5,
-            rope_length,
-            rope_length_b,
-            rope_length_a,
-            pulley_a_mass,
-            pulley_b_mass,
-            gravity,
-            coordinates: [Coordinate::length("x"), Coordinate::length("x'"), Coordinate::length("x''")],
-            bodies: [
-                Body::point("pulley A", pulley_a_mass),
-                Body::point("pulley B", pulley_b_mass),
-                Body::point("mass 2", mass_2),
-                Body::point("mass 3", mass_3),
-                Body::point("mass 4", mass_4),
-                Body::point("mass 5", mass_5),
-            ],
-        })
+        let ([m2, m3, m4, m5], [l, l_b, l_a], [m_a, m_b]) = (masses, rope_lengths, pulley_masses);
+        Self::with_values(m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, gravity)
     }
 
     /// The constant mass matrix, from
@@ -204,15 +168,10 @@ impl SceneType for DoubleDoubleAtwood {
     const ID: &'static str = "double_double_atwood";
     const TITLE: &'static str = "Double-double Atwood machine";
     const REFERENCE: &'static str = "docs/scenes.md#double_double_atwood; the lecture (docs/scenes.md#the-lecture), homework remark (massive pulleys beyond the lecture)";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [m2, m3, m4, m5, l, l_b, l_a, m_a, m_b, g] = params.values_of(PARAMS)?;
-        Self::new([m2, m3, m4, m5], [l, l_b, l_a], [m_a, m_b], g)
     }
 
     /// `x = 2`, `x' = 1`, `x'' = 1`, at rest.
@@ -231,6 +190,7 @@ impl SceneType for DoubleDoubleAtwood {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Params;
     use crate::scene_of;
     use crate::testing::{
         ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,

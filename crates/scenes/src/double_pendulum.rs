@@ -1,114 +1,83 @@
 //! Double pendulum: two point masses on massless rods (beyond the lecture).
 
 use crate::checks::fixed;
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
+use crate::{Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
-/// Parameters: masses `m1`, `m2`, rod lengths `l1`, `l2`, `g`, bob inertias `I1`, `I2`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass_1", "m1", "kg", 1.0, Domain::Positive, "mass of the upper bob"),
-    ParamSpec::new("mass_2", "m2", "kg", 1.0, Domain::Positive, "mass of the lower bob"),
-    ParamSpec::new("length_1", "l1", "m", 1.0, Domain::Positive, "length of the upper rod"),
-    ParamSpec::new("length_2", "l2", "m", 1.0, Domain::Positive, "length of the lower rod"),
-    GRAVITY,
-    ParamSpec::new(
-        "inertia_1",
-        "I1",
-        "kg m²",
-        0.0,
-        Domain::NonNegative,
-        "moment of inertia of bob 1 about its centre (0: point bob)",
-    ),
-    ParamSpec::new(
-        "inertia_2",
-        "I2",
-        "kg m²",
-        0.0,
-        Domain::NonNegative,
-        "moment of inertia of bob 2 about its centre (0: point bob)",
-    ),
-];
-
-/// Bob 1 (mass `m1`) at `(l1 sinθ₁, −l1 cosθ₁)` on a massless rod from the origin, bob 2 (mass
-/// `m2`) at bob 1 + `(l2 sinθ₂, −l2 cosθ₂)`; `q = (θ₁, θ₂)`, absolute angles from the downward
-/// vertical, counter-clockwise. Each bob may have a moment of inertia about its centre (a
-/// compound bob fixed to its rod, turning with it); the point bobs of the usual double pendulum
-/// have `I1 = I2 = 0`. Rigid-body engines whose revolute joints cannot hold point bobs are
-/// compared against this model with inertias.
-///
-/// `T = ½ (m1 + m2) l1² θ̇₁² + ½ m2 l2² θ̇₂² + m2 l1 l2 θ̇₁ θ̇₂ cos(θ₁ − θ₂)`,
-/// `V = −(m1 + m2) g l1 cosθ₁ − m2 g l2 cosθ₂` (derived here from the Cartesian maps, as the
-/// lecture does; the system is treated in Taylor, *Classical Mechanics*, §11.4).
-///
-/// It describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): bob 1 hangs from the
-/// origin, bob 2 from bob 1's centre, each by a revolute joint with the absolute angle `θ_i`
-/// ([`AngleReference::World`](lagrange::tree::AngleReference)) at `(0, l_i)` in the bob's frame;
-/// so [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct DoublePendulum {
-    /// Upper bob mass `m₁` (kg).
-    pub mass_1: f64,
-    /// Lower bob mass `m₂` (kg).
-    pub mass_2: f64,
-    /// Upper rod length `l₁` (m).
-    pub length_1: f64,
-    /// Lower rod length `l₂` (m).
-    pub length_2: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    /// Moments of inertia of the bobs about their centres `I1`, `I2` (kg m²); 0 for point bobs.
-    pub inertia: [f64; 2],
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 2],
-    tree: Tree,
+scene_params! {
+    /// Bob 1 (mass `m1`) at `(l1 sinθ₁, −l1 cosθ₁)` on a massless rod from the origin, bob 2 (mass
+    /// `m2`) at bob 1 + `(l2 sinθ₂, −l2 cosθ₂)`; `q = (θ₁, θ₂)`, absolute angles from the downward
+    /// vertical, counter-clockwise. Each bob may have a moment of inertia about its centre (a
+    /// compound bob fixed to its rod, turning with it); the point bobs of the usual double pendulum
+    /// have `I1 = I2 = 0`. Rigid-body engines whose revolute joints cannot hold point bobs are
+    /// compared against this model with inertias.
+    ///
+    /// `T = ½ (m1 + m2) l1² θ̇₁² + ½ m2 l2² θ̇₂² + m2 l1 l2 θ̇₁ θ̇₂ cos(θ₁ − θ₂)`,
+    /// `V = −(m1 + m2) g l1 cosθ₁ − m2 g l2 cosθ₂` (derived here from the Cartesian maps, as the
+    /// lecture does; the system is treated in Taylor, *Classical Mechanics*, §11.4).
+    ///
+    /// It describes itself as a kinematic [`Tree`] ([`Mechanism::tree`]): bob 1 hangs from the
+    /// origin, bob 2 from bob 1's centre, each by a revolute joint with the absolute angle `θ_i`
+    /// ([`AngleReference::World`](lagrange::tree::AngleReference)) at `(0, l_i)` in the bob's frame;
+    /// so [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct DoublePendulum {
+        /// Upper bob mass `m₁` (kg).
+        pub mass_1: f64 = ["m1", "kg", 1.0, Domain::Positive, "mass of the upper bob"],
+        /// Lower bob mass `m₂` (kg).
+        pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass of the lower bob"],
+        /// Upper rod length `l₁` (m).
+        pub length_1: f64 = ["l1", "m", 1.0, Domain::Positive, "length of the upper rod"],
+        /// Lower rod length `l₂` (m).
+        pub length_2: f64 = ["l2", "m", 1.0, Domain::Positive, "length of the lower rod"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+        /// Moment of inertia of bob 1 about its centre `I1` (kg m²); 0 for a point bob.
+        pub inertia_1: f64 = [
+            "I1",
+            "kg m²",
+            0.0,
+            Domain::NonNegative,
+            "moment of inertia of bob 1 about its centre (0: point bob)"
+        ],
+        /// Moment of inertia of bob 2 about its centre `I2` (kg m²); 0 for a point bob.
+        pub inertia_2: f64 = [
+            "I2",
+            "kg m²",
+            0.0,
+            Domain::NonNegative,
+            "moment of inertia of bob 2 about its centre (0: point bob)"
+        ],
+    }
+    /// As [`new`](Self::new), with compound bobs of inertias `I1`, `I2` about their centres.
+    pub fn with_inertia;
+    derived {
+        coordinates: [Coordinate; 2] = [Coordinate::angle("θ1"), Coordinate::angle("θ2")],
+        bodies: [Body; 2] = [Body::rigid("bob 1", mass_1, inertia_1), Body::rigid("bob 2", mass_2, inertia_2)],
+        // Each bob a rod length below its pivot: the origin, then bob 1's centre.
+        tree: Tree = {
+            let joints = vec![
+                Joint::absolute_revolute("θ1", Parent::Ground, [0.0, 0.0], [0.0, length_1]),
+                Joint::absolute_revolute("θ2", Parent::Body(0), [0.0, 0.0], [0.0, length_2]),
+            ];
+            Tree::new(joints, bodies.to_vec(), gravity)?
+        },
+    }
 }
 
 impl DoublePendulum {
-    /// A double pendulum with masses `m1`, `m2`, rod lengths `l1`, `l2` and gravity `g`.
+    /// A double pendulum with point bobs: masses `m1`, `m2`, rod lengths `l1`, `l2` and gravity `g`.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
     pub fn new(mass_1: f64, mass_2: f64, length_1: f64, length_2: f64, gravity: f64) -> Result<Self, Error> {
-        Self::with_inertia(mass_1, mass_2, length_1, length_2, gravity, [0.0, 0.0])
-    }
-
-    /// As [`new`](Self::new), with compound bobs of inertias `[I1, I2]` about their centres.
-    ///
-    /// # Errors
-    /// As [`new`](Self::new); the inertias must be finite and non-negative.
-    pub fn with_inertia(
-        mass_1: f64,
-        mass_2: f64,
-        length_1: f64,
-        length_2: f64,
-        gravity: f64,
-        inertia: [f64; 2],
-    ) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass_1, mass_2, length_1, length_2, gravity, inertia[0], inertia[1]])?;
-        let bodies = [Body::rigid("bob 1", mass_1, inertia[0]), Body::rigid("bob 2", mass_2, inertia[1])];
-        // Each bob a rod length below its pivot: the origin, then bob 1's centre.
-        let joints = vec![
-            Joint::absolute_revolute("θ1", Parent::Ground, [0.0, 0.0], [0.0, length_1]),
-            Joint::absolute_revolute("θ2", Parent::Body(0), [0.0, 0.0], [0.0, length_2]),
-        ];
-        let tree = Tree::new(joints, bodies.to_vec(), gravity)?;
-        Ok(Self {
-            mass_1,
-            mass_2,
-            length_1,
-            length_2,
-            gravity,
-            inertia,
-            coordinates: [Coordinate::angle("θ1"), Coordinate::angle("θ2")],
-            bodies,
-            tree,
-        })
+        Self::with_inertia(mass_1, mass_2, length_1, length_2, gravity, 0.0, 0.0)
     }
 
     /// `(θ̈₁, θ̈₂)` in closed form. Lagrange's equations (divided by `l1` and `m2 l2`), with
@@ -131,10 +100,10 @@ impl DoublePendulum {
         let [theta_1, theta_2] = fixed(q, "q");
         let [omega_1, omega_2] = fixed(qdot, "q̇");
         let (m1, m2, l1, l2, g) = (self.mass_1, self.mass_2, self.length_1, self.length_2, self.gravity);
-        if self.inertia != [0.0, 0.0] {
+        if (self.inertia_1, self.inertia_2) != (0.0, 0.0) {
             let (s, c) = (theta_1 - theta_2).sin_cos();
-            let a11 = (m1 + m2) * l1 * l1 + self.inertia[0];
-            let (a12, a22) = (m2 * l1 * l2 * c, m2 * l2 * l2 + self.inertia[1]);
+            let a11 = (m1 + m2) * l1 * l1 + self.inertia_1;
+            let (a12, a22) = (m2 * l1 * l2 * c, m2 * l2 * l2 + self.inertia_2);
             let f1 = -m2 * l1 * l2 * s * omega_2 * omega_2 - (m1 + m2) * g * l1 * theta_1.sin();
             let f2 = m2 * l1 * l2 * s * omega_1 * omega_1 - m2 * g * l2 * theta_2.sin();
             let determinant = a11 * a22 - a12 * a12;
@@ -164,8 +133,8 @@ impl DoublePendulum {
     /// [m2 l1 l2, m2 l2² + I2]]`, i.e. `det M ω⁴ − (K₁₁ M₂₂ + K₂₂ M₁₁) ω² + K₁₁ K₂₂ = 0`.
     pub fn small_oscillation_frequencies(&self) -> (f64, f64) {
         let (m1, m2, l1, l2, g) = (self.mass_1, self.mass_2, self.length_1, self.length_2, self.gravity);
-        if self.inertia != [0.0, 0.0] {
-            let (a11, a12, a22) = ((m1 + m2) * l1 * l1 + self.inertia[0], m2 * l1 * l2, m2 * l2 * l2 + self.inertia[1]);
+        if (self.inertia_1, self.inertia_2) != (0.0, 0.0) {
+            let (a11, a12, a22) = ((m1 + m2) * l1 * l1 + self.inertia_1, m2 * l1 * l2, m2 * l2 * l2 + self.inertia_2);
             let (k1, k2) = ((m1 + m2) * g * l1, m2 * g * l2);
             let (a, b, c) = (a11 * a22 - a12 * a12, k1 * a22 + k2 * a11, k1 * k2);
             let fast_sq = (b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
@@ -218,15 +187,10 @@ impl SceneType for DoublePendulum {
     const TITLE: &'static str = "Double pendulum";
     const REFERENCE: &'static str =
         "beyond the lecture; closed forms derived in double_pendulum.rs (cf. Taylor, Classical Mechanics, §11.4)";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass_1, mass_2, length_1, length_2, gravity, inertia_1, inertia_2] = params.values_of(PARAMS)?;
-        Self::with_inertia(mass_1, mass_2, length_1, length_2, gravity, [inertia_1, inertia_2])
     }
 
     /// `θ₁ = θ₂ = 0.5`, at rest.

@@ -1,61 +1,41 @@
 //! Pendulum whose support is driven horizontally: a rheonomic constraint (beyond the lecture).
 
 use crate::checks::fixed;
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
-/// Parameters: mass `m`, rod length `l`, drive amplitude `A`, drive frequency `ω`, `g`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass of the bob"),
-    ParamSpec::new("length", "l", "m", 1.0, Domain::Positive, "length of the massless rod"),
-    ParamSpec::new("amplitude", "A", "m", 0.1, Domain::Finite, "amplitude of the support's horizontal motion"),
-    ParamSpec::new("drive_frequency", "ω", "rad/s", 3.0, Domain::NonNegative, "angular frequency of the drive"),
-    GRAVITY,
-];
-
-/// A bob of mass `m` on a massless rod of length `l` whose support moves as `(A sin ωt, 0)`:
-/// bob at `(A sin ωt + l sinθ, −l cosθ)`; `q = (θ)`, from the downward vertical,
-/// counter-clockwise. The pose depends on time (rheonomic), so energy is not conserved.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct DrivenPendulum {
-    /// Bob mass `m` (kg).
-    pub mass: f64,
-    /// Rod length `l` (m).
-    pub length: f64,
-    /// Drive amplitude `A` (m).
-    pub amplitude: f64,
-    /// Drive angular frequency `ω` (rad/s).
-    pub drive_frequency: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    coordinates: [Coordinate; 1],
-    bodies: [Body; 1],
+scene_params! {
+    /// A bob of mass `m` on a massless rod of length `l` whose support moves as `(A sin ωt, 0)`:
+    /// bob at `(A sin ωt + l sinθ, −l cosθ)`; `q = (θ)`, from the downward vertical,
+    /// counter-clockwise. The pose depends on time (rheonomic), so energy is not conserved.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct DrivenPendulum {
+        /// Bob mass `m` (kg).
+        pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the bob"],
+        /// Rod length `l` (m).
+        pub length: f64 = ["l", "m", 1.0, Domain::Positive, "length of the massless rod"],
+        /// Drive amplitude `A` (m).
+        pub amplitude: f64 = ["A", "m", 0.1, Domain::Finite, "amplitude of the support's horizontal motion"],
+        /// Drive angular frequency `ω` (rad/s).
+        pub drive_frequency: f64 = ["ω", "rad/s", 3.0, Domain::NonNegative, "angular frequency of the drive"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+    }
+    /// A driven pendulum with mass `m`, length `l`, drive amplitude `A`, drive frequency `ω` and
+    /// gravity `g`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 1] = [Coordinate::angle("θ")],
+        bodies: [Body; 1] = [Body::point("bob", mass)],
+    }
 }
 
 impl DrivenPendulum {
-    /// A driven pendulum with mass `m`, length `l`, drive amplitude `A`, drive frequency `ω` and
-    /// gravity `g`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(mass: f64, length: f64, amplitude: f64, drive_frequency: f64, gravity: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass, length, amplitude, drive_frequency, gravity])?;
-        Ok(Self {
-            mass,
-            length,
-            amplitude,
-            drive_frequency,
-            gravity,
-            coordinates: [Coordinate::angle("θ")],
-            bodies: [Body::point("bob", mass)],
-        })
-    }
-
     /// `θ̈ = −(g/l) sinθ + (A ω² sin ωt / l) cosθ`: from
     /// `L = ½ m (A² ω² cos² ωt + 2 A ω cos ωt l θ̇ cosθ + l² θ̇²) + m g l cosθ`, the support's
     /// acceleration `−A ω² sin ωt` acts on the bob as the inertial force `m A ω² sin ωt` along x
@@ -99,15 +79,10 @@ impl SceneType for DrivenPendulum {
     const TITLE: &'static str = "Pendulum with a horizontally driven support";
     const REFERENCE: &'static str =
         "beyond the lecture (rheonomic constraint); closed form derived in driven_pendulum.rs";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(t, q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, length, amplitude, drive_frequency, gravity] = params.values_of(PARAMS)?;
-        Self::new(mass, length, amplitude, drive_frequency, gravity)
     }
 
     /// `θ = 0.2`, at rest.

@@ -1,52 +1,36 @@
 //! Harmonic oscillator, optionally with linear damping (docs/scenes.md#harmonic_oscillator; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
-use crate::params::check_all;
+use crate::params::{param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
-/// Parameters: mass `m`, stiffness `k`, damping `c`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass on the spring"),
-    ParamSpec::new("stiffness", "k", "N/m", 10.0, Domain::Positive, "spring constant"),
-    ParamSpec::new("damping", "c", "kg/s", 0.0, Domain::NonNegative, "linear damping coefficient (force −c ẋ)"),
-];
-
-/// A mass `m` at `(x, 0)` on a spring of stiffness `k`, `V = ½ k x²`, with an optional
-/// damping force `−c ẋ` (a generalized force); `q = (x)`, the displacement from the spring's
-/// rest position (docs/scenes.md#harmonic_oscillator). No gravity.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct HarmonicOscillator {
-    /// Mass `m` (kg).
-    pub mass: f64,
-    /// Spring constant `k` (N/m).
-    pub stiffness: f64,
-    /// Damping coefficient `c` (kg/s); 0 for the lecture's undamped oscillator.
-    pub damping: f64,
-    coordinates: [Coordinate; 1],
-    bodies: [Body; 1],
+scene_params! {
+    /// A mass `m` at `(x, 0)` on a spring of stiffness `k`, `V = ½ k x²`, with an optional
+    /// damping force `−c ẋ` (a generalized force); `q = (x)`, the displacement from the spring's
+    /// rest position (docs/scenes.md#harmonic_oscillator). No gravity.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct HarmonicOscillator {
+        /// Mass `m` (kg).
+        pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass on the spring"],
+        /// Spring constant `k` (N/m).
+        pub stiffness: f64 = ["k", "N/m", 10.0, Domain::Positive, "spring constant"],
+        /// Damping coefficient `c` (kg/s); 0 for the lecture's undamped oscillator.
+        pub damping: f64 = ["c", "kg/s", 0.0, Domain::NonNegative, "linear damping coefficient (force −c ẋ)"],
+    }
+    /// An oscillator with mass `m`, stiffness `k` and damping `c`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 1] = [Coordinate::length("x")],
+        bodies: [Body; 1] = [Body::point("mass", mass)],
+    }
 }
 
 impl HarmonicOscillator {
-    /// An oscillator with mass `m`, stiffness `k` and damping `c`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(mass: f64, stiffness: f64, damping: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass, stiffness, damping])?;
-        Ok(Self {
-            mass,
-            stiffness,
-            damping,
-            coordinates: [Coordinate::length("x")],
-            bodies: [Body::point("mass", mass)],
-        })
-    }
-
     /// `ẍ = −(k x + c ẋ)/m` (docs/scenes.md#harmonic_oscillator with the damping force added).
     ///
     /// # Panics
@@ -138,15 +122,10 @@ impl SceneType for HarmonicOscillator {
     const ID: &'static str = "harmonic_oscillator";
     const TITLE: &'static str = "Harmonic oscillator (optionally damped)";
     const REFERENCE: &'static str = "docs/scenes.md#harmonic_oscillator; the lecture (docs/scenes.md#the-lecture), example: harmonic oscillator (damping beyond the lecture)";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, stiffness, damping] = params.values_of(PARAMS)?;
-        Self::new(mass, stiffness, damping)
     }
 
     /// `x = 0.1`, at rest.

@@ -2,48 +2,34 @@
 //! the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
-use crate::params::check_all;
+use crate::params::{param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-/// Parameters: mass `m`, stiffness `k`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass of the particle"),
-    ParamSpec::new("stiffness", "k", "N/m", 1.0, Domain::Positive, "spring constant of the central force"),
-];
-
-/// A particle of mass `m` at `(r cosθ, r sinθ)` bound to the origin by `V = ½ k r²`;
-/// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#isotropic_oscillator). No gravity.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct IsotropicOscillator {
-    /// Mass `m` (kg).
-    pub mass: f64,
-    /// Spring constant `k` (N/m).
-    pub stiffness: f64,
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 1],
+scene_params! {
+    /// A particle of mass `m` at `(r cosθ, r sinθ)` bound to the origin by `V = ½ k r²`;
+    /// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#isotropic_oscillator). No gravity.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct IsotropicOscillator {
+        /// Mass `m` (kg).
+        pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
+        /// Spring constant `k` (N/m).
+        pub stiffness: f64 = ["k", "N/m", 1.0, Domain::Positive, "spring constant of the central force"],
+    }
+    /// An isotropic oscillator with mass `m` and stiffness `k`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 2] = [Coordinate::length("r"), Coordinate::angle("θ")],
+        bodies: [Body; 1] = [Body::point("particle", mass)],
+    }
 }
 
 impl IsotropicOscillator {
-    /// An isotropic oscillator with mass `m` and stiffness `k`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(mass: f64, stiffness: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass, stiffness])?;
-        Ok(Self {
-            mass,
-            stiffness,
-            coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
-            bodies: [Body::point("particle", mass)],
-        })
-    }
-
     /// `r̈ = r θ̇² − (k/m) r`, `θ̈ = −2 ṙ θ̇ / r` (docs/scenes.md#isotropic_oscillator, "Equations").
     ///
     /// # Panics
@@ -138,15 +124,10 @@ impl SceneType for IsotropicOscillator {
     const TITLE: &'static str = "Central force: isotropic oscillator (V = k r²/2)";
     const REFERENCE: &'static str =
         "docs/scenes.md#isotropic_oscillator; the lecture (docs/scenes.md#the-lecture), example: central force";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, stiffness] = params.values_of(PARAMS)?;
-        Self::new(mass, stiffness)
     }
 
     /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 0.5`.

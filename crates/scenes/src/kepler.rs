@@ -1,32 +1,32 @@
 //! Central force with the Kepler potential `V = −k/r` (docs/scenes.md#kepler; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
-use crate::params::check_all;
+use crate::params::{param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{PI, TAU};
 
-/// Parameters: mass `m`, force strength `k`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass of the particle"),
-    ParamSpec::new("strength", "k", "N m²", 1.0, Domain::Positive, "strength of the attraction (V = −k/r)"),
-];
-
-/// A particle of mass `m` at `(r cosθ, r sinθ)` attracted to the origin by `V = −k/r`;
-/// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#kepler). No gravity. The closed forms assume
-/// `r > 0`.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Kepler {
-    /// Mass `m` (kg).
-    pub mass: f64,
-    /// Strength `k` of the potential `V = −k/r` (N m²).
-    pub strength: f64,
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 1],
+scene_params! {
+    /// A particle of mass `m` at `(r cosθ, r sinθ)` attracted to the origin by `V = −k/r`;
+    /// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#kepler). No gravity. The closed forms assume
+    /// `r > 0`.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct Kepler {
+        /// Mass `m` (kg).
+        pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
+        /// Strength `k` of the potential `V = −k/r` (N m²).
+        pub strength: f64 = ["k", "N m²", 1.0, Domain::Positive, "strength of the attraction (V = −k/r)"],
+    }
+    /// A Kepler problem with mass `m` and strength `k`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 2] = [Coordinate::length("r"), Coordinate::angle("θ")],
+        bodies: [Body; 1] = [Body::point("particle", mass)],
+    }
 }
 
 /// The orbit through a state: its constants of motion and conic elements (docs/scenes.md#kepler,
@@ -48,20 +48,6 @@ pub struct Orbit {
 }
 
 impl Kepler {
-    /// A Kepler problem with mass `m` and strength `k`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(mass: f64, strength: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass, strength])?;
-        Ok(Self {
-            mass,
-            strength,
-            coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
-            bodies: [Body::point("particle", mass)],
-        })
-    }
-
     /// `r̈ = r θ̇² − k/(m r²)`, `θ̈ = −2 ṙ θ̇ / r` (docs/scenes.md#kepler, "Equations").
     ///
     /// # Panics
@@ -220,15 +206,10 @@ impl SceneType for Kepler {
     const TITLE: &'static str = "Central force: Kepler problem (V = −k/r)";
     const REFERENCE: &'static str =
         "docs/scenes.md#kepler; the lecture (docs/scenes.md#the-lecture), example: central force";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, strength] = params.values_of(PARAMS)?;
-        Self::new(mass, strength)
     }
 
     /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 1.2`: an ellipse with period ≈ 14.99 at the defaults.

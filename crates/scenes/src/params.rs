@@ -116,6 +116,132 @@ impl ParamSpec {
 pub(crate) const GRAVITY: ParamSpec =
     ParamSpec::new("gravity", "g", "m/s²", 9.81, Domain::NonNegative, "gravitational acceleration (along −y)");
 
+/// A parameter's value in a typed scene: `f64`, or `usize` for a count (checked as a real
+/// number first, so that 2.5 links is an error, not 2).
+pub(crate) trait ParamValue: Copy {
+    /// The value as the real number the specification checks.
+    fn to_f64(self) -> f64;
+    /// The value from a real number already checked against its specification.
+    fn from_f64(value: f64) -> Self;
+}
+
+impl ParamValue for f64 {
+    fn to_f64(self) -> f64 {
+        self
+    }
+
+    fn from_f64(value: f64) -> Self {
+        value
+    }
+}
+
+impl ParamValue for usize {
+    fn to_f64(self) -> f64 {
+        // usize → f64 is exact up to 2⁵³, far beyond any count a domain allows.
+        self as f64
+    }
+
+    fn from_f64(value: f64) -> Self {
+        // Checked to be a whole number in an `Integer` domain (at most `u32::MAX`).
+        value as usize
+    }
+}
+
+/// Whether two names are equal, in a constant (a shared specification such as [`GRAVITY`] must
+/// name the field it fills).
+pub(crate) const fn same_name(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// A scene's parameter list, written once: from one row per parameter,
+/// `pub field: type = [symbol, unit, default, domain, "description"]` (or `= [SHARED]` for a
+/// shared specification such as [`GRAVITY`]), it generates the `PARAMS` table (the field's
+/// name is the parameter's name), the struct with the documented public fields and the private
+/// derived fields, the validating constructor taking the parameters in the table's order, and
+/// `from_table`, the scene from a [`Params`] set (used by [`param_table!`]). The derived fields
+/// are computed in order from the parameters (and the derived fields before them), so an
+/// expression may use `?`.
+macro_rules! scene_params {
+    (@spec $field:ident; $shared:ident) => {{
+        const _: () = assert!($crate::params::same_name($shared.name, stringify!($field)), "a shared spec names its field");
+        $shared
+    }};
+    (@spec $field:ident; $symbol:literal, $unit:literal, $default:expr, $domain:expr, $description:literal) => {
+        $crate::ParamSpec::new(stringify!($field), $symbol, $unit, $default, $domain, $description)
+    };
+    (
+        $(#[$meta:meta])*
+        pub struct $scene:ident {
+            $(
+                $(#[doc = $doc:literal])*
+                pub $field:ident : $type:ty = [$($spec:tt)*],
+            )*
+        }
+        $(#[doc = $constructor_doc:literal])*
+        $constructor_vis:vis fn $constructor:ident;
+        derived {
+            $( $derived:ident : $derived_type:ty = $value:expr, )*
+        }
+    ) => {
+        #[doc = concat!("The parameters of [`", stringify!($scene), "`], in order (its public fields).")]
+        pub const PARAMS: &[$crate::ParamSpec] = &[$($crate::params::scene_params!(@spec $field; $($spec)*)),*];
+
+        $(#[$meta])*
+        pub struct $scene {
+            $( $(#[doc = $doc])* pub $field: $type, )*
+            $( $derived: $derived_type, )*
+        }
+
+        impl $scene {
+            $(#[doc = $constructor_doc])*
+            ///
+            /// # Errors
+            /// [`Error::InvalidParameter`](lagrange::Error::InvalidParameter) naming the first
+            /// parameter outside its domain ([`PARAMS`]).
+            // One argument per parameter, in the order of the table that groups them.
+            #[allow(clippy::too_many_arguments)]
+            $constructor_vis fn $constructor($($field: $type),*) -> Result<Self, ::lagrange::Error> {
+                $crate::params::check_all(PARAMS, &[$($crate::params::ParamValue::to_f64($field)),*])?;
+                $( let $derived: $derived_type = $value; )*
+                Ok(Self { $($field,)* $($derived,)* })
+            }
+
+            /// The scene with the values of `params`, read by name and checked before any
+            /// becomes a typed argument.
+            fn from_table(params: &$crate::Params) -> Result<Self, ::lagrange::Error> {
+                let [$($field),*] = params.values_of(PARAMS)?;
+                $crate::params::check_all(PARAMS, &[$($field),*])?;
+                Self::$constructor($($crate::params::ParamValue::from_f64($field)),*)
+            }
+        }
+    };
+}
+
+/// The parameter items of a [`SceneType`](crate::SceneType) whose parameters are declared by
+/// [`scene_params!`].
+macro_rules! param_table {
+    () => {
+        const PARAMS: &'static [$crate::ParamSpec] = PARAMS;
+
+        fn from_params(params: &$crate::Params) -> Result<Self, ::lagrange::Error> {
+            Self::from_table(params)
+        }
+    };
+}
+
+pub(crate) use {param_table, scene_params};
+
 /// A scene's parameter values, each checked against its specification.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Params {

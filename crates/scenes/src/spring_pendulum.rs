@@ -1,56 +1,38 @@
 //! Elastic (spring) pendulum: a bob on a spring swinging under gravity (beyond the lecture).
 
 use crate::checks::fixed;
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
-/// Parameters: mass `m`, stiffness `k`, rest length `L0`, `g`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("mass", "m", "kg", 1.0, Domain::Positive, "mass of the bob"),
-    ParamSpec::new("stiffness", "k", "N/m", 100.0, Domain::Positive, "spring constant"),
-    ParamSpec::new("rest_length", "L0", "m", 1.0, Domain::Positive, "unstretched length of the spring"),
-    GRAVITY,
-];
-
-/// A bob of mass `m` at `(r sinθ, −r cosθ)` on a massless spring (stiffness `k`, rest length
-/// `L0`) hung from the origin, `V_spring = ½ k (|x| − L0)²`; `q = (r, θ)`, `θ` from the downward
-/// vertical, counter-clockwise. The closed forms assume `r > 0`.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct SpringPendulum {
-    /// Bob mass `m` (kg).
-    pub mass: f64,
-    /// Spring constant `k` (N/m).
-    pub stiffness: f64,
-    /// Rest length `L₀` (m).
-    pub rest_length: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 1],
+scene_params! {
+    /// A bob of mass `m` at `(r sinθ, −r cosθ)` on a massless spring (stiffness `k`, rest length
+    /// `L0`) hung from the origin, `V_spring = ½ k (|x| − L0)²`; `q = (r, θ)`, `θ` from the downward
+    /// vertical, counter-clockwise. The closed forms assume `r > 0`.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct SpringPendulum {
+        /// Bob mass `m` (kg).
+        pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the bob"],
+        /// Spring constant `k` (N/m).
+        pub stiffness: f64 = ["k", "N/m", 100.0, Domain::Positive, "spring constant"],
+        /// Rest length `L₀` (m).
+        pub rest_length: f64 = ["L0", "m", 1.0, Domain::Positive, "unstretched length of the spring"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+    }
+    /// A spring pendulum with mass `m`, stiffness `k`, rest length `L0` and gravity `g`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 2] = [Coordinate::length("r"), Coordinate::angle("θ")],
+        bodies: [Body; 1] = [Body::point("bob", mass)],
+    }
 }
 
 impl SpringPendulum {
-    /// A spring pendulum with mass `m`, stiffness `k`, rest length `L0` and gravity `g`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(mass: f64, stiffness: f64, rest_length: f64, gravity: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[mass, stiffness, rest_length, gravity])?;
-        Ok(Self {
-            mass,
-            stiffness,
-            rest_length,
-            gravity,
-            coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
-            bodies: [Body::point("bob", mass)],
-        })
-    }
-
     /// `r̈ = r θ̇² + g cosθ − (k/m)(r − L0)`, `θ̈ = −(g sinθ + 2 ṙ θ̇)/r`, from
     /// `L = ½ m (ṙ² + r² θ̇²) + m g r cosθ − ½ k (r − L0)²` (derived as in docs/scenes.md#kepler, with
     /// the gravity term of §1).
@@ -98,15 +80,10 @@ impl SceneType for SpringPendulum {
     const ID: &'static str = "spring_pendulum";
     const TITLE: &'static str = "Elastic (spring) pendulum";
     const REFERENCE: &'static str = "beyond the lecture; closed form derived in spring_pendulum.rs";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [mass, stiffness, rest_length, gravity] = params.values_of(PARAMS)?;
-        Self::new(mass, stiffness, rest_length, gravity)
     }
 
     /// `r = 1.1`, `θ = 0.5`, at rest.

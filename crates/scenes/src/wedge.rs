@@ -1,64 +1,44 @@
 //! Block sliding on a movable frictionless wedge (docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::checks::fixed;
-use crate::params::{GRAVITY, check_all};
+use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, ParamSpec, Params, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use crate::{Domain, SceneType};
+use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
-/// Parameters: wedge mass `M`, block mass `m`, incline angle `α`, incline length `L`, `g`.
-pub const PARAMS: &[ParamSpec] = &[
-    ParamSpec::new("wedge_mass", "M", "kg", 3.0, Domain::Positive, "mass of the wedge"),
-    ParamSpec::new("block_mass", "m", "kg", 1.0, Domain::Positive, "mass of the block"),
-    ParamSpec::new("angle", "α", "rad", FRAC_PI_6, Domain::OpenInterval(0.0, FRAC_PI_2), "angle of the incline"),
-    ParamSpec::new("incline_length", "L", "m", 2.0, Domain::Positive, "length of the incline"),
-    GRAVITY,
-];
-
-/// A wedge of mass `M` sliding on a frictionless floor, its top corner at `(x, 0)`, and a block
-/// of mass `m` on its frictionless incline (angle `α`, length `L`, descending towards `+x`) at
-/// `(x + x' cosα, (L − x') sinα)`; `q = (x, x')`, `x'` measured down the slope from the top
-/// corner (docs/scenes.md#wedge). The wedge only translates.
-///
-/// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-/// for reading (changing one afterwards does not update the bodies the engine sees).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Wedge {
-    /// Wedge mass `M` (kg).
-    pub wedge_mass: f64,
-    /// Block mass `m` (kg).
-    pub block_mass: f64,
-    /// Incline angle `α` (rad), `0 < α < π/2`.
-    pub angle: f64,
-    /// Incline length `L` (m).
-    pub incline_length: f64,
-    /// Gravitational acceleration `g` (m/s²).
-    pub gravity: f64,
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 2],
+scene_params! {
+    /// A wedge of mass `M` sliding on a frictionless floor, its top corner at `(x, 0)`, and a block
+    /// of mass `m` on its frictionless incline (angle `α`, length `L`, descending towards `+x`) at
+    /// `(x + x' cosα, (L − x') sinα)`; `q = (x, x')`, `x'` measured down the slope from the top
+    /// corner (docs/scenes.md#wedge). The wedge only translates.
+    ///
+    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
+    /// for reading (changing one afterwards does not update the bodies the engine sees).
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct Wedge {
+        /// Wedge mass `M` (kg).
+        pub wedge_mass: f64 = ["M", "kg", 3.0, Domain::Positive, "mass of the wedge"],
+        /// Block mass `m` (kg).
+        pub block_mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the block"],
+        /// Incline angle `α` (rad), `0 < α < π/2`.
+        pub angle: f64 = ["α", "rad", FRAC_PI_6, Domain::OpenInterval(0.0, FRAC_PI_2), "angle of the incline"],
+        /// Incline length `L` (m).
+        pub incline_length: f64 = ["L", "m", 2.0, Domain::Positive, "length of the incline"],
+        /// Gravitational acceleration `g` (m/s²).
+        pub gravity: f64 = [GRAVITY],
+    }
+    /// A wedge of mass `M` with a block of mass `m`, incline angle `α`, incline length `L` and
+    /// gravity `g`.
+    pub fn new;
+    derived {
+        coordinates: [Coordinate; 2] = [Coordinate::length("x"), Coordinate::length("x'")],
+        bodies: [Body; 2] = [Body::point("wedge", wedge_mass), Body::point("block", block_mass)],
+    }
 }
 
 impl Wedge {
-    /// A wedge of mass `M` with a block of mass `m`, incline angle `α`, incline length `L` and
-    /// gravity `g`.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] naming the first parameter outside its domain ([`PARAMS`]).
-    pub fn new(wedge_mass: f64, block_mass: f64, angle: f64, incline_length: f64, gravity: f64) -> Result<Self, Error> {
-        check_all(PARAMS, &[wedge_mass, block_mass, angle, incline_length, gravity])?;
-        Ok(Self {
-            wedge_mass,
-            block_mass,
-            angle,
-            incline_length,
-            gravity,
-            coordinates: [Coordinate::length("x"), Coordinate::length("x'")],
-            bodies: [Body::point("wedge", wedge_mass), Body::point("block", block_mass)],
-        })
-    }
-
     /// The constant `(ẍ, ẍ')` (docs/scenes.md#wedge, "Closed forms"; the lecture's results):
     /// `ẍ = −m g sinα cosα / (M + m sin²α)` (the wedge recoils towards −x),
     /// `ẍ' = (M + m) g sinα / (M + m sin²α)`.
@@ -130,15 +110,10 @@ impl SceneType for Wedge {
     const TITLE: &'static str = "Block on a movable frictionless wedge";
     const REFERENCE: &'static str =
         "docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture), example: block on a movable wedge";
-    const PARAMS: &'static [ParamSpec] = PARAMS;
+    param_table!();
 
     fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
         qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
-    fn from_params(params: &Params) -> Result<Self, Error> {
-        let [wedge_mass, block_mass, angle, incline_length, gravity] = params.values_of(PARAMS)?;
-        Self::new(wedge_mass, block_mass, angle, incline_length, gravity)
     }
 
     /// `x = 0`, `x' = 0` (block at the top corner), at rest.
