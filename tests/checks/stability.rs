@@ -4,12 +4,8 @@
 //! conservation laws, a nearly parabolic Kepler orbit over 100 periods, chaos (how long two
 //! tolerances agree), near-singular configurations, and long runs.
 
-mod chaos;
 mod extreme;
-mod kepler;
-mod long_run;
 mod singular;
-mod stiff;
 
 /// The report's stability cases, each run with its quick settings: every checked measurement
 /// must pass against the case's own theory, with the bound the report states. The report and
