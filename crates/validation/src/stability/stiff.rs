@@ -265,7 +265,9 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
                     .value(t.energy.iter().map(|e| e - e0).fold(0.0, f64::max) / e_release)
                     .cost(Cost::of(&t.stats, wall))
                     .note(format!("ω dt = {:.0e}", omega * 0.01));
-                gauss_slow_swing_rows(case, &m, &t, pendulum.as_ref(), &released, horizon)?;
+                if k >= 1e4 {
+                    gauss_slow_swing_rows(case, &m, &t, pendulum.as_ref(), &released, horizon)?;
+                }
                 m
             }
             Err(e) => m.failed(e).check(Check::Finite, None, None),
@@ -447,6 +449,9 @@ fn sdirk_rows(
 /// mode is not excited and the A-stable method steps over it, following the slow swing (its
 /// error is the swing's `O((Ω dt)⁴)`, Ω² = g: measured relative energy errors 6.7e-10 … 6.9e-10
 /// at every k/m ≥ 1e4, |θ − θ_ref| ≤ 3.3e-9 against SDIRK4 at tol 1e-10; bounds 1e-8 for both).
+/// Checked from k/m = 1e4 (ω dt ≥ 1) only: at k/m = 1e2 (ω dt = 0.1) Gauss resolves the radial
+/// mode, which the swing excites, and the error is that coupled motion's (8e-9 at 1 s), not the
+/// slow swing's.
 /// A stage velocity ṙ near zero with round-off of order ε ω² h once made Newton report
 /// non-convergence at t = 0 for k/m ≥ 1e6 (regression).
 fn gauss_slow_swing_rows(
