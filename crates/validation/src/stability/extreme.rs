@@ -473,10 +473,8 @@ fn gauss_chain(case: &mut CaseBuilder) -> Result<(), Error> {
     .method_settings(method, 2.0);
     let m = match run {
         Ok(t) => m.value(f64::INFINITY).cost(Cost::of(&t.stats, wall)).note("returned a trajectory through the whip"),
-        Err(lagrange::Error::NewtonFailed { t, .. }) => {
-            let mut m = m.cost(Cost { wall_time_s: wall, ..Cost::default() });
-            m.status = "failed";
-            m.value(t)
+        Err(error @ lagrange::Error::NewtonFailed { t, .. }) => {
+            m.cost(Cost { wall_time_s: wall, ..Cost::default() }).failed(error).value(t)
         }
         Err(e) => m.failed(e),
     };
