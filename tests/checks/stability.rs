@@ -4,13 +4,6 @@
 //! conservation laws, a nearly parabolic Kepler orbit over 100 periods, chaos (how long two
 //! tolerances agree), near-singular configurations, and long runs.
 
-mod chaos;
-mod extreme;
-mod kepler;
-mod long_run;
-mod singular;
-mod stiff;
-
 /// The report's stability cases, each run with its quick settings: every checked measurement
 /// must pass against the case's own theory, with the bound the report states. The report and
 /// these tests run the same code, so a bound is written once.
@@ -106,24 +99,4 @@ mod report_cases {
     fn bad_input() {
         assert_case_passes("bad_input");
     }
-}
-
-use lagrange::System;
-use lagrange_scenes::Params;
-use lagrange_validation::fixtures::{phase, relative_energy_error};
-
-use lagrange_tests::scene;
-
-/// The scene's defaults with `changes` applied (by parameter name).
-fn params(id: &str, changes: &[(&str, f64)]) -> Params {
-    let mut params = scene(id).default_params();
-    for &(name, value) in changes {
-        params.set(name, value).unwrap_or_else(|e| panic!("{id}: {name} = {value}: {e}"));
-    }
-    params
-}
-
-/// The scene's simulation with these parameters.
-fn build(id: &str, params: &Params) -> Box<dyn System> {
-    scene(id).build(params).unwrap_or_else(|e| panic!("{id}: {e}"))
 }

@@ -104,10 +104,29 @@ fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let start = Instant::now();
     let lambda = lyapunov(system.as_ref(), &initial, 0.5, effort.pick(200, 100))?;
     let benettin_wall = start.elapsed().as_secs_f64();
+    // Logarithmic growth: a straight line in log(1/tol) explains the agreement times (measured
+    // r = 0.99; 0.95 allows the scatter of a chaotic system's error direction), and the
+    // tightest tolerance pair agrees longest.
+    case.push(
+        Measurement::new("all tolerances", "double_pendulum", "adaptive", "correlation of T with log₁₀(1/tol)")
+            .value(correlation)
+            .check(Check::AtLeast, None, Some(0.95)),
+    );
+    let (first, last) = (points[0].1, points[points.len() - 1].1);
+    case.push(
+        Measurement::new(
+            "all tolerances",
+            "double_pendulum",
+            "adaptive",
+            "agreement time, tightest pair − loosest pair (s)",
+        )
+        .value(last - first)
+        .note(format!("T = {first:.2} s at the loosest pair, {last:.2} s at the tightest"))
+        .check(Check::AtLeast, None, Some(f64::MIN_POSITIVE)),
+    );
     case.push(
         Measurement::new("all tolerances", "double_pendulum", "adaptive", "agreement time per decade of tolerance (s)")
             .value(slope)
-            .note(format!("correlation of T with log₁₀(1/tol): {correlation:.3}"))
             .check(Check::WithinFactor, Some(10f64.ln() / lambda), Some(2.0)),
     );
     case.push(

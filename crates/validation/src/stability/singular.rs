@@ -5,7 +5,8 @@ use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, ErrorKind, Measurement, find, relative_energy_error, scene_params,
     timed_simulate,
 };
-use crate::fixtures::max_abs;
+use crate::fixtures::{condition_number, max_abs};
+use crate::tolerance::conditioned;
 use lagrange::{Error, Method, Output, State, Tolerances};
 use lagrange_scenes::SceneType;
 use lagrange_scenes::kepler::Kepler;
@@ -65,12 +66,13 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
                 Ok(got) => {
                     let residual = got.iter().zip(&expected).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
                     let scale = expected.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
-                    // κ(M) ≤ (m₁ + 2m₂)²/(m₁ m₂) here; conditioned(κ) = max(1e-12, 64 ε κ).
-                    let kappa = (m1 + 2.0) * (m1 + 2.0) / m1;
-                    m.value(residual / scale).check(
+                    // `crate::tolerance::conditioned` at the measured κ(M) (tighter than the
+                    // upper bound (m₁ + 2m₂)²/(m₁ m₂) the report used before).
+                    let kappa = condition_number(2, system.mass_matrix(0.0, &q, &qdot)?);
+                    m.value(residual / scale).note(format!("κ(M) = {kappa:.2e}")).check(
                         Check::AtMost,
                         Some(0.0),
-                        Some(1e-12_f64.max(64.0 * f64::EPSILON * kappa)),
+                        Some(conditioned(kappa)),
                     )
                 }
                 Err(e) => m.failed(e).check(Check::AtMost, Some(0.0), Some(0.0)),
@@ -94,15 +96,58 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
         m.status = status;
         m.error = error;
         case.push(m.expect_error(ErrorKind::SingularMassMatrix));
+        // The error names the coordinate whose pivot vanished.
+        let named = match system.accelerations(0.0, &q, &[1.0, -2.0]) {
+            Err(Error::SingularMassMatrix { coordinate, .. }) => coordinate,
+            _ => String::new(),
+        };
+        let m = Measurement::new(
+            format!("m₁ = 1e-12, θ = ({}, {})", q[0], q[1]),
+            "double_pendulum",
+            "engine",
+            "the singular-matrix error names θ1 (1 = yes)",
+        )
+        .params(&[("mass_1", 1e-12)])
+        .note(format!("named: {named:?}"));
+        case.push(m.value(f64::from(u8::from(named == "θ1"))).check(Check::Exact, Some(1.0), None));
+        // A simulation from there stops with the same typed error, at once.
+        let method = Method::Rk4 { dt: 0.01 };
+        let (run, wall) = timed_simulate(system.as_ref(), &State::new(0.0, q, [1.0, -2.0]), 1.0, method, &Output::Ends);
+        let mut m = Measurement::new(
+            format!("m₁ = 1e-12, θ = ({}, {})", q[0], q[1]),
+            "double_pendulum",
+            "rk4",
+            "simulation from the singular configuration",
+        )
+        .params(&[("mass_1", 1e-12)])
+        .method_settings(method, 1.0);
+        m = match run {
+            Ok(t) => m.value(t.t[t.t.len() - 1]).cost(Cost::of(&t.stats, wall)),
+            Err(e) => {
+                let kind = ErrorKind::of(&e);
+                let mut m = m.failed(e);
+                m.error = Some(kind);
+                m.cost.wall_time_s = wall;
+                m
+            }
+        };
+        case.push(m.expect_error(ErrorKind::SingularMassMatrix));
     }
     // Polar coordinates at the origin.
     for id in ["kepler", "isotropic_oscillator", "spring_pendulum"] {
         let scene = find(id)?;
         let mut system = scene.build(&scene.default_params())?;
-        for r in [0.0, 1e-300, 1e-160, 1e-10] {
-            let (q, qdot) = ([r, 0.3], [1.0, 0.5]);
+        for (r, qdot) in [0.0, 1e-300, 1e-160, 1e-10]
+            .map(|r| (r, [1.0, 0.5]))
+            .into_iter()
+            .chain([0.0, 1e-300, 1e-160, 1e-100, 1e-10, -1e-10].map(|r| (r, [0.0, 0.0])))
+            .chain([(1e-100, [1.0, 0.5]), (-1e-10, [1.0, 0.5])])
+        {
+            let q = [r, 0.3];
+            let label = if qdot == [1.0, 0.5] { format!("r = {r:.0e}") } else { format!("r = {r:.0e}, at rest") };
+            let label = label.as_str();
             let (value, status, note, error) = outcome(system.accelerations(0.0, &q, &qdot).map(<[f64]>::to_vec));
-            let mut m = Measurement::new(format!("r = {r:.0e}"), id, "engine", "q̈ (largest |component|)").note(note);
+            let mut m = Measurement::new(label, id, "engine", "q̈ (largest |component|)").note(note);
             m.value = value;
             m.status = status;
             m.error = error;
@@ -114,11 +159,42 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
                 _ => m.check(Check::FiniteOrTypedError, None, None),
             });
             let (value, status, note, error) = outcome(system.energy_function(0.0, &q, &qdot).map(|e| vec![e]));
-            let mut m = Measurement::new(format!("r = {r:.0e}"), id, "engine", "energy (|value|)").note(note);
+            let mut m = Measurement::new(label, id, "engine", "energy (|value|)").note(note);
             m.value = value;
             m.status = status;
             m.error = error;
-            // A value must be finite or an error (never ±∞/NaN as a value).
+            // A value must be finite or an error (never ±∞/NaN as a value); Kepler's potential
+            // −k/r is −∞ at (or, r² underflowing aside, next to) the origin: NonFinite, not a
+            // value (regression: the energy once returned −∞).
+            case.push(if id == "kepler" && (r == 0.0 || r == 1e-300) {
+                m.expect_error(ErrorKind::NonFinite)
+            } else {
+                m.check(Check::FiniteOrTypedError, None, None)
+            });
+            // The other evaluations (M, p, reaction forces): finite values or typed errors.
+            let mut results = vec![
+                system.mass_matrix(0.0, &q, &qdot).map(<[f64]>::to_vec),
+                system.momenta(0.0, &q, &qdot).map(<[f64]>::to_vec),
+            ];
+            if let Some(r) = system.reaction_forces(0.0, &q, &qdot).transpose() {
+                results.push(r.map(<[f64]>::to_vec));
+            }
+            let nonfinite = results.iter().any(|r| r.as_ref().is_ok_and(|v| v.iter().any(|x| !x.is_finite())));
+            let values: Vec<f64> = results.iter().filter_map(|r| r.as_ref().ok()).flatten().copied().collect();
+            let errors: Vec<String> =
+                results.iter().filter_map(|r| r.as_ref().err()).map(ToString::to_string).collect();
+            let mut m = Measurement::new(label, id, "engine", "M, p and reaction forces (largest |component|)");
+            if !errors.is_empty() {
+                m = m.note(errors.join("; "));
+            }
+            m = match (nonfinite, values.is_empty()) {
+                (true, _) => m.note("non-finite value returned"),
+                (false, false) => m.value(max_abs(&values)),
+                (false, true) => {
+                    let note = m.note.take().unwrap_or_default();
+                    m.failed(note)
+                }
+            };
             case.push(m.check(Check::FiniteOrTypedError, None, None));
         }
     }
@@ -128,6 +204,12 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
     let system = scene.build(&params)?;
     let initial = State::new(0.0, [1.0, 0.0], [0.0, 0.0]);
     let collision = Kepler::from_params(&params)?.radial_infall_time(1.0);
+    // m = k = 1, r₀ = 1: t_c = (π/2) √(1/2).
+    case.push(Measurement::new("radial infall", "kepler", "engine", "collision time t_c (s)").value(collision).check(
+        Check::AbsoluteToTheory,
+        Some(std::f64::consts::FRAC_PI_2 * 0.5f64.sqrt()),
+        Some(1e-15),
+    ));
     let methods = [
         Method::Rk4 { dt: 0.01 },
         Method::Adaptive { tol: Tolerances::uniform(1e-8) },
@@ -164,11 +246,13 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
                 };
                 let mut m = m.failed(&error);
                 m.value = t;
-                // The adaptive methods stop at the collision (to its step); the fixed-step
-                // ones at the step that reaches it.
+                // The adaptive methods stop at the collision (to its step): |t − t_c| ≤ 1e-6.
+                // The fixed-step ones at the step that reaches it: no earlier than 2 steps before
+                // t_c and no later than one step after, t ∈ [t_c − 0.02, t_c + 0.01], written as
+                // |t − (t_c − 0.005)| ≤ 0.015.
                 let adaptive = matches!(method, Method::Adaptive { .. } | Method::Implicit { .. });
-                let bound = if adaptive { 1e-6 } else { 0.02 };
-                let mut m = m.check(Check::AbsoluteToTheory, Some(collision), Some(bound));
+                let (centre, bound) = if adaptive { (collision, 1e-6) } else { (collision - 0.005, 0.015) };
+                let mut m = m.check(Check::AbsoluteToTheory, Some(centre), Some(bound));
                 m.status = "failed";
                 m
             }
