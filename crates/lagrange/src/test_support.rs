@@ -107,21 +107,20 @@ impl Lagrangian for Charge {
     }
 }
 
-/// splitmix64: a fixed, portable sequence of uniform numbers in `[0, 1)` for seeded tests.
-pub(crate) struct SplitMix(pub u64);
+/// The seeded generator of every check (the validation library's), with `range(a, b)` uniform
+/// in `[a, b)`.
+pub(crate) use lagrange_validation::fixtures::{Rng, rng};
 
-impl SplitMix {
-    pub(crate) fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
+/// Uniform samples in `[a, b)`.
+pub(crate) trait Range {
     /// Uniform in `[a, b)`.
-    pub(crate) fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.uniform()
+    fn range(&mut self, a: f64, b: f64) -> f64;
+}
+
+impl Range for Rng {
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        use rand::Rng as _;
+        self.random_range(a..b)
     }
 }
 

@@ -1,7 +1,7 @@
 //! The acceleration Jacobian against central finite differences on every evaluation path.
 
 use super::Dynamics;
-use crate::test_support::{Cart, Charge, Driven, RodChain, SplitMix, Spring};
+use crate::test_support::{Cart, Charge, Driven, Range, RodChain, Spring, rng};
 use crate::{Coordinate, Error, LagrangianFunction, Model, RawModel, Scalar};
 
 /// Central differences of `q̈` with step `h max(|x_j|, 1)`, `h = 1e-6`.
@@ -31,7 +31,7 @@ fn finite_differences<D: Dynamics>(system: &D, ws: &mut D::Workspace, t: f64, q:
 
 /// Seeded random states: `q` and `q̇` in `[−1.2, 1.2]`, `t` in `[0, 2]`.
 fn states(n: usize) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
-    let mut rng = SplitMix(0x1AC0_B1A2);
+    let mut rng = rng(0x1AC0_B1A2);
     (0..4)
         .map(|_| {
             let t = rng.range(0.0, 2.0);

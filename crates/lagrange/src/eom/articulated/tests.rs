@@ -1,21 +1,12 @@
 //! The articulated-body algorithm against the generic assembly on the same mechanisms.
 
-use crate::test_support::{RodChain, SplitMix};
+use crate::test_support::{Range, Rng, RodChain, rng};
 use crate::tree::{Joint, Parent};
 use crate::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Tree, accelerations, mass_matrix};
-use nalgebra::DMatrix;
+use lagrange_validation::fixtures::{condition_number, max_abs};
 use num_dual::Dual64;
 
 /// Condition number of the symmetric positive definite `M` (n × n, row-major).
-fn condition_number(n: usize, m: &[f64]) -> f64 {
-    let eigenvalues = DMatrix::from_row_slice(n, n, m).symmetric_eigenvalues();
-    eigenvalues.max() / eigenvalues.min()
-}
-
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0, |m, x| m.max(x.abs()))
-}
-
 /// `(q̈ from the tree path, q̈ from the generic path, κ(M))` at `(t, q, q̇)`.
 fn both_paths<M: Mechanism + Clone>(mechanism: &M, t: f64, q: &[f64], qdot: &[f64]) -> (Vec<f64>, Vec<f64>, f64) {
     let tree = Model::new(mechanism.clone()).expect("valid");
@@ -49,7 +40,7 @@ fn assert_agree(what: &str, fast: &[f64], reference: &[f64], kappa: f64) -> f64 
 
 /// Rod masses log-uniform over six decades, the first two pinned at the ends so that every
 /// chain of two or more links spans exactly 1e6; lengths in [0.5, 1.5).
-fn random_chain(n: usize, rng: &mut SplitMix) -> RodChain {
+fn random_chain(n: usize, rng: &mut Rng) -> RodChain {
     let masses: Vec<f64> = (0..n)
         .map(|i| match i {
             0 => 1e-3,
@@ -61,7 +52,7 @@ fn random_chain(n: usize, rng: &mut SplitMix) -> RodChain {
     RodChain::new(&masses, &lengths, 9.81)
 }
 
-fn random_state(n: usize, rng: &mut SplitMix) -> (Vec<f64>, Vec<f64>) {
+fn random_state(n: usize, rng: &mut Rng) -> (Vec<f64>, Vec<f64>) {
     let q = (0..n).map(|_| rng.range(-std::f64::consts::PI, std::f64::consts::PI)).collect();
     let qdot = (0..n).map(|_| rng.range(-3.0, 3.0)).collect();
     (q, qdot)
@@ -69,7 +60,7 @@ fn random_state(n: usize, rng: &mut SplitMix) -> (Vec<f64>, Vec<f64>) {
 
 #[test]
 fn chains_match_the_generic_path_with_masses_spanning_six_decades() {
-    let mut rng = SplitMix(0xABA0_0001);
+    let mut rng = rng(0xABA0_0001);
     for n in [1, 2, 4, 8, 16, 32, 64] {
         let (mut worst, mut worst_kappa) = (0.0_f64, 0.0_f64);
         for trial in 0..4 {
@@ -89,7 +80,7 @@ fn chains_match_the_generic_path_with_masses_spanning_six_decades() {
 /// Equal rods (the chain scene's case): well conditioned, so plain round-off.
 #[test]
 fn uniform_chains_match_the_generic_path_to_round_off() {
-    let mut rng = SplitMix(0xABA0_0002);
+    let mut rng = rng(0xABA0_0002);
     for n in [1, 2, 4, 8, 16, 32, 64] {
         let chain = RodChain::new(&vec![1.0; n], &vec![1.0; n], 9.81);
         let (mut worst, mut worst_kappa) = (0.0_f64, 0.0_f64);
@@ -195,7 +186,7 @@ impl Mechanism for Crane {
 #[test]
 fn a_branched_tree_with_every_joint_kind_a_potential_and_forces_matches_the_generic_path() {
     let crane = Crane::new();
-    let mut rng = SplitMix(0xABA0_0003);
+    let mut rng = rng(0xABA0_0003);
     for _ in 0..20 {
         let (mut q, qdot) = random_state(5, &mut rng);
         q[0] = rng.range(-2.0, 2.0);
@@ -210,7 +201,7 @@ fn a_branched_tree_with_every_joint_kind_a_potential_and_forces_matches_the_gene
     assert_agree("crane's tree", &fast, &reference, kappa);
 }
 
-fn check_derivative<M: Mechanism + Clone>(what: &str, mechanism: &M, rng: &mut SplitMix) {
+fn check_derivative<M: Mechanism + Clone>(what: &str, mechanism: &M, rng: &mut Rng) {
     let n = mechanism.coordinates().len();
     let (fast, generic) = (Model::new(mechanism.clone()).unwrap(), Model::new_generic(mechanism.clone()).unwrap());
     let (mut wt, mut wg) = (fast.workspace::<Dual64>(), generic.workspace::<Dual64>());
@@ -234,7 +225,7 @@ fn check_derivative<M: Mechanism + Clone>(what: &str, mechanism: &M, rng: &mut S
 /// the generic path's (the tree path is differentiable like the rest of the engine).
 #[test]
 fn the_tree_path_is_differentiable_like_the_generic_path() {
-    let mut rng = SplitMix(0xABA0_0004);
+    let mut rng = rng(0xABA0_0004);
     let chain = random_chain(8, &mut rng);
     check_derivative("chain of 8", &chain, &mut rng);
     check_derivative("crane", &Crane::new(), &mut rng);
@@ -246,7 +237,7 @@ fn reaction_forces_on_the_tree_path_match_the_generic_path() {
     let crane = Crane::new();
     let (tree, generic) = (Model::new(crane.clone()).unwrap(), Model::new_generic(crane).unwrap());
     let (mut wt, mut wg) = (tree.workspace::<f64>(), generic.workspace::<f64>());
-    let (q, qdot) = random_state(5, &mut SplitMix(0xABA0_0005));
+    let (q, qdot) = random_state(5, &mut rng(0xABA0_0005));
     let a = crate::reaction_forces(&tree, &mut wt, 0.3, &q, &qdot).unwrap().to_vec();
     let b = crate::reaction_forces(&generic, &mut wg, 0.3, &q, &qdot).unwrap().to_vec();
     let kappa = condition_number(5, mass_matrix(&generic, &mut wg, 0.3, &q).unwrap());
