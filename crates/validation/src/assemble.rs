@@ -64,7 +64,12 @@ fn method_report(index: usize, family: &FamilyRuns, own_front: &Front) -> Method
         _ => None,
     };
     let floor = family.floor.map(|h| {
-        format!("the error stopped falling at h = 1/{:.0} s (the floor): finer substeps were not run", 1.0 / h)
+        let skipped = match family.skipped {
+            0 => String::new(),
+            1 => ": the 1 finer setting of the sweep was not run".to_string(),
+            k => format!(": the {k} finer settings of the sweep were not run"),
+        };
+        format!("the error stopped falling at h = 1/{:.0} s (the floor){skipped}", 1.0 / h)
     });
     let note = match (per_step, floor) {
         (Some(a), Some(b)) => Some(format!("{a}; {b}")),

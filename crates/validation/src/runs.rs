@@ -117,6 +117,8 @@ pub struct FamilyRuns {
     /// The rapier substep `h` (s) below which the sweep stopped because the error had stopped
     /// falling there ([`floor_reached`]).
     pub floor: Option<f64>,
+    /// Settings of the sweep not run because they lie below the floor.
+    pub skipped: usize,
 }
 
 /// The substep `h` of a rapier setting (`None` for other settings).
@@ -178,12 +180,14 @@ impl SceneRuns {
                 reference: None,
                 runs: Vec::new(),
                 floor: None,
+                skipped: 0,
             };
             for &setting in settings {
                 progress(&format!("{id}: {} {}", family.name(), setting.describe()));
                 if let (Some(floor), Some(h)) = (result.floor, substep(setting))
                     && h < floor * (1.0 - 1e-9)
                 {
+                    result.skipped += 1;
                     continue;
                 }
                 let outcome = match *family {

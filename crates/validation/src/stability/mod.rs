@@ -402,6 +402,9 @@ struct CaseSpec {
     run: fn(&mut CaseBuilder, Effort) -> Result<(), Error>,
 }
 
+/// How many stability cases run at a time.
+const PARALLEL_CASES: usize = 2;
+
 /// Every case, in report order.
 const CASES: [CaseSpec; 9] = [
     stiff::STIFF_SPRING,
@@ -459,17 +462,42 @@ impl CaseSpec {
     }
 }
 
-/// Run every case that involves one of `scenes` (every case when empty), calling `progress`
-/// with each case's id before it runs.
+/// Run every case that involves one of `scenes` (every case when empty), two at a time,
+/// calling `progress` with each case's id before it runs; the report lists them in their order.
+/// A case's reported seconds are its wall time while another case runs on the other core.
 ///
 /// # Errors
 /// A case that cannot be set up (a bug in the case: its scenes and parameters are fixed).
-pub fn run(effort: Effort, scenes: &[&str], mut progress: impl FnMut(&str)) -> Result<StabilityReport, Error> {
+pub fn run(effort: Effort, scenes: &[&str], progress: impl FnMut(&str) + Send) -> Result<StabilityReport, Error> {
     let start = Instant::now();
-    let mut cases = Vec::new();
-    for spec in CASES.iter().filter(|c| selected(c, scenes)) {
-        progress(spec.id);
-        cases.push(run_spec(spec, effort)?);
+    let specs: Vec<&CaseSpec> = CASES.iter().filter(|c| selected(c, scenes)).collect();
+    // The cases are independent and check theory, not speed (their seconds are reported costs),
+    // so two run at a time on a 2-core machine; the report keeps the cases' order.
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let progress = std::sync::Mutex::new(progress);
+    let results: Vec<std::sync::Mutex<Option<Result<Case, Error>>>> =
+        specs.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    std::thread::scope(|scope| {
+        for _ in 0..PARALLEL_CASES {
+            scope.spawn(|| {
+                loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(spec) = specs.get(k) else { break };
+                    if let Ok(mut progress) = progress.lock() {
+                        progress(spec.id);
+                    }
+                    let outcome = run_spec(spec, effort);
+                    if let Ok(mut slot) = results[k].lock() {
+                        *slot = Some(outcome);
+                    }
+                }
+            });
+        }
+    });
+    let mut cases = Vec::with_capacity(specs.len());
+    for slot in results {
+        let outcome = slot.into_inner().ok().flatten();
+        cases.push(outcome.unwrap_or(Err(Error::Missing("a stability case did not finish")))?);
     }
     let all = cases.iter().flat_map(|c| &c.measurements);
     let (mut passed, mut failed, mut unchecked) = (0, 0, 0);
