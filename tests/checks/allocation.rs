@@ -5,7 +5,7 @@
 #![allow(unsafe_code)] // a global allocator is necessarily `unsafe impl`
 
 use lagrange::integrate::{Dopri5, Gauss4, Rk4, Sdirk4, Variational};
-use lagrange::{Dynamics, Mechanism, Model, RawModel, State, Tolerances};
+use lagrange::{Described, Dynamics, Loads, Mechanism, Model, Pose, Poses, RawModel, Scalar, State, Tolerances};
 use lagrange_scenes::SceneType;
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -138,4 +138,31 @@ fn no_heap_allocation_per_step_in_any_scene() {
     let particle = lagrange_scenes::charged_particle::ChargedParticle::from_params(&params).expect("valid");
     let raw = RawModel::new(particle).expect("valid");
     assert_no_allocation_per_step("charged_particle", &raw, &scene.default_state(&params).expect("valid"));
+}
+
+/// A rod pendulum pushed sideways at its tip, in the short form: the applied forces' pass.
+struct PushedRod;
+
+impl Poses for PushedRod {
+    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+        let (s, c) = (q[0].sin(), q[0].cos());
+        world_from_body[0] = Pose::new(s * 0.5, -c * 0.5, q[0]);
+    }
+
+    fn applied_forces<S: Scalar>(&self, t: S, _: &[S], qdot: &[S], _: &[Pose<S>], loads: &mut Loads<'_, S>) -> bool {
+        // A force at the tip (0, −0.5) in the rod's frame, depending on time and velocity.
+        loads.force(0, [S::zero(), S::from(-0.5)], [t.cos() - qdot[0], S::zero()]);
+        true
+    }
+}
+
+#[test]
+fn no_heap_allocation_per_step_with_applied_forces() {
+    let rod = || Described::new(PushedRod).angle("θ").rigid("rod", 1.0, 1.0 / 12.0).gravity(9.81);
+    let initial = State::new(0.0, vec![0.4], vec![0.1]);
+    let model = Model::new(rod()).expect("valid");
+    assert!(model.has_applied_forces());
+    assert_no_allocation_per_step("pushed rod", &model, &initial);
+    let raw = RawModel::new(Model::new(rod()).expect("valid")).expect("valid");
+    assert_no_allocation_per_step("pushed rod (raw path)", &raw, &initial);
 }

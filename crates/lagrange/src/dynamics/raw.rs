@@ -19,8 +19,15 @@ impl<F: LagrangianFunction> LagrangianFunction for RawModel<F> {
         self.function.lagrangian_with(scratch, t, q, qdot)
     }
 
-    fn generalized_force_with<S: crate::Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
-        self.has_generalized_force() && self.function.generalized_force_with(t, q, qdot, force)
+    fn generalized_force_with<S: crate::Scalar>(
+        &self,
+        scratch: &mut Self::Scratch<S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+        force: &mut [S],
+    ) -> bool {
+        self.has_generalized_force() && self.function.generalized_force_with(scratch, t, q, qdot, force)
     }
 }
 

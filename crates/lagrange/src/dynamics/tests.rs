@@ -153,8 +153,15 @@ impl<D: Dynamics> LagrangianFunction for WithoutJacobian<D> {
     fn lagrangian_with<S: Scalar>(&self, scratch: &mut D::Scratch<S>, t: S, q: &[S], qdot: &[S]) -> S {
         self.0.lagrangian_with(scratch, t, q, qdot)
     }
-    fn generalized_force_with<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
-        self.0.generalized_force_with(t, q, qdot, force)
+    fn generalized_force_with<S: Scalar>(
+        &self,
+        scratch: &mut D::Scratch<S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+        force: &mut [S],
+    ) -> bool {
+        self.0.generalized_force_with(scratch, t, q, qdot, force)
     }
 }
 

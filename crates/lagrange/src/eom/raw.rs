@@ -35,6 +35,8 @@ pub struct RawModel<F> {
 pub struct RawWorkspace<F: LagrangianFunction, S: Scalar = f64> {
     /// The Lagrangian's own scratch, in hyper-dual numbers over `S`.
     scratch: F::Scratch<HyperDual<S>>,
+    /// Its scratch in `S`, for the generalized force.
+    force_scratch: F::Scratch<S>,
     /// Seeded coordinates (n).
     q: Vec<HyperDual<S>>,
     /// Seeded velocities (n).
@@ -75,7 +77,7 @@ impl<F: LagrangianFunction> RawModel<F> {
         let probes = ProbeStates::new(n);
         let (q, qdot, t) = probes.state(0);
         let mut force = vec![0.0; n];
-        let has_force = function.generalized_force_with(t, q, qdot, &mut force);
+        let has_force = function.generalized_force_with(&mut function.scratch(), t, q, qdot, &mut force);
         let (cyclic, autonomous) = probes.lagrangian_structure(&function);
         Ok(Self { function, n, has_force, cyclic, autonomous })
     }
@@ -123,6 +125,7 @@ impl<F: LagrangianFunction> RawModel<F> {
         let dual_zero = HyperDual::from_re(zero);
         RawWorkspace {
             scratch: self.function.scratch(),
+            force_scratch: self.function.scratch(),
             q: vec![dual_zero; n],
             qdot: vec![dual_zero; n],
             hessian: vec![zero; n * n],
@@ -191,7 +194,7 @@ impl<F: LagrangianFunction> RawModel<F> {
         // + Q.
         if self.has_force {
             ws.generalized_force.fill(zero);
-            self.function.generalized_force_with(t, q, qdot, &mut ws.generalized_force);
+            self.function.generalized_force_with(&mut ws.force_scratch, t, q, qdot, &mut ws.generalized_force);
             for (r, f) in ws.rhs.iter_mut().zip(&ws.generalized_force) {
                 *r += *f;
             }

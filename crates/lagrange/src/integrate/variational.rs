@@ -34,6 +34,9 @@ const NEWTON_MAX_ITERATIONS: usize = 50;
 pub struct Variational<F: LagrangianFunction> {
     n: usize,
     scratch: F::Scratch<HyperDual64>,
+    /// The system's scratch for the generalized force in `f64` and along one `Δq` column.
+    force_scratch: F::Scratch<f64>,
+    force_dual_scratch: F::Scratch<Dual64>,
     /// Seeded midpoint coordinates and velocities (n each).
     q_seed: Vec<HyperDual64>,
     v_seed: Vec<HyperDual64>,
@@ -87,6 +90,8 @@ impl<F: LagrangianFunction> Variational<F> {
         Self {
             n,
             scratch: system.scratch(),
+            force_scratch: system.scratch(),
+            force_dual_scratch: system.scratch(),
             q_seed: vec![zero; n],
             v_seed: vec![zero; n],
             gradient: z(2 * n),
@@ -207,7 +212,8 @@ impl<F: LagrangianFunction> Variational<F> {
             self.velocity[i] = self.delta[i] / h;
         }
         self.force.fill(0.0);
-        self.has_force = system.generalized_force_with(tm, &self.q_mid, &self.velocity, &mut self.force);
+        self.has_force =
+            system.generalized_force_with(&mut self.force_scratch, tm, &self.q_mid, &self.velocity, &mut self.force);
     }
 
     /// Add `(h/2) dQ/dΔq` to the Newton matrix: the generalized force at the midpoint depends
@@ -224,7 +230,13 @@ impl<F: LagrangianFunction> Variational<F> {
                 self.v_force[i] = Dual64::new(self.velocity[i], seed / h);
             }
             self.force_dual.fill(Dual64::from(0.0));
-            system.generalized_force_with(t, &self.q_force, &self.v_force, &mut self.force_dual);
+            system.generalized_force_with(
+                &mut self.force_dual_scratch,
+                t,
+                &self.q_force,
+                &self.v_force,
+                &mut self.force_dual,
+            );
             for i in 0..n {
                 self.jacobian[i * n + j] += 0.5 * h * self.force_dual[i].eps;
             }

@@ -42,8 +42,16 @@ pub trait LagrangianFunction {
     /// `L(q, q̇, t)`.
     fn lagrangian_with<S: Scalar>(&self, scratch: &mut Self::Scratch<S>, t: S, q: &[S], qdot: &[S]) -> S;
 
-    /// `Q(t, q, q̇)` added to `force`; `false` if the system has none.
-    fn generalized_force_with<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool;
+    /// `Q(t, q, q̇)` added to `force`, using `scratch` for any intermediate values; `false` if
+    /// the system has none.
+    fn generalized_force_with<S: Scalar>(
+        &self,
+        scratch: &mut Self::Scratch<S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+        force: &mut [S],
+    ) -> bool;
 }
 
 impl<L: Lagrangian> LagrangianFunction for L {
@@ -59,7 +67,7 @@ impl<L: Lagrangian> LagrangianFunction for L {
         self.lagrangian(t, q, qdot)
     }
 
-    fn generalized_force_with<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
+    fn generalized_force_with<S: Scalar>(&self, _: &mut (), t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
         self.generalized_force(t, q, qdot, force)
     }
 }

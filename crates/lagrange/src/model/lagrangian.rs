@@ -8,11 +8,17 @@ use crate::seed;
 use num_dual::Dual;
 
 /// Scratch space for the Lagrangian of a body model: coordinates and poses as first-order duals
-/// along the motion `(q̇, 1)`.
+/// (along the motion `(q̇, 1)` for `L`, along one coordinate for the Jacobian of applied
+/// forces), and, for a mechanism with applied forces only, the pose Jacobian, the poses, the
+/// body wrenches and their generalized force.
 #[derive(Clone, Debug)]
 pub struct BodyScratch<S> {
     q: Vec<Dual<S>>,
     poses: Vec<Pose<Dual<S>>>,
+    jacobian: Vec<S>,
+    real_poses: Vec<Pose<S>>,
+    wrench: Vec<S>,
+    applied: Vec<S>,
 }
 
 impl<M: Mechanism> LagrangianFunction for Model<M> {
@@ -23,7 +29,16 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
     }
 
     fn scratch<S: Scalar>(&self) -> BodyScratch<S> {
-        BodyScratch { q: vec![Dual::from_re(S::zero()); self.n], poses: vec![Pose::default(); self.bodies()] }
+        let (n, b, zero) = (self.n, self.bodies(), S::zero());
+        let sized = |len: usize| if self.has_applied { vec![zero; len] } else { Vec::new() };
+        BodyScratch {
+            q: vec![Dual::from_re(zero); n],
+            poses: vec![Pose::default(); b],
+            jacobian: sized(3 * b * n),
+            real_poses: if self.has_applied { vec![Pose::default(); b] } else { Vec::new() },
+            wrench: sized(3 * b),
+            applied: sized(n),
+        }
     }
 
     fn lagrangian_with<S: Scalar>(&self, scratch: &mut BodyScratch<S>, t: S, q: &[S], qdot: &[S]) -> S {
@@ -50,11 +65,22 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
         lagrangian
     }
 
-    fn generalized_force_with<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
+    fn generalized_force_with<S: Scalar>(
+        &self,
+        scratch: &mut BodyScratch<S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+        force: &mut [S],
+    ) -> bool {
         let has_force = self.has_force && self.mechanism.generalized_force(t, q, qdot, force);
         if self.has_applied {
-            // Allocates: only mechanisms with applied forces pay for it.
-            crate::probe::applied_force_allocating(&self.mechanism, t, q, qdot, force);
+            let BodyScratch { q: q_dual, poses, jacobian, real_poses, wrench, applied } = scratch;
+            crate::probe::applied_force(&self.mechanism, (q_dual, poses), (jacobian, real_poses, wrench), t, q, qdot);
+            crate::mechanism::project(jacobian, wrench, self.n, applied);
+            for (f, a) in force.iter_mut().zip(applied.iter()) {
+                *f += *a;
+            }
         }
         has_force || self.has_applied
     }

@@ -108,21 +108,19 @@ pub(crate) fn jacobian_columns<M: Mechanism, S: crate::scalar::Scalar>(
     }
 }
 
-/// Add the generalized applied forces at `(t, q, q̇)` to `force`, allocating its own buffers
-/// (the Lagrangian-function view of a model: variational integrator, raw path over a model).
-pub(crate) fn applied_force_allocating<M: Mechanism, S: crate::scalar::Scalar>(
+/// The pose Jacobian (3B × n), the poses and the applied body wrenches (3B) at `(t, q, q̇)`, in
+/// the caller's buffers (the Lagrangian-function view of a model: variational integrator, raw
+/// path over a model); `Q = Jᵀ w` is the caller's product.
+pub(crate) fn applied_force<M: Mechanism, S: crate::scalar::Scalar>(
     mechanism: &M,
+    (q_dual, poses_dual): (&mut [Dual<S>], &mut [Pose<Dual<S>>]),
+    (jacobian, poses, wrench): (&mut [S], &mut [Pose<S>], &mut [S]),
     t: S,
     q: &[S],
     qdot: &[S],
-    force: &mut [S],
 ) {
-    let (n, bodies) = (q.len(), mechanism.bodies().len());
-    let mut q_dual = vec![Dual::from_re(S::zero()); n];
-    let mut poses_dual = vec![Pose::default(); bodies];
-    let mut jacobian = vec![S::zero(); 3 * bodies * n];
-    let mut poses = vec![Pose::<S>::default(); bodies];
-    jacobian_columns(mechanism, &mut q_dual, &mut poses_dual, t, q, |j, _, seeded, _| {
+    let n = q.len();
+    jacobian_columns(mechanism, q_dual, poses_dual, t, q, |j, _, seeded, _| {
         for (b, pose) in seeded.iter().enumerate() {
             jacobian[3 * b * n + j] = pose.x.eps;
             jacobian[(3 * b + 1) * n + j] = pose.y.eps;
@@ -132,14 +130,9 @@ pub(crate) fn applied_force_allocating<M: Mechanism, S: crate::scalar::Scalar>(
             }
         }
     });
-    let mut wrench = vec![S::zero(); 3 * bodies];
-    let mut loads = crate::mechanism::Loads::new(&poses, &mut wrench);
-    mechanism.applied_forces(t, q, qdot, &poses, &mut loads);
-    let mut applied = vec![S::zero(); n];
-    crate::mechanism::project(&jacobian, &wrench, n, &mut applied);
-    for (f, a) in force.iter_mut().zip(&applied) {
-        *f += *a;
-    }
+    wrench.fill(S::zero());
+    let mut loads = crate::mechanism::Loads::new(poses, wrench);
+    mechanism.applied_forces(t, q, qdot, poses, &mut loads);
 }
 
 /// Poses moving along `(q̇, 1)`: one second-order dual pass; `v1` parts are the body

@@ -36,7 +36,7 @@ impl LagrangianFunction for CartesianSystem {
         lagrangian
     }
 
-    fn generalized_force_with<S: Scalar>(&self, _t: S, _z: &[S], zdot: &[S], force: &mut [S]) -> bool {
+    fn generalized_force_with<S: Scalar>(&self, _: &mut (), _t: S, _z: &[S], zdot: &[S], force: &mut [S]) -> bool {
         match self.applied {
             AppliedForce::None => false,
             AppliedForce::Damping { coefficient } => {
