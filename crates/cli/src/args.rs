@@ -3,10 +3,9 @@
 use lagrange::State;
 use lagrange_scenes::{Params, Scene};
 
-/// Find a scene by id, or say which exist.
+/// Find a scene by id (the validation library's one lookup), or say which exist.
 pub fn scene(id: &str) -> Result<&'static dyn Scene, String> {
-    lagrange_scenes::find(id)
-        .ok_or_else(|| format!("unknown scene `{id}`; known scenes: {}", lagrange_scenes::ids().join(", ")))
+    lagrange_validation::scene(id).map_err(|e| e.to_string())
 }
 
 /// The scene's parameters with `NAME=VALUE` overrides (name or symbol).

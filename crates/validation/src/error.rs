@@ -7,7 +7,7 @@ use lagrange_maximal::BuildError;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Error {
     /// No scene is registered under this id.
-    #[error("scene {0} is not registered")]
+    #[error("unknown scene `{0}`; known scenes: {known}", known = lagrange_scenes::ids().join(", "))]
     UnknownScene(String),
     /// The engine refused or failed (invalid parameters or state, a singular mass matrix, a
     /// non-finite value, a diverging run).
