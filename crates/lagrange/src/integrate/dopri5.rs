@@ -3,7 +3,7 @@
 //! the `DOPRI5` code).
 
 use super::control::{Controller, Verdict, error_norm, initial_step, trial_step};
-use super::integrator::{Integrator, Stats, check_finite, diverged};
+use super::integrator::{Integrator, Stats, check_finite, diverged, rhs};
 use super::{Tolerances, check_tolerance};
 use crate::{Dynamics, Error, State};
 
@@ -151,21 +151,6 @@ impl Dopri5 {
         self.stats
     }
 
-    /// `f(t, y) = (q̇, a(t, q, q̇))` into `out`.
-    fn rhs<D: Dynamics>(
-        system: &D,
-        ws: &mut D::Workspace,
-        n: usize,
-        t: f64,
-        y: &[f64],
-        out: &mut [f64],
-    ) -> Result<(), Error> {
-        let (q, v) = y.split_at(n);
-        let (dq, dv) = out.split_at_mut(n);
-        dq.copy_from_slice(v);
-        system.accelerations(ws, t, q, v, dv)
-    }
-
     /// Start at `(t, q, q̇)`: evaluate `f` and choose the first step (Hairer's HINIT).
     ///
     /// # Errors
@@ -190,7 +175,7 @@ impl Dopri5 {
         self.stiff_steps = 0;
         self.non_stiff_steps = 0;
         let [k1, k2, ..] = &mut self.k;
-        Self::rhs(system, ws, n, t, &self.y, k1)?;
+        rhs(system, ws, n, t, &self.y, k1)?;
         self.stats.evaluations += 1;
         // HINIT: h0 from ‖y‖/‖f‖, refined with one explicit Euler step and ‖f'‖.
         let trial = trial_step(self.tol, &self.y, k1, h_max);
@@ -198,7 +183,7 @@ impl Dopri5 {
         for i in 0..2 * n {
             self.y_stage[i] = self.y[i] + h * k1[i];
         }
-        Self::rhs(system, ws, n, t + h, &self.y_stage, k2)?;
+        rhs(system, ws, n, t + h, &self.y_stage, k2)?;
         self.stats.evaluations += 1;
         self.h = initial_step(self.tol, &self.y, k1, k2, trial, h_max, 0.2);
         Ok(())
@@ -221,7 +206,7 @@ impl Dopri5 {
         self.y[..n].copy_from_slice(q);
         self.y[n..].copy_from_slice(qdot);
         let [k1, ..] = &mut self.k;
-        Self::rhs(system, ws, n, self.t, &self.y, k1)?;
+        rhs(system, ws, n, self.t, &self.y, k1)?;
         self.stats.evaluations += 1;
         Ok(())
     }
@@ -254,28 +239,28 @@ impl Dopri5 {
             for i in 0..n2 {
                 ys[i] = y[i] + h * A21 * k1[i];
             }
-            Self::rhs(system, ws, n, t + C2 * h, ys, k2)?;
+            rhs(system, ws, n, t + C2 * h, ys, k2)?;
             for i in 0..n2 {
                 ys[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i]);
             }
-            Self::rhs(system, ws, n, t + C3 * h, ys, k3)?;
+            rhs(system, ws, n, t + C3 * h, ys, k3)?;
             for i in 0..n2 {
                 ys[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]);
             }
-            Self::rhs(system, ws, n, t + C4 * h, ys, k4)?;
+            rhs(system, ws, n, t + C4 * h, ys, k4)?;
             for i in 0..n2 {
                 ys[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]);
             }
-            Self::rhs(system, ws, n, t + C5 * h, ys, k5)?;
+            rhs(system, ws, n, t + C5 * h, ys, k5)?;
             for i in 0..n2 {
                 ys[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
             }
-            Self::rhs(system, ws, n, t + h, ys, k6)?;
+            rhs(system, ws, n, t + h, ys, k6)?;
             // 5th-order solution and k7 = f(t + h, y_new) (FSAL).
             for i in 0..n2 {
                 self.y_new[i] = y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
             }
-            Self::rhs(system, ws, n, t + h, &self.y_new, k7)?;
+            rhs(system, ws, n, t + h, &self.y_new, k7)?;
             self.stats.evaluations += 6;
             // Stiffness estimate h λ = h ‖k7 − k6‖ / ‖y_new − y_stage6‖ (y_stage6 still in ys).
             let (mut num, mut den) = (0.0, 0.0);

@@ -148,3 +148,19 @@ pub(crate) fn diverged<D: Dynamics>(system: &D, error: Error, t: f64, step: usiz
         other => other,
     }
 }
+
+/// The first-order form `f(t, y) = (q̇, a(t, q, q̇))` of the equations of motion, with
+/// `y = (q, q̇)` of `n` coordinates each, into `out` (the adaptive Runge–Kutta methods).
+pub(crate) fn rhs<D: Dynamics>(
+    system: &D,
+    ws: &mut D::Workspace,
+    n: usize,
+    t: f64,
+    y: &[f64],
+    out: &mut [f64],
+) -> Result<(), Error> {
+    let (q, v) = y.split_at(n);
+    let (dq, dv) = out.split_at_mut(n);
+    dq.copy_from_slice(v);
+    system.accelerations(ws, t, q, v, dv)
+}

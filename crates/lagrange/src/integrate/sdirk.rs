@@ -4,7 +4,7 @@
 //! problems.
 
 use super::control::{Controller, Verdict, error_norm, initial_step, trial_step};
-use super::integrator::{Integrator, Stats, check_finite, diverged};
+use super::integrator::{Integrator, Stats, check_finite, diverged, rhs};
 use super::newton::StageSystem;
 use super::{Tolerances, check_tolerance, non_finite_quantity};
 use crate::{Dynamics, Error, State};
@@ -190,21 +190,6 @@ impl Sdirk4 {
         self.stats
     }
 
-    /// `f(t, y) = (q̇, a(t, q, q̇))` into `out`.
-    fn rhs<D: Dynamics>(
-        system: &D,
-        ws: &mut D::Workspace,
-        n: usize,
-        t: f64,
-        y: &[f64],
-        out: &mut [f64],
-    ) -> Result<(), Error> {
-        let (q, v) = y.split_at(n);
-        let (dq, dv) = out.split_at_mut(n);
-        dq.copy_from_slice(v);
-        system.accelerations(ws, t, q, v, dv)
-    }
-
     /// Start at `(t, q, q̇)`: evaluate `f` and choose the first step (Hairer's HINIT for order 4).
     ///
     /// # Errors
@@ -235,7 +220,7 @@ impl Sdirk4 {
         self.factored_step = f64::NAN;
         self.eta = 1.0;
         self.control.reset();
-        Self::rhs(system, ws, n, t, &self.y, &mut self.derivative)?;
+        rhs(system, ws, n, t, &self.y, &mut self.derivative)?;
         self.stats.evaluations += 1;
         // HINIT: h0 from ‖y‖/‖f‖, refined with one explicit Euler step and ‖f'‖.
         let trial = trial_step(self.tol, &self.y, &self.derivative, h_max);
@@ -243,7 +228,7 @@ impl Sdirk4 {
         for i in 0..2 * n {
             self.y_stage[i] = self.y[i] + h * self.derivative[i];
         }
-        Self::rhs(system, ws, n, t + h, &self.y_stage, &mut self.f_stage)?;
+        rhs(system, ws, n, t + h, &self.y_stage, &mut self.f_stage)?;
         self.stats.evaluations += 1;
         self.h = initial_step(self.tol, &self.y, &self.derivative, &self.f_stage, trial, h_max, 0.25);
         Ok(())
@@ -377,7 +362,7 @@ impl Sdirk4 {
                     return Ok(Err(Failure::NonFinite(quantity)));
                 }
                 self.stats.evaluations += 1;
-                match Self::rhs(system, ws, n, t_stage, &self.y_stage, &mut self.f_stage) {
+                match rhs(system, ws, n, t_stage, &self.y_stage, &mut self.f_stage) {
                     Ok(()) => {}
                     Err(Error::NonFinite { stage, q, .. }) => {
                         return Ok(Err(Failure::NonFinite(format!("non-finite {stage} at q = {q:?}"))));
