@@ -9,7 +9,7 @@ struct DoublePendulum {
 
 impl Poses for DoublePendulum {
     // Where each body is, as a function of q: written once, differentiated exactly.
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x1, y1) = (q[0].sin() * self.l1, -q[0].cos() * self.l1);
         world_from_body[0] = Pose::point(x1, y1);
         world_from_body[1] = Pose::point(x1 + q[1].sin() * self.l2, y1 - q[1].cos() * self.l2);

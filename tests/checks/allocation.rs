@@ -144,7 +144,7 @@ fn no_heap_allocation_per_step_in_any_scene() {
 struct PushedRod;
 
 impl Poses for PushedRod {
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (s, c) = (q[0].sin(), q[0].cos());
         world_from_body[0] = Pose::new(s * 0.5, -c * 0.5, q[0]);
     }

@@ -60,7 +60,7 @@ impl Mechanism for Redundant {
     fn gravity(&self) -> f64 {
         9.81
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0] + q[1], S::zero());
     }
 }

@@ -20,11 +20,11 @@ impl<M: Mechanism> Mechanism for Undeclared<M> {
     fn gravity(&self) -> f64 {
         self.0.gravity()
     }
-    fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
-        self.0.poses(q, t, p)
+    fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
+        self.0.poses(t, q, p)
     }
-    fn potential<S: Scalar>(&self, q: &[S], p: &[Pose<S>], t: S) -> Option<S> {
-        self.0.potential(q, p, t)
+    fn potential<S: Scalar>(&self, t: S, q: &[S], p: &[Pose<S>]) -> Option<S> {
+        self.0.potential(t, q, p)
     }
     fn generalized_force<S: Scalar>(&self, t: S, q: &[S], v: &[S], f: &mut [S]) -> bool {
         self.0.generalized_force(t, q, v, f)
@@ -92,7 +92,7 @@ fn a_false_declaration_is_refused() {
         fn bodies(&self) -> &[Body] {
             &self.bodies
         }
-        fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+        fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
             p[0] = Pose::point(q[0].sin(), -q[0].cos());
         }
         fn constant_mass_matrix(&self) -> bool {

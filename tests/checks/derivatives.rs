@@ -8,7 +8,7 @@ use lagrange_validation::fixtures;
 
 fn poses<M: Mechanism>(model: &Model<M>, t: f64, q: &[f64]) -> Vec<f64> {
     let mut out = vec![Pose::<f64>::default(); model.bodies()];
-    model.mechanism().poses(q, t, &mut out);
+    model.mechanism().poses(t, q, &mut out);
     out.iter().flat_map(|p| [p.x, p.y, p.angle]).collect()
 }
 

@@ -292,8 +292,8 @@ impl lagrange::Mechanism for BadBodies {
     fn gravity(&self) -> f64 {
         9.81
     }
-    fn poses<S: lagrange::Scalar>(&self, q: &[S], t: S, world_from_body: &mut [lagrange::Pose<S>]) {
-        self.tree.poses(q, t, world_from_body);
+    fn poses<S: lagrange::Scalar>(&self, t: S, q: &[S], world_from_body: &mut [lagrange::Pose<S>]) {
+        self.tree.poses(t, q, world_from_body);
     }
 }
 

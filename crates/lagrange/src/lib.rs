@@ -30,7 +30,7 @@
 //! struct DoublePendulum { l1: f64, l2: f64 }
 //!
 //! impl Poses for DoublePendulum {
-//!     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+//!     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 //!         let (x1, y1) = (q[0].sin() * self.l1, -q[0].cos() * self.l1);
 //!         world_from_body[0] = Pose::point(x1, y1);
 //!         world_from_body[1] = Pose::point(x1 + q[1].sin() * self.l2, y1 - q[1].cos() * self.l2);
@@ -63,7 +63,7 @@
 //!     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
 //!     fn bodies(&self) -> &[Body] { &self.bodies }
 //!     fn gravity(&self) -> f64 { 9.81 }
-//!     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+//!     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 //!         let (x, theta) = (q[0], q[1]);
 //!         world_from_body[0] = Pose::point(x, S::zero());
 //!         world_from_body[1] = Pose::point(x + theta.sin() * self.r, -theta.cos() * self.r);
@@ -105,7 +105,7 @@
 //!     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
 //!     fn bodies(&self) -> &[Body] { &self.bodies }
 //!     fn gravity(&self) -> f64 { 9.81 }
-//!     fn poses<S: Scalar>(&self, q: &[S], t: S, world_from_body: &mut [Pose<S>]) {
+//!     fn poses<S: Scalar>(&self, t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 //!         let pivot = (t * self.omega).sin() * self.a;
 //!         world_from_body[0] = Pose::point(pivot + q[0].sin() * self.r, -q[0].cos() * self.r);
 //!     }
@@ -197,7 +197,7 @@ pub use model::Model;
 pub use pose::Pose;
 pub use scalar::Scalar;
 pub use state::State;
-pub use system::{Simulation, System};
+pub use system::{Buffered, System};
 pub use tree::Tree;
 pub use workspace::Workspace;
 

@@ -66,8 +66,9 @@ pub trait System {
     fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error>;
 }
 
-/// A [`Dynamics`] together with its workspace and result buffers.
-pub struct Simulation<D: Dynamics> {
+/// A [`Dynamics`] together with its workspace and result buffers: the [`System`] of any body
+/// model or raw model (`Box::new(Buffered::new(Model::new(mechanism)?))`).
+pub struct Buffered<D: Dynamics> {
     system: D,
     ws: D::Workspace,
     /// `q̈` or `p` (n).
@@ -80,7 +81,7 @@ pub struct Simulation<D: Dynamics> {
     jacobian: Vec<f64>,
 }
 
-impl<D: Dynamics> Simulation<D> {
+impl<D: Dynamics> Buffered<D> {
     /// Wrap a system, allocating its workspace.
     pub fn new(system: D) -> Self {
         let ws = system.new_workspace();
@@ -97,7 +98,7 @@ impl<D: Dynamics> Simulation<D> {
     }
 }
 
-impl<D: Dynamics> System for Simulation<D> {
+impl<D: Dynamics> System for Buffered<D> {
     fn coordinates(&self) -> &[Coordinate] {
         self.system.coordinates()
     }

@@ -45,7 +45,7 @@ impl Mechanism for Cart {
     fn gravity(&self) -> f64 {
         self.g
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
         p[1] = Pose::point(q[0] + q[1].sin() * self.r, -q[1].cos() * self.r);
     }
@@ -73,10 +73,10 @@ impl Mechanism for Spring {
     fn bodies(&self) -> &[Body] {
         &self.bodies
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
     }
-    fn potential<S: Scalar>(&self, _q: &[S], p: &[Pose<S>], _t: S) -> Option<S> {
+    fn potential<S: Scalar>(&self, _t: S, _q: &[S], p: &[Pose<S>]) -> Option<S> {
         Some(p[0].x * p[0].x * (0.5 * self.k))
     }
     fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S], force: &mut [S]) -> bool {
@@ -173,7 +173,7 @@ impl Mechanism for RodChain {
     fn gravity(&self) -> f64 {
         self.g
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         let (mut x, mut y) = (S::zero(), S::zero());
         for ((pose, &theta), &l) in p.iter_mut().zip(q).zip(&self.lengths) {
             let (sin, cos) = theta.sin_cos();
@@ -225,11 +225,11 @@ impl Mechanism for Driven {
     fn gravity(&self) -> f64 {
         9.81
     }
-    fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
         let pivot = (t * self.omega).sin() * self.amplitude;
         p[0] = Pose::point(pivot + q[0].sin() * self.r, -q[0].cos() * self.r);
     }
-    fn potential<S: Scalar>(&self, q: &[S], _p: &[Pose<S>], _t: S) -> Option<S> {
+    fn potential<S: Scalar>(&self, _t: S, q: &[S], _p: &[Pose<S>]) -> Option<S> {
         Some(q[0] * q[0] * (0.5 * self.k))
     }
     fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S], force: &mut [S]) -> bool {
@@ -268,10 +268,10 @@ impl Mechanism for DrivenSpring {
     fn bodies(&self) -> &[Body] {
         &self.bodies
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
     }
-    fn potential<S: Scalar>(&self, q: &[S], _p: &[Pose<S>], t: S) -> Option<S> {
+    fn potential<S: Scalar>(&self, t: S, q: &[S], _p: &[Pose<S>]) -> Option<S> {
         let stretch = q[0] - t.sin() * self.amplitude;
         Some(stretch * stretch * (0.5 * self.k))
     }

@@ -51,7 +51,7 @@ pub fn body_states(scene: &str, params: &Params, state: &State) -> Result<Vec<Bo
             }
             let q: Vec<Dual64> = s.q.iter().zip(&s.qdot).map(|(q, v)| Dual64::new(*q, *v)).collect();
             let mut poses = vec![Pose::<Dual64>::default(); m.bodies().len()];
-            m.poses(&q, Dual64::new(s.t, 1.0), &mut poses);
+            m.poses(Dual64::new(s.t, 1.0), &q, &mut poses);
             Ok(poses
                 .iter()
                 .map(|p| BodyState { pose: [p.x.re, p.y.re, p.angle.re], velocity: [p.x.eps, p.y.eps, p.angle.eps] })
@@ -101,7 +101,7 @@ pub fn generalized(
     Ok((values, q.iter().map(|v| v.eps).collect()))
 }
 
-/// Energy of body states: `Σ ½ m |v|² + ½ I ω² + Σ m g y + V(q, poses, t)`, with `q` from the
+/// Energy of body states: `Σ ½ m |v|² + ½ I ω² + Σ m g y + V(t, q, poses)`, with `q` from the
 /// inverse map for the potential's coordinate terms.
 ///
 /// # Errors
@@ -148,12 +148,12 @@ pub fn potential(
                 .map(|s| Pose::new(Dual64::from(s.pose[0]), Dual64::from(s.pose[1]), Dual64::from(s.pose[2])))
                 .collect();
             let t = Dual64::from(self.t);
-            let Some(value) = m.potential(&q, &poses, t) else { return (0.0, false) };
+            let Some(value) = m.potential(t, &q, &poses) else { return (0.0, false) };
             if let Some(gradient) = self.gradient {
                 for (r, g) in gradient.iter_mut().enumerate() {
                     let (b, c) = (r / 3, r % 3);
                     set_eps(&mut poses[b], c, 1.0);
-                    *g = m.potential(&q, &poses, t).map_or(0.0, |v| v.eps);
+                    *g = m.potential(t, &q, &poses).map_or(0.0, |v| v.eps);
                     set_eps(&mut poses[b], c, 0.0);
                 }
             }

@@ -85,7 +85,7 @@ impl Mechanism for Atwood {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, a) = (q[0], self.pulley_radius);
         // m1 at depth x on the left, m2 at depth l − πa − x on the right, pulley turning x/a.
         world_from_body[0] = Pose::point(S::from(-a), -x);
@@ -129,7 +129,7 @@ mod tests {
     use crate::testing::{
         ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
     };
-    use lagrange::{Model, Simulation, System};
+    use lagrange::{Buffered, Model, System};
 
     fn states() -> Vec<State> {
         vec![
@@ -164,7 +164,7 @@ mod tests {
     #[test]
     fn tensions_match_the_engine_reactions() {
         let scene = Atwood::new(2.0, 1.0, 0.1, 0.5, 10.0, 9.81).unwrap();
-        let mut system = Simulation::new(Model::new(scene.clone()).unwrap());
+        let mut system = Buffered::new(Model::new(scene.clone()).unwrap());
         let (q, qdot) = ([1.0], [0.3]);
         let (t1, t2) = scene.tensions(&q, &qdot);
         let reactions = system.reaction_forces(0.0, &q, &qdot).unwrap().unwrap().to_vec();

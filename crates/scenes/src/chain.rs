@@ -124,7 +124,7 @@ impl Mechanism for Chain {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (length, half) = (self.link_length, 0.5 * self.link_length);
         let (mut pivot_x, mut pivot_y) = (S::zero(), S::zero());
         // Walk down the chain: each rod's centre half a length below its pivot, then the next pivot.

@@ -107,7 +107,7 @@ impl Mechanism for DoubleAtwood {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_prime) = (q[0], q[1]);
         // Depths below the upper pulley: m1, the movable pulley, and the masses below it.
         let pulley_depth = -x + self.rope_length;
@@ -152,7 +152,7 @@ mod tests {
     use crate::testing::{
         ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
     };
-    use lagrange::{Model, Simulation, System};
+    use lagrange::{Buffered, Model, System};
 
     fn states() -> Vec<State> {
         vec![
@@ -208,7 +208,7 @@ mod tests {
     #[test]
     fn tensions_match_the_engine_and_the_effective_mass() {
         let scene = DoubleAtwood::new(3.0, 1.0, 1.5, 5.0, 2.0, 0.0, 9.81).unwrap();
-        let mut system = Simulation::new(Model::new(scene.clone()).unwrap());
+        let mut system = Buffered::new(Model::new(scene.clone()).unwrap());
         let (q, qdot) = ([2.0, 1.0], [0.1, 0.2]);
         let (upper, lower) = scene.tensions(&q, &qdot);
         let reactions = system.reaction_forces(0.0, &q, &qdot).unwrap().unwrap().to_vec();

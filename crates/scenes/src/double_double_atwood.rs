@@ -141,7 +141,7 @@ impl Mechanism for DoubleDoubleAtwood {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_b, x_a) = (q[0], q[1], q[2]);
         // Depths below the upper pulley: pulleys A and B, then the masses below each.
         let depth_a = x;

@@ -167,7 +167,7 @@ impl Mechanism for DoublePendulum {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (theta_1, theta_2) = (q[0], q[1]);
         // Bob 1 at the end of rod 1; bob 2 at the end of rod 2, hung from bob 1.
         let ((sin_1, cos_1), (sin_2, cos_2)) = (theta_1.sin_cos(), theta_2.sin_cos());

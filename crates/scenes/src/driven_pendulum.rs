@@ -65,7 +65,7 @@ impl Mechanism for DrivenPendulum {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let theta = q[0];
         // Support at (A sin ωt, 0); bob at the end of the rod.
         let support = (t * self.drive_frequency).sin() * self.amplitude;

@@ -94,12 +94,12 @@ impl Mechanism for HarmonicOscillator {
         &self.bodies
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         world_from_body[0] = Pose::point(q[0], S::zero());
     }
 
     /// `V = ½ k x²`, through the body's position so that the spring force is applied to it.
-    fn potential<S: Scalar>(&self, _q: &[S], world_from_body: &[Pose<S>], _t: S) -> Option<S> {
+    fn potential<S: Scalar>(&self, _t: S, _q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {
         let x = world_from_body[0].x;
         Some(x * x * (0.5 * self.stiffness))
     }

@@ -188,14 +188,14 @@ impl Mechanism for Kepler {
         &self.bodies
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
         let (sin, cos) = theta.sin_cos();
         world_from_body[0] = Pose::point(r * cos, r * sin);
     }
 
     /// `V = −k/|x|`, through the particle's position so that the force is applied to it.
-    fn potential<S: Scalar>(&self, _q: &[S], world_from_body: &[Pose<S>], _t: S) -> Option<S> {
+    fn potential<S: Scalar>(&self, _t: S, _q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {
         let Pose { x, y, .. } = world_from_body[0];
         Some(-(x * x + y * y).sqrt().recip() * self.strength)
     }

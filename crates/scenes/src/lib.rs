@@ -41,7 +41,7 @@
 //! # Example: the engine against the lecture's closed form
 //!
 //! ```
-//! use lagrange::{Model, Simulation, System};
+//! use lagrange::{Model, Buffered, System};
 //! use lagrange_scenes::{CartPendulum, Scene};
 //!
 //! // Cart mass M = 2, bob mass m = 1, rod length r = 1.5, g = 9.81.
@@ -50,8 +50,8 @@
 //! // Ẍ = m sinθ (r θ̇² + g cosθ) / (M + m sin²θ), and θ̈ (docs/scenes.md#cart_pendulum).
 //! let closed_form = cart_pendulum.closed_form_accelerations(&q, &qdot);
 //!
-//! let mut simulation = Simulation::new(Model::new(cart_pendulum)?);
-//! let engine = simulation.accelerations(0.0, &q, &qdot)?;
+//! let mut system = Buffered::new(Model::new(cart_pendulum)?);
+//! let engine = system.accelerations(0.0, &q, &qdot)?;
 //! for (a, b) in engine.iter().zip(closed_form) {
 //!     approx::assert_relative_eq!(*a, b, max_relative = 1e-12);
 //! }

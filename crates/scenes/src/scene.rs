@@ -149,7 +149,7 @@ macro_rules! body_scene {
         }
 
         fn into_system(self) -> Result<Box<dyn lagrange::System>, lagrange::Error> {
-            Ok(Box::new(lagrange::Simulation::new(lagrange::Model::new(self)?)))
+            Ok(Box::new(lagrange::Buffered::new(lagrange::Model::new(self)?)))
         }
 
         fn visit<V: $crate::MechanismVisitor>(self, visitor: V) -> Option<V::Output> {
@@ -166,7 +166,7 @@ macro_rules! raw_scene {
         }
 
         fn into_system(self) -> Result<Box<dyn lagrange::System>, lagrange::Error> {
-            Ok(Box::new(lagrange::Simulation::new(lagrange::RawModel::new(self)?)))
+            Ok(Box::new(lagrange::Buffered::new(lagrange::RawModel::new(self)?)))
         }
 
         fn visit<V: $crate::MechanismVisitor>(self, _visitor: V) -> Option<V::Output> {

@@ -62,14 +62,14 @@ impl Mechanism for SpringPendulum {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
         let (sin, cos) = theta.sin_cos();
         world_from_body[0] = Pose::point(r * sin, -r * cos);
     }
 
     /// `V = ½ k (|x| − L0)²`, through the bob's position so that the spring force is applied to it.
-    fn potential<S: Scalar>(&self, _q: &[S], world_from_body: &[Pose<S>], _t: S) -> Option<S> {
+    fn potential<S: Scalar>(&self, _t: S, _q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {
         let Pose { x, y, .. } = world_from_body[0];
         let stretch = (x * x + y * y).sqrt() - self.rest_length;
         Some(stretch * stretch * (0.5 * self.stiffness))

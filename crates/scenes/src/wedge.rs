@@ -92,7 +92,7 @@ impl Mechanism for Wedge {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_prime) = (q[0], q[1]);
         let (sin, cos) = self.angle.sin_cos();
         // Wedge corner on the floor; block at x' down the slope.
@@ -136,7 +136,7 @@ mod tests {
     use crate::testing::{
         ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
     };
-    use lagrange::{Model, Simulation, System};
+    use lagrange::{Buffered, Model, System};
 
     fn states() -> Vec<State> {
         vec![
@@ -171,7 +171,7 @@ mod tests {
     #[test]
     fn normal_force_and_momentum_match_the_engine() {
         let scene = Wedge::new(3.0, 1.0, 0.4, 2.0, 9.81).unwrap();
-        let mut system = Simulation::new(Model::new(scene.clone()).unwrap());
+        let mut system = Buffered::new(Model::new(scene.clone()).unwrap());
         let (q, qdot) = ([0.2, 0.7], [-0.3, 0.9]);
         let reactions = system.reaction_forces(0.0, &q, &qdot).unwrap().unwrap().to_vec();
         let normal = scene.normal_force();

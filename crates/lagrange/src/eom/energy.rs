@@ -41,7 +41,7 @@ pub fn potential_energy<M: Mechanism, S: Scalar>(
     }
     if model.has_potential {
         let t_dual = num_dual::Dual::from_re(t);
-        if let Some(v) = model.mechanism.potential(&ws.q_dual, &ws.poses_dual, t_dual) {
+        if let Some(v) = model.mechanism.potential(t_dual, &ws.q_dual, &ws.poses_dual) {
             potential += v.re;
         }
     }

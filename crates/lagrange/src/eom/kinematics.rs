@@ -37,7 +37,7 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
             }
         }
         // ∂V/∂q_j through the same seeded poses.
-        if potential && let Some(v) = model.mechanism.potential(q_dual, poses, t_dual) {
+        if potential && let Some(v) = model.mechanism.potential(t_dual, q_dual, poses) {
             potential_gradient[j] = v.eps;
             *value = v.re;
         }
@@ -68,7 +68,7 @@ pub(crate) fn velocity_pass<M: Mechanism, S: Scalar>(
 pub(crate) fn position_pass<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &mut Workspace<S>, t: S, q: &[S]) {
     // Reuse the first-order buffers with zero dual parts.
     seed::constant(&mut ws.q_dual, q);
-    model.mechanism.poses(&ws.q_dual, Dual::from_re(t), &mut ws.poses_dual);
+    model.mechanism.poses(Dual::from_re(t), &ws.q_dual, &mut ws.poses_dual);
     for (b, pose) in ws.poses_dual.iter().enumerate() {
         ws.position[3 * b] = pose.x.re;
         ws.position[3 * b + 1] = pose.y.re;

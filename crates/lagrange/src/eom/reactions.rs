@@ -44,7 +44,7 @@ pub fn reaction_forces<'w, M: Mechanism, S: Scalar>(
                 _ => pose.angle.eps = eps,
             };
             set(&mut ws.poses_dual[b], S::one());
-            if let Some(v) = model.mechanism.potential(&ws.q_dual, &ws.poses_dual, t_dual) {
+            if let Some(v) = model.mechanism.potential(t_dual, &ws.q_dual, &ws.poses_dual) {
                 ws.potential_pose_gradient[r] = v.eps;
             }
             set(&mut ws.poses_dual[b], S::zero());

@@ -10,10 +10,10 @@ use crate::scalar::Scalar;
 pub trait Poses {
     /// Write `world_from_body[b]`, the pose of every body, at coordinates `q` and time `t`
     /// ([`Mechanism::poses`]).
-    fn poses<S: Scalar>(&self, q: &[S], t: S, world_from_body: &mut [Pose<S>]);
+    fn poses<S: Scalar>(&self, t: S, q: &[S], world_from_body: &mut [Pose<S>]);
 
-    /// An extra potential `V(q, poses, t)`, or `None` ([`Mechanism::potential`]).
-    fn potential<S: Scalar>(&self, q: &[S], world_from_body: &[Pose<S>], t: S) -> Option<S> {
+    /// An extra potential `V(t, q, poses)`, or `None` ([`Mechanism::potential`]).
+    fn potential<S: Scalar>(&self, t: S, q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {
         let _ = (q, world_from_body, t);
         None
     }
@@ -49,7 +49,7 @@ pub trait Poses {
 /// struct Pendulum { r: f64 }
 ///
 /// impl Poses for Pendulum {
-///     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+///     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 ///         world_from_body[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
 ///     }
 /// }
@@ -121,12 +121,12 @@ impl<P: Poses> Mechanism for Described<P> {
         self.gravity
     }
 
-    fn poses<S: Scalar>(&self, q: &[S], t: S, world_from_body: &mut [Pose<S>]) {
-        self.poses.poses(q, t, world_from_body);
+    fn poses<S: Scalar>(&self, t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
+        self.poses.poses(t, q, world_from_body);
     }
 
-    fn potential<S: Scalar>(&self, q: &[S], world_from_body: &[Pose<S>], t: S) -> Option<S> {
-        self.poses.potential(q, world_from_body, t)
+    fn potential<S: Scalar>(&self, t: S, q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {
+        self.poses.potential(t, q, world_from_body)
     }
 
     fn generalized_force<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {

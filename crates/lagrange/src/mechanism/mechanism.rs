@@ -72,7 +72,7 @@ impl Body {
 /// The user chooses independent coordinates `q`, names the bodies, and writes each body's pose
 /// `(x_b, y_b, φ_b)` as a function of `(q, t)` **once**, generic over the scalar, so that the
 /// engine can differentiate it exactly. Gravity `g` acts along −y on every body. An extra
-/// potential `V(q, poses, t)` and non-conservative generalized forces `Q(t, q, q̇)` are optional.
+/// potential `V(t, q, poses)` and non-conservative generalized forces `Q(t, q, q̇)` are optional.
 ///
 /// The engine ([`Model`](crate::Model)) derives `T`, `V`, `L = T − V` and Lagrange's equations
 /// `M(q, t) q̈ = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q` from these functions.
@@ -88,10 +88,14 @@ pub trait Mechanism {
         0.0
     }
 
-    /// Write `world_from_body[b]`, the pose of every body, at coordinates `q` and time `t`.
-    fn poses<S: Scalar>(&self, q: &[S], t: S, world_from_body: &mut [Pose<S>]);
+    /// Write `world_from_body[b]`, the pose of every body, at time `t` and coordinates `q`.
+    ///
+    /// Every function of the state takes its arguments in one order, time first: `(t, q)`
+    /// here and in [`potential`](Self::potential), `(t, q, q̇)` in the forces and the
+    /// algorithms ([`accelerations`](crate::accelerations) and the rest).
+    fn poses<S: Scalar>(&self, t: S, q: &[S], world_from_body: &mut [Pose<S>]);
 
-    /// An extra potential energy `V(q, poses, t)` beyond uniform gravity (springs, central
+    /// An extra potential energy `V(t, q, poses)` beyond uniform gravity (springs, central
     /// forces), or `None` if the mechanism has none.
     ///
     /// Write the terms that act on a body through its pose (`world_from_body`), and the terms
@@ -99,7 +103,7 @@ pub trait Mechanism {
     /// attributed to the body in [`reaction_forces`](crate::reaction_forces). Return `None` for
     /// every input or `Some` for every input: the engine asks once, at construction, and skips
     /// the potential entirely when it is `None`.
-    fn potential<S: Scalar>(&self, q: &[S], world_from_body: &[Pose<S>], t: S) -> Option<S> {
+    fn potential<S: Scalar>(&self, t: S, q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {
         let _ = (q, world_from_body, t);
         None
     }
@@ -133,7 +137,7 @@ pub trait Mechanism {
     ///     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
     ///     fn bodies(&self) -> &[Body] { &self.bodies }
     ///     fn gravity(&self) -> f64 { 9.81 }
-    ///     fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    ///     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
     ///         world_from_body[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
     ///     }
     ///     fn applied_forces<S: Scalar>(

@@ -45,7 +45,7 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
         // Poses and their velocities: one dual pass along (q̇, 1).
         seed::along(&mut scratch.q, q, qdot);
         let t_dual = Dual::new(t, S::one());
-        self.mechanism.poses(&scratch.q, t_dual, &mut scratch.poses);
+        self.mechanism.poses(t_dual, &scratch.q, &mut scratch.poses);
         // T − V_gravity, body by body.
         let mut lagrangian = S::zero();
         for (b, pose) in scratch.poses.iter().enumerate() {
@@ -58,7 +58,7 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
         }
         // − V (its value is the real part of the dual evaluation).
         if self.has_potential
-            && let Some(v) = self.mechanism.potential(&scratch.q, &scratch.poses, t_dual)
+            && let Some(v) = self.mechanism.potential(t_dual, &scratch.q, &scratch.poses)
         {
             lagrangian -= v.re;
         }

@@ -107,8 +107,8 @@ impl<M: Mechanism> Model<M> {
         // Ask once which optional terms exist.
         let (q, qdot, t) = probes.state(0);
         let mut poses = vec![Pose::<f64>::default(); model.bodies()];
-        model.mechanism.poses(q, t, &mut poses);
-        model.has_potential = model.mechanism.potential(q, &poses, t).is_some();
+        model.mechanism.poses(t, q, &mut poses);
+        model.has_potential = model.mechanism.potential(t, q, &poses).is_some();
         let mut force = vec![0.0; n];
         model.has_force = model.mechanism.generalized_force(t, q, qdot, &mut force);
         let mut wrench = vec![0.0; 3 * model.bodies()];

@@ -17,7 +17,7 @@ impl Mechanism for WithoutCart {
     fn gravity(&self) -> f64 {
         self.0.gravity()
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[1] = Pose::point(q[0] + q[1].sin() * self.0.r, -q[1].cos() * self.0.r);
     }
 }
@@ -48,7 +48,7 @@ impl Mechanism for ReadsRealPart {
     fn gravity(&self) -> f64 {
         self.driven.gravity()
     }
-    fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
         let d = &self.driven;
         let pivot =
             if self.time { S::from((t.re() * d.omega).sin() * d.amplitude) } else { (t * d.omega).sin() * d.amplitude };

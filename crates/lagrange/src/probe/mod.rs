@@ -102,7 +102,7 @@ pub(crate) fn jacobian_columns<M: Mechanism, S: crate::scalar::Scalar>(
     seed::constant(q_dual, q);
     for j in 0..q.len() {
         q_dual[j].eps = S::one();
-        mechanism.poses(q_dual, t_dual, poses);
+        mechanism.poses(t_dual, q_dual, poses);
         column(j, q_dual, poses, t_dual);
         q_dual[j].eps = S::zero();
     }
@@ -146,7 +146,7 @@ pub(crate) fn moving_poses<M: Mechanism, S: crate::scalar::Scalar>(
     qdot: &[S],
 ) {
     seed::along2(q_dual2, q, qdot);
-    mechanism.poses(q_dual2, Dual2::new(t, S::one(), S::zero()), poses);
+    mechanism.poses(Dual2::new(t, S::one(), S::zero()), q_dual2, poses);
 }
 
 /// `J` (3B × n, body-major rows) of `mechanism` at `(q, t)`, in `f64`.
@@ -292,7 +292,7 @@ fn components<S: Copy>(pose: &Pose<S>) -> [S; 3] {
 /// stays NaN.
 fn poses_f64<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], out: &mut [Pose<f64>]) {
     out.fill(Pose::new(f64::NAN, f64::NAN, f64::NAN));
-    mechanism.poses(q, t, out);
+    mechanism.poses(t, q, out);
 }
 
 /// Check, at every probe state, that `poses` writes every component of every body (the
@@ -333,7 +333,7 @@ pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> 
         // Exact derivatives: J by columns, ∂p/∂t by one pass with t seeded.
         jacobian(mechanism, t, q, &mut jac);
         seed::constant(&mut q_dual, q);
-        mechanism.poses(&q_dual, Dual64::new(t, 1.0), &mut time_poses);
+        mechanism.poses(Dual64::new(t, 1.0), &q_dual, &mut time_poses);
         // Variable j < n is q_j, j = n is t.
         let mut q_moved = q.to_vec();
         for j in 0..=n {

@@ -191,7 +191,7 @@ impl Mechanism for Tree {
     }
 
     /// Forward kinematics, parents before children.
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, world_from_body: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         for (i, link) in self.links.iter().enumerate() {
             // The parent's pose and rotation (the ground: identity).
             let (parent_pose, (parent_sin, parent_cos)) = match link.parent {

@@ -7,7 +7,7 @@ use super::{
 use crate::Error;
 use crate::fixtures::{condition_number, max_abs, max_abs_diff, phase};
 use crate::tolerance::conditioned;
-use lagrange::{Method, Model, Output, Simulation, State, System, Tolerances};
+use lagrange::{Buffered, Method, Model, Output, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::Params;
 use lagrange_scenes::SceneType;
@@ -358,8 +358,8 @@ fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
             m.parameters.extend(parameters.iter().cloned());
             m
         };
-        let mut fast = Simulation::new(Model::new(tree.clone())?);
-        let mut generic = Simulation::new(Model::new_generic(tree)?);
+        let mut fast = Buffered::new(Model::new(tree.clone())?);
+        let mut generic = Buffered::new(Model::new_generic(tree)?);
         let (q, qdot) = ([0.5, 1.0, -0.3, 2.0], [0.3, -1.0, 2.0, 0.5]);
         let a = fast.accelerations(0.0, &q, &qdot)?.to_vec();
         let b = generic.accelerations(0.0, &q, &qdot)?.to_vec();
@@ -416,7 +416,7 @@ fn gauss_chain(case: &mut CaseBuilder) -> Result<(), Error> {
     let with_masses = |m: Measurement, masses: &[f64; 4]| {
         m.params(&[("mass_1", masses[0]), ("mass_2", masses[1]), ("mass_3", masses[2]), ("mass_4", masses[3])])
     };
-    let system = Simulation::new(Model::new(hanging_rods(&heavy_root, 1.0, 9.81)?)?);
+    let system = Buffered::new(Model::new(hanging_rods(&heavy_root, 1.0, 9.81)?)?);
     let reference =
         system.simulate(&initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) }, &Output::Ends)?;
     let reference = reference.last_state().ok_or(Error::Missing("empty run"))?;
@@ -458,7 +458,7 @@ fn gauss_chain(case: &mut CaseBuilder) -> Result<(), Error> {
         }
     }
     let light_root = [1.0, 1e2, 1e4, 1e6];
-    let system = Simulation::new(Model::new(hanging_rods(&light_root, 1.0, 9.81)?)?);
+    let system = Buffered::new(Model::new(hanging_rods(&light_root, 1.0, 9.81)?)?);
     let method = Method::Gauss { dt: 1e-3 };
     let (run, wall) = timed_simulate(&system, &initial, 2.0, method, &Output::Ends);
     let m = with_masses(

@@ -37,7 +37,7 @@ impl Mechanism for Pushed {
     fn gravity(&self) -> f64 {
         G
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
     }
     fn generalized_force<S: Scalar>(&self, _t: S, q: &[S], _qdot: &[S], force: &mut [S]) -> bool {
@@ -81,8 +81,8 @@ impl Mechanism for TippedRods {
     fn gravity(&self) -> f64 {
         self.chain.gravity()
     }
-    fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
-        self.chain.poses(q, t, p);
+    fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
+        self.chain.poses(t, q, p);
     }
     fn applied_forces<S: Scalar>(
         &self,
@@ -260,8 +260,8 @@ impl Mechanism for WrongBody {
     fn bodies(&self) -> &[Body] {
         self.0.bodies()
     }
-    fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
-        self.0.poses(q, t, p);
+    fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
+        self.0.poses(t, q, p);
     }
     fn applied_forces<S: Scalar>(
         &self,
@@ -289,7 +289,7 @@ struct PushedPoses {
 }
 
 impl crate::Poses for PushedPoses {
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
     }
     fn applied_forces<S: Scalar>(
@@ -338,7 +338,7 @@ impl Mechanism for PushedBlock {
     fn gravity(&self) -> f64 {
         G
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
     }
     fn applied_forces<S: Scalar>(

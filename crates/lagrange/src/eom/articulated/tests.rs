@@ -146,7 +146,7 @@ impl Mechanism for Crane {
     fn gravity(&self) -> f64 {
         9.81
     }
-    fn poses<S: Scalar>(&self, q: &[S], _t: S, p: &mut [Pose<S>]) {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         // Trolley: anchor + x rail − child anchor, never turning.
         let (tx, ty) = (q[0] * self.rail[0] + (0.2 - 0.05), q[0] * self.rail[1] + (0.1 + 0.1));
         p[0] = Pose::new(tx, ty, S::zero());
@@ -166,7 +166,7 @@ impl Mechanism for Crane {
         let (ox, oy) = rotate(q[4], 0.02, 0.5);
         p[4] = Pose::new(hx + px - ox, hy + py - oy, q[4]);
     }
-    fn potential<S: Scalar>(&self, q: &[S], p: &[Pose<S>], _t: S) -> Option<S> {
+    fn potential<S: Scalar>(&self, _t: S, q: &[S], p: &[Pose<S>]) -> Option<S> {
         let twist = q[1] - 0.2;
         let (dx, dy) = (p[4].x - 1.0, p[4].y + 1.0);
         Some(twist * twist * 1.5 + (dx * dx + dy * dy) * 4.0)
@@ -341,8 +341,8 @@ fn a_constant_mass_matrix_takes_precedence_over_the_tree() {
         fn gravity(&self) -> f64 {
             self.0.gravity()
         }
-        fn poses<S: Scalar>(&self, q: &[S], t: S, p: &mut [Pose<S>]) {
-            self.0.poses(q, t, p)
+        fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
+            self.0.poses(t, q, p)
         }
         fn constant_mass_matrix(&self) -> bool {
             true
