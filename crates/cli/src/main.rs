@@ -10,10 +10,18 @@
 //! lagrange report [--scene ID]... [--quick] [--out DIR] [--t-end T] [--json]
 //! ```
 //!
-//! Every error is one line on standard error, naming what is wrong, with exit code 2.
+//! Every error is one line on standard error, `error: ` and what is wrong (the flag and the
+//! value of a bad argument, the path of a file that cannot be written), typed as one
+//! [`error::CliError`]. The exit code says which kind: 2 for a usage error (clap's own — an
+//! unknown flag, a missing argument — and a bad argument value: an unknown scene or engine, a
+//! malformed or out-of-range `--param`, the wrong number of values in `--q`, a non-finite or
+//! non-positive value, a step or tolerance the engine rejects), 1 for a failure at run time
+//! (the engine fails on a valid request — a singular mass matrix, a diverging integration —,
+//! a file cannot be written, a validation run cannot be set up), 0 on success.
 
 mod args;
 mod commands;
+mod error;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -67,7 +75,7 @@ fn main() -> ExitCode {
                 .filter(|l| !l.is_empty())
                 .collect();
             eprintln!("{}", message.join(" "));
-            return ExitCode::from(2);
+            return ExitCode::from(error::USAGE);
         }
     };
     let result = match cli.command {
@@ -79,9 +87,9 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            ExitCode::from(2)
+        Err(error) => {
+            eprintln!("error: {error}");
+            ExitCode::from(error.exit_code())
         }
     }
 }

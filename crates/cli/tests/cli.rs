@@ -195,3 +195,31 @@ fn compare_reports_every_engine_or_why_it_cannot_build_the_scene() {
     assert!(impulse["unbuildable"].as_str().is_some_and(|r| r.contains("pulley")), "{impulse}");
     assert_one_line_error(&["compare", "atwood", "--engine", "bullet"], "unknown engine `bullet`");
 }
+
+#[test]
+fn a_bad_argument_exits_2_and_a_failure_at_run_time_exits_1() {
+    let code = |args: &[&str]| {
+        let output = lagrange(args);
+        let err = stderr(&output);
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
+        (output.status.code(), err)
+    };
+    // Usage errors: clap's own, the CLI's bad argument values, and a value the engine rejects.
+    let (status, err) = code(&["accel", "wedge", "--q", "0,x", "--qdot", "0,0"]);
+    assert_eq!(status, Some(2), "{err}");
+    assert!(err.starts_with("error: --q: `x` is not a number"), "{err}");
+    assert_eq!(code(&["frobnicate"]).0, Some(2));
+    let (status, err) = code(&["simulate", "kepler", "--t-end", "1", "--tol", "0"]);
+    assert_eq!(status, Some(2), "{err}");
+    assert!(err.contains("invalid tolerance = 0"), "{err}");
+    // A valid request the engine cannot carry out: polar coordinates at r = 0 make the Kepler
+    // mass matrix singular (no mass moves with θ), a typed engine error naming the coordinate.
+    let (status, err) = code(&["accel", "kepler", "--q", "0,0", "--qdot", "0,0"]);
+    assert_eq!(status, Some(1), "{err}");
+    assert!(err.starts_with("error: singular mass matrix") && err.contains("`θ`"), "{err}");
+    // A file that cannot be written is a failure at run time too, naming the path.
+    let missing = std::env::temp_dir().join(format!("lagrange-cli-missing-{}", std::process::id())).join("run.csv");
+    let (status, err) = code(&["simulate", "kepler", "--t-end", "1", "--out", missing.to_str().unwrap()]);
+    assert_eq!(status, Some(1), "{err}");
+    assert!(err.contains(&format!("cannot write {}", missing.display())), "{err}");
+}

@@ -1,6 +1,7 @@
 //! `lagrange accel`: generalized accelerations at one state.
 
 use crate::args;
+use crate::error::CliError;
 use serde::Serialize;
 
 /// Arguments of `lagrange accel`.
@@ -37,14 +38,13 @@ struct Out<'a> {
 }
 
 /// Print `q̈` (and the scene's closed form beside it).
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), CliError> {
     let scene = args::scene(&args.scene)?;
     let params = args::params(scene, &args.params)?;
     let state = args::state(scene, &params, Some(&args.q), Some(&args.qdot), Some(args.t))?;
-    let mut system = scene.build(&params).map_err(|e| e.to_string())?;
-    let qddot = system.accelerations(state.t, &state.q, &state.qdot).map_err(|e| e.to_string())?.to_vec();
-    let closed_form =
-        scene.closed_form_accelerations(&params, state.t, &state.q, &state.qdot).map_err(|e| e.to_string())?;
+    let mut system = scene.build(&params)?;
+    let qddot = system.accelerations(state.t, &state.q, &state.qdot)?.to_vec();
+    let closed_form = scene.closed_form_accelerations(&params, state.t, &state.q, &state.qdot)?;
     let coordinates: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
     if args.json {
         let out = Out {
@@ -56,7 +56,7 @@ pub fn run(args: &Args) -> Result<(), String> {
             qddot: &qddot,
             closed_form,
         };
-        println!("{}", serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?);
+        println!("{}", serde_json::to_string_pretty(&out)?);
         return Ok(());
     }
     // `{:?}` prints the shortest decimal that reads back to the same f64: full precision.

@@ -1,6 +1,7 @@
 //! `lagrange compare`: the reduced solver and the maximal-coordinate engines side by side.
 
 use crate::args;
+use crate::error::CliError;
 use lagrange_maximal::{BuildError, Engine, Settings};
 use lagrange_validation::Error;
 use lagrange_validation::compare::{Comparison, compare};
@@ -60,7 +61,7 @@ struct Row {
 }
 
 impl Row {
-    fn from(engine: Engine, result: Result<Comparison, Error>) -> Result<Row, String> {
+    fn from(engine: Engine, result: Result<Comparison, Error>) -> Result<Row, CliError> {
         let empty = |reason: Option<String>| Row {
             engine: engine.name(),
             unbuildable: reason,
@@ -77,7 +78,7 @@ impl Row {
         };
         match result {
             Err(Error::Build(BuildError::Unbuildable { reason, .. })) => Ok(empty(Some(reason))),
-            Err(e) => Err(format!("{engine}: {e}")),
+            Err(source) => Err(CliError::Compare { engine, source }),
             Ok(c) => Ok(Row {
                 deviations: c.deviations,
                 max_error: Some(c.max_error),
@@ -100,20 +101,17 @@ fn cell(value: Option<f64>) -> String {
 }
 
 /// Run the comparison.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), CliError> {
     let scene = args::scene(&args.scene)?;
     let params = args::params(scene, &args.params)?;
     let initial = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), None)?;
     let engines: Vec<Engine> = if args.engine == "all" {
         Engine::ALL.to_vec()
     } else {
-        vec![Engine::from_name(&args.engine).ok_or_else(|| {
-            let names: Vec<&str> = Engine::ALL.iter().map(|e| e.name()).collect();
-            format!("unknown engine `{}`; expected one of {}, all", args.engine, names.join(", "))
-        })?]
+        vec![Engine::from_name(&args.engine).ok_or_else(|| CliError::UnknownEngine(args.engine.clone()))?]
     };
     if !(args.t_end.is_finite() && args.t_end > 0.0) {
-        return Err(format!("--t-end must be positive and finite, got {}", args.t_end));
+        return Err(CliError::NotPositive { flag: "--t-end", value: args.t_end });
     }
     let settings = Settings { dt: args.dt, substeps: args.substeps, tolerance: args.tol };
     let every = args.t_end / 100.0;
@@ -122,7 +120,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         rows.push(Row::from(engine, compare(engine, scene, &params, &initial, &settings, args.t_end, every))?);
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?);
+        println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());
     }
     println!(

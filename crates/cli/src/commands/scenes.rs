@@ -1,5 +1,6 @@
 //! `lagrange scenes`: every scene with its coordinates and parameters.
 
+use crate::error::CliError;
 use serde::Serialize;
 
 /// Arguments of `lagrange scenes`.
@@ -35,11 +36,11 @@ struct SceneOut {
 }
 
 /// Print the scene list.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), CliError> {
     let mut scenes = Vec::new();
     for scene in lagrange_scenes::all() {
         let params = scene.default_params();
-        let coordinates = scene.coordinates(&params).map_err(|e| e.to_string())?;
+        let coordinates = scene.coordinates(&params)?;
         scenes.push(SceneOut {
             id: scene.id(),
             title: scene.title(),
@@ -59,7 +60,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         });
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&scenes).map_err(|e| e.to_string())?);
+        println!("{}", serde_json::to_string_pretty(&scenes)?);
         return Ok(());
     }
     for s in &scenes {

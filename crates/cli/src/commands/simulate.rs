@@ -1,6 +1,7 @@
 //! `lagrange simulate`: integrate a scene and write `t, q, q̇, energy` as CSV.
 
 use crate::args;
+use crate::error::CliError;
 use lagrange::integrate::MethodKind;
 use lagrange::{Method, Output, Trajectory};
 use std::io::Write;
@@ -66,25 +67,35 @@ pub struct Args {
 }
 
 /// The method and output grid the arguments ask for.
-fn method_and_output(args: &Args) -> Result<(Method, Output), String> {
+fn method_and_output(args: &Args) -> Result<(Method, Output), CliError> {
     if !(args.t_end.is_finite() && args.t_end > 0.0) {
-        return Err(format!("--t-end must be positive and finite, got {}", args.t_end));
+        return Err(CliError::NotPositive { flag: "--t-end", value: args.t_end });
     }
     let Integrator(kind) = args.integrator;
     let method = match kind.default_method() {
         default @ (Method::Adaptive { .. } | Method::Implicit { .. }) => {
             if args.dt.is_some() {
-                return Err("--dt applies to the fixed-step integrators (rk4, variational, gauss); use --tol".into());
+                return Err(CliError::NotForIntegrator {
+                    flag: "--dt",
+                    integrator: kind.name(),
+                    applies_to: "the fixed-step integrators (rk4, variational, gauss)",
+                    instead: "--tol",
+                });
             }
             args.tol.map_or(default, |tol| kind.with(tol))
         }
         Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
             if args.tol.is_some() {
-                return Err("--tol applies to the error-controlled integrators (adaptive, implicit); use --dt".into());
+                return Err(CliError::NotForIntegrator {
+                    flag: "--tol",
+                    integrator: kind.name(),
+                    applies_to: "the error-controlled integrators (adaptive, implicit)",
+                    instead: "--dt",
+                });
             }
             let dt = args.dt.unwrap_or(dt);
             if !(dt > 0.0 && dt.is_finite()) {
-                return Err(format!("--dt must be positive and finite, got {dt}"));
+                return Err(CliError::NotPositive { flag: "--dt", value: dt });
             }
             kind.with(dt)
         }
@@ -97,7 +108,7 @@ fn method_and_output(args: &Args) -> Result<(Method, Output), String> {
         (None, Method::Adaptive { .. } | Method::Implicit { .. }) => args.t_end / 200.0,
     };
     if !(every > 0.0 && every.is_finite()) {
-        return Err(format!("--every must be positive and finite, got {every}"));
+        return Err(CliError::NotPositive { flag: "--every", value: every });
     }
     Ok((method, Output::Every(every)))
 }
@@ -120,22 +131,24 @@ fn write_csv(out: &mut dyn Write, names: &[String], trajectory: &Trajectory) -> 
 }
 
 /// Integrate and write.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), CliError> {
     let scene = args::scene(&args.scene)?;
     let params = args::params(scene, &args.params)?;
     let initial = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), None)?;
     let (method, output) = method_and_output(args)?;
-    let system = scene.build(&params).map_err(|e| e.to_string())?;
-    let trajectory = system.simulate(&initial, initial.t + args.t_end, method, &output).map_err(|e| e.to_string())?;
+    let system = scene.build(&params)?;
+    let trajectory = system.simulate(&initial, initial.t + args.t_end, method, &output)?;
     if let Some(t) = trajectory.stats.stiffness {
         eprintln!("warning: the problem looks stiff from t = {t}; try --integrator implicit");
     }
     let names: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
     match &args.out {
         Some(path) => {
-            let file = std::fs::File::create(path).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            let file = std::fs::File::create(path).map_err(|source| CliError::Io { path: path.clone(), source })?;
             let mut writer = std::io::BufWriter::new(file);
-            write_csv(&mut writer, &names, &trajectory).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            write_csv(&mut writer, &names, &trajectory)
+                .and_then(|()| writer.flush())
+                .map_err(|source| CliError::Io { path: path.clone(), source })?;
             eprintln!(
                 "{}: {} samples to {} ({} steps, {} rejected)",
                 scene.id(),
@@ -147,7 +160,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         }
         None => {
             let stdout = std::io::stdout();
-            write_csv(&mut stdout.lock(), &names, &trajectory).map_err(|e| e.to_string())?;
+            write_csv(&mut stdout.lock(), &names, &trajectory).map_err(CliError::Stdout)?;
         }
     }
     Ok(())

@@ -4,6 +4,7 @@
 use super::markdown;
 use super::options::{Args, Options};
 use super::plots;
+use crate::error::CliError;
 use lagrange_validation::assemble::scene_report;
 use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_TARGET};
 use lagrange_validation::runs::{ScenePlan, SceneRuns};
@@ -15,8 +16,8 @@ use lagrange_validation::stability::{self, Effort};
 use std::path::Path;
 use std::time::Instant;
 
-fn write(path: &Path, contents: &str) -> Result<(), String> {
-    std::fs::write(path, contents).map_err(|e| format!("cannot write {}: {e}", path.display()))
+fn write(path: &Path, contents: &str) -> Result<(), CliError> {
+    std::fs::write(path, contents).map_err(|source| CliError::Io { path: path.to_path_buf(), source })
 }
 
 /// A progress bar on standard error (hidden when it is not a terminal).
@@ -32,16 +33,12 @@ fn progress_bar(total: usize) -> ProgressBar {
 ///
 /// # Errors
 /// A bad argument, an output that cannot be written, or a scene whose reference fails.
-pub fn run(args: &Args) -> Result<(), String> {
+pub fn run(args: &Args) -> Result<(), CliError> {
     let start = Instant::now();
     let options = Options::new(args)?;
     let plan = &options.plan;
-    let scene_plans: Vec<ScenePlan> = options
-        .scenes
-        .iter()
-        .map(|&scene| ScenePlan::new(scene, plan))
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
+    let scene_plans: Vec<ScenePlan> =
+        options.scenes.iter().map(|&scene| ScenePlan::new(scene, plan)).collect::<Result<_, _>>()?;
     let bar = progress_bar(scene_plans.iter().map(ScenePlan::runs).sum());
     let mut scenes = Vec::with_capacity(scene_plans.len());
     let mut files = 0;
@@ -50,8 +47,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         let runs = SceneRuns::execute(scene_plan, plan, |label| {
             bar.set_message(label.to_string());
             bar.inc(1);
-        })
-        .map_err(|e| e.to_string())?;
+        })?;
         let id = scene_plan.scene.id();
         let names = Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg") };
         plots::work_precision(&options.out.join(&names.work_precision), &runs, plan.horizon)?;
@@ -68,8 +64,7 @@ pub fn run(args: &Args) -> Result<(), String> {
     let stability = stability::run(effort, &ids, |id| {
         bar.set_message(format!("stability: {id}"));
         bar.inc(1);
-    })
-    .map_err(|e| e.to_string())?;
+    })?;
     bar.finish_and_clear();
     let report = Report {
         schema_version: SCHEMA_VERSION,
@@ -96,7 +91,7 @@ pub fn run(args: &Args) -> Result<(), String> {
         stability,
         total_wall_time_s: start.elapsed().as_secs_f64(),
     };
-    let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(&report)?;
     write(&options.out.join("report.json"), &json)?;
     write(&options.out.join("report.md"), &markdown::render(&report))?;
     if options.json {

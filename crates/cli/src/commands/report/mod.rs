@@ -17,9 +17,19 @@
 //! `crates/cli/REPORT_SCHEMA.md`), `report.md`, and per scene `<scene>_work_precision.svg` and
 //! `<scene>_error.svg`; a summary on standard output and a progress bar on standard error.
 //!
-//! The pipeline, one file each: [`options`] → [`plan`] → [`runs`] (with [`reference`] and
-//! [`measure`]) → [`assemble`] (with [`pareto`]) → [`schema`], [`markdown`], [`plots`],
-//! [`terminal`]; [`stability`] for the stability section; [`driver`] runs it.
+//! The pipeline: [`options`] here → the validation library's [`plan`], [`runs`] (with
+//! [`reference`] and [`measure`]), [`assemble`] (with [`pareto`]) and [`schema`] → [`markdown`],
+//! [`plots`], [`terminal`] here; the library's [`stability`] for the stability section, rendered
+//! by [`stability_render`]; [`driver`] runs it.
+//!
+//! [`plan`]: lagrange_validation::plan
+//! [`runs`]: lagrange_validation::runs
+//! [`reference`]: lagrange_validation::reference
+//! [`measure`]: lagrange_validation::measure
+//! [`assemble`]: lagrange_validation::assemble
+//! [`pareto`]: lagrange_validation::pareto
+//! [`schema`]: lagrange_validation::schema
+//! [`stability`]: lagrange_validation::stability
 
 mod cells;
 mod driver;

@@ -1,6 +1,7 @@
 //! The arguments of `lagrange report` and their validation, before anything runs.
 
 use crate::args;
+use crate::error::CliError;
 use lagrange_scenes::Scene;
 use lagrange_validation::plan::Plan;
 use std::path::PathBuf;
@@ -43,8 +44,8 @@ impl Options {
     ///
     /// # Errors
     /// An unknown scene, a bad horizon, or an output directory that cannot be created or written.
-    pub fn new(args: &Args) -> Result<Options, String> {
-        let plan = Plan::new(args.quick, args.t_end).map_err(|e| e.to_string())?;
+    pub fn new(args: &Args) -> Result<Options, CliError> {
+        let plan = Plan::new(args.quick, args.t_end).map_err(CliError::Argument)?;
         for id in &args.scenes {
             args::scene(id)?;
         }
@@ -54,14 +55,17 @@ impl Options {
             .filter(|s| args.scenes.is_empty() || args.scenes.iter().any(|id| id == s.id()))
             .collect();
         let out = args.out.clone();
-        let cannot = |e: std::io::Error| format!("--out {}: cannot create the output directory: {e}", out.display());
         if out.as_os_str().is_empty() {
-            return Err("--out: the output directory must not be empty".into());
+            return Err(CliError::EmptyOut);
         }
-        std::fs::create_dir_all(&out).map_err(cannot)?;
+        let failed = |what: &'static str| {
+            let path = out.clone();
+            move |source| CliError::OutputDirectory { path, what, source }
+        };
+        std::fs::create_dir_all(&out).map_err(failed("cannot create the output directory"))?;
         // A directory we cannot write into fails here, not after minutes of runs.
         let probe = out.join(".lagrange-report-write-test");
-        std::fs::write(&probe, b"").map_err(|e| format!("--out {}: cannot write into it: {e}", out.display()))?;
+        std::fs::write(&probe, b"").map_err(failed("cannot write into it"))?;
         let _ = std::fs::remove_file(&probe);
         Ok(Options { scenes, plan, out, json: args.json })
     }

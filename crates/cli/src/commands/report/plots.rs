@@ -2,6 +2,7 @@
 //! method family through its sweep) and the reference trajectory above each family's error
 //! over time.
 
+use crate::error::CliError;
 use lagrange_validation::pareto::{Front, Point};
 use lagrange_validation::plan::{Family, Setting};
 use lagrange_validation::reference::Reference;
@@ -27,8 +28,9 @@ fn colour(family: Family) -> RGBColor {
     PALETTE[index]
 }
 
-fn text<E: std::fmt::Display>(path: &Path) -> impl Fn(E) -> String + '_ {
-    move |e| format!("cannot draw {}: {e}", path.display())
+/// The [`CliError::Plot`] of a drawing error on the plot at `path`.
+fn drawing_error(path: &Path) -> impl Fn(DrawingAreaErrorKind<std::io::Error>) -> CliError + '_ {
+    move |source| CliError::Plot { path: path.to_path_buf(), source }
 }
 
 /// A log axis range around positive `values`, with a margin of `factor` on both sides.
@@ -60,11 +62,11 @@ fn draw_legend(
     top: i32,
     entries: &[(String, RGBColor)],
     path: &Path,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     for (k, (label, colour)) in entries.iter().enumerate() {
         let y = top + 22 * k as i32;
-        area.draw(&PathElement::new(vec![(4, y), (28, y)], colour.stroke_width(3))).map_err(text(path))?;
-        area.draw(&Text::new(label.clone(), (34, y - 7), ("sans-serif", 13))).map_err(text(path))?;
+        area.draw(&PathElement::new(vec![(4, y), (28, y)], colour.stroke_width(3))).map_err(drawing_error(path))?;
+        area.draw(&Text::new(label.clone(), (34, y - 7), ("sans-serif", 13))).map_err(drawing_error(path))?;
     }
     Ok(())
 }
@@ -74,15 +76,16 @@ fn draw_legend(
 ///
 /// # Errors
 /// The file cannot be written.
-pub fn work_precision(path: &Path, runs: &SceneRuns, horizon: f64) -> Result<(), String> {
+pub fn work_precision(path: &Path, runs: &SceneRuns, horizon: f64) -> Result<(), CliError> {
     let series: Vec<(Family, Vec<(f64, f64)>)> =
         runs.families.iter().map(|f| (f.family, work_precision_points(f))).filter(|(_, p)| !p.is_empty()).collect();
     let all = || series.iter().flat_map(|(_, p)| p.iter().copied());
     let root = SVGBackend::new(path, (1100, 640)).into_drawing_area();
-    root.fill(&WHITE).map_err(text(path))?;
+    root.fill(&WHITE).map_err(drawing_error(path))?;
     let (Some(x), Some(y)) = (log_range(all().map(|p| p.0), 1.5), log_range(all().map(|p| p.1), 3.0)) else {
-        root.titled(&format!("{}: no successful run", runs.scene.id()), ("sans-serif", 20)).map_err(text(path))?;
-        return root.present().map_err(text(path));
+        root.titled(&format!("{}: no successful run", runs.scene.id()), ("sans-serif", 20))
+            .map_err(drawing_error(path))?;
+        return root.present().map_err(drawing_error(path));
     };
     let (left, right) = root.split_horizontally(880);
     let caption =
@@ -93,7 +96,7 @@ pub fn work_precision(path: &Path, runs: &SceneRuns, horizon: f64) -> Result<(),
         .x_label_area_size(45)
         .y_label_area_size(70)
         .build_cartesian_2d(x.log_scale(), y.log_scale())
-        .map_err(text(path))?;
+        .map_err(drawing_error(path))?;
     chart
         .configure_mesh()
         .x_desc("wall time (s), minimum over repetitions")
@@ -101,28 +104,32 @@ pub fn work_precision(path: &Path, runs: &SceneRuns, horizon: f64) -> Result<(),
         .x_label_formatter(&exponent_label)
         .y_label_formatter(&exponent_label)
         .draw()
-        .map_err(text(path))?;
+        .map_err(drawing_error(path))?;
     let mut legend = Vec::new();
     for (family, points) in &series {
         let colour = colour(*family);
         let front =
             Front::new(points.iter().enumerate().map(|(run, &(time, error))| Point { time, error, family: 0, run }));
         let line: Vec<(f64, f64)> = front.points.iter().map(|p| (p.time, p.error)).collect();
-        chart.draw_series(LineSeries::new(line, colour.stroke_width(2))).map_err(text(path))?;
+        chart.draw_series(LineSeries::new(line, colour.stroke_width(2))).map_err(drawing_error(path))?;
         let on_front = |k: usize| front.points.iter().any(|p| p.run == k);
         chart
             .draw_series(points.iter().enumerate().map(|(k, &p)| {
                 let style = if on_front(k) { colour.filled() } else { colour.stroke_width(1) };
                 Circle::new(p, 3, style)
             }))
-            .map_err(text(path))?;
+            .map_err(drawing_error(path))?;
         legend.push((family.name().to_string(), colour));
     }
     draw_legend(&right, 60, &legend, path)?;
     let note = ("sans-serif", 12);
-    right.draw(&Text::new("lines: Pareto fronts", (4, 70 + 22 * legend.len() as i32), note)).map_err(text(path))?;
-    right.draw(&Text::new("hollow: dominated runs", (4, 86 + 22 * legend.len() as i32), note)).map_err(text(path))?;
-    root.present().map_err(text(path))
+    right
+        .draw(&Text::new("lines: Pareto fronts", (4, 70 + 22 * legend.len() as i32), note))
+        .map_err(drawing_error(path))?;
+    right
+        .draw(&Text::new("hollow: dominated runs", (4, 86 + 22 * legend.len() as i32), note))
+        .map_err(drawing_error(path))?;
+    root.present().map_err(drawing_error(path))
 }
 
 /// The wall time the error plot picks runs at: rapier's (impulse, else multibody, f64) run
@@ -181,7 +188,7 @@ fn draw_reference(
     reference: &Reference,
     times: &[f64],
     path: &Path,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let values = || reference.q.iter().flatten().copied();
     let (low, high) = values().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(v), h.max(v)));
     let pad = ((high - low) * 0.05).max(1e-9);
@@ -193,14 +200,14 @@ fn draw_reference(
         .x_label_area_size(35)
         .y_label_area_size(70)
         .build_cartesian_2d(0.0..t_end, (low - pad)..(high + pad))
-        .map_err(text(path))?;
-    chart.configure_mesh().x_desc("t (s)").y_desc("q_ref (m, rad)").draw().map_err(text(path))?;
+        .map_err(drawing_error(path))?;
+    chart.configure_mesh().x_desc("t (s)").y_desc("q_ref (m, rad)").draw().map_err(drawing_error(path))?;
     for (i, coordinate) in runs.coordinates.iter().enumerate() {
         let colour = Palette99::pick(i).to_rgba();
         let points = times.iter().zip(&reference.q).map(|(&t, q)| (t, q[i]));
         chart
             .draw_series(LineSeries::new(points, colour.stroke_width(2)))
-            .map_err(text(path))?
+            .map_err(drawing_error(path))?
             .label(coordinate.name.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
     }
@@ -210,7 +217,7 @@ fn draw_reference(
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
-        .map_err(text(path))
+        .map_err(drawing_error(path))
 }
 
 /// One line of the error plot.
@@ -225,14 +232,14 @@ struct Curve {
 ///
 /// # Errors
 /// The file cannot be written.
-pub fn errors_over_time(path: &Path, runs: &SceneRuns, times: &[f64]) -> Result<(), String> {
+pub fn errors_over_time(path: &Path, runs: &SceneRuns, times: &[f64]) -> Result<(), CliError> {
     let root = SVGBackend::new(path, (1160, 900)).into_drawing_area();
-    root.fill(&WHITE).map_err(text(path))?;
+    root.fill(&WHITE).map_err(drawing_error(path))?;
     let (top, bottom) = root.split_vertically(360);
     let (bottom, legend_area) = bottom.split_horizontally(780);
     draw_reference(&top, runs, &runs.reference, times, path)?;
     let Some(time) = representative_time(runs) else {
-        return root.present().map_err(text(path));
+        return root.present().map_err(drawing_error(path));
     };
     // Errors at t = 0 vanish and have no logarithm: each curve starts at the first positive one.
     let curves: Vec<Curve> = representatives(runs, time)
@@ -251,7 +258,7 @@ pub fn errors_over_time(path: &Path, runs: &SceneRuns, times: &[f64]) -> Result<
         .collect();
     let t_end = times.last().copied().unwrap_or(1.0);
     let Some(y) = log_range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)), 3.0) else {
-        return root.present().map_err(text(path));
+        return root.present().map_err(drawing_error(path));
     };
     let caption = format!("errors over time, one run per method at about {time:.2e} s of wall time");
     let mut chart = ChartBuilder::on(&bottom)
@@ -260,19 +267,19 @@ pub fn errors_over_time(path: &Path, runs: &SceneRuns, times: &[f64]) -> Result<
         .x_label_area_size(35)
         .y_label_area_size(70)
         .build_cartesian_2d(0.0..t_end, y.log_scale())
-        .map_err(text(path))?;
+        .map_err(drawing_error(path))?;
     chart
         .configure_mesh()
         .x_desc("t (s)")
         .y_desc("‖q − q_ref‖∞ (m, rad)")
         .y_label_formatter(&exponent_label)
         .draw()
-        .map_err(text(path))?;
+        .map_err(drawing_error(path))?;
     let mut legend = Vec::new();
     for curve in curves {
-        chart.draw_series(LineSeries::new(curve.points, curve.colour.stroke_width(2))).map_err(text(path))?;
+        chart.draw_series(LineSeries::new(curve.points, curve.colour.stroke_width(2))).map_err(drawing_error(path))?;
         legend.push((curve.label, curve.colour));
     }
     draw_legend(&legend_area, 60, &legend, path)?;
-    root.present().map_err(text(path))
+    root.present().map_err(drawing_error(path))
 }

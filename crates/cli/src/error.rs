@@ -1,0 +1,180 @@
+//! The command line's one error type, [`CliError`], and the exit code of each kind.
+//!
+//! Two kinds of error: a bad argument value (the user asked for something that cannot be done:
+//! exit [`USAGE`], 2, as for clap's own errors) and a runtime failure (the engine, the file
+//! system or a validation run failed on a valid request: exit [`FAILURE`], 1).
+
+use lagrange_maximal::{BuildError, Engine};
+use std::path::PathBuf;
+
+/// Exit code of a bad argument value (and of clap's own usage errors).
+pub const USAGE: u8 = 2;
+
+/// Exit code of a runtime failure.
+pub const FAILURE: u8 = 1;
+
+/// Everything a command of `lagrange` can fail with. Its message is one line, naming what is
+/// wrong (the flag and the value for a bad argument, the path for a file).
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    // Bad argument values (exit 2).
+    /// A `--param` that is not `NAME=VALUE`.
+    #[error("--param `{0}` is not of the form NAME=VALUE")]
+    ParamForm(String),
+    /// A value that does not parse as a number.
+    #[error("{flag}: `{value}` is not a number")]
+    NotANumber {
+        /// The flag, with the parameter's name for `--param`.
+        flag: String,
+        /// The text given.
+        value: String,
+    },
+    /// A coordinate list (`--q`, `--qdot`) with the wrong number of values.
+    #[error("{flag} needs {} values ({}), got {got}", .coordinates.len(), .coordinates.join(", "))]
+    Arity {
+        /// The flag.
+        flag: &'static str,
+        /// The scene's coordinates, by name.
+        coordinates: Vec<String>,
+        /// How many values were given.
+        got: usize,
+    },
+    /// A value that is NaN or infinite.
+    #[error("{flag}: {value} is not finite")]
+    NotFinite {
+        /// The flag.
+        flag: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// A duration, step or interval that is not positive and finite.
+    #[error("{flag} must be positive and finite, got {value}")]
+    NotPositive {
+        /// The flag.
+        flag: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// A setting the chosen integrator does not take (`--dt` for an error-controlled one,
+    /// `--tol` for a fixed-step one).
+    #[error("{flag} does not apply to the {integrator} integrator: it applies to {applies_to}; use {instead}")]
+    NotForIntegrator {
+        /// The flag given.
+        flag: &'static str,
+        /// The integrator chosen.
+        integrator: &'static str,
+        /// The integrators that take the flag.
+        applies_to: &'static str,
+        /// The flag the chosen integrator takes instead.
+        instead: &'static str,
+    },
+    /// An `--engine` that is not one of the maximal engines or `all`.
+    #[error("unknown engine `{0}`; expected one of {names}, all", names = engine_names())]
+    UnknownEngine(String),
+    /// An empty `--out`.
+    #[error("--out: the output directory must not be empty")]
+    EmptyOut,
+    /// A `--param` value the scene rejects: an unknown name, or a value outside the parameter's
+    /// domain.
+    #[error("--param: {0}")]
+    Param(#[source] lagrange::Error),
+    /// An argument the validation library rejects: an unknown scene, a report horizon off the
+    /// sample grid.
+    #[error(transparent)]
+    Argument(lagrange_validation::Error),
+
+    // Runtime failures (exit 1, except where the engine rejects a value the user gave: see
+    // [`CliError::exit_code`]).
+    /// The engine failed: a singular mass matrix, a non-finite value, a diverging or stiff
+    /// integration; or it rejected a setting (`invalid step`, `invalid tolerance`).
+    #[error(transparent)]
+    Engine(#[from] lagrange::Error),
+    /// A maximal engine failed in `lagrange compare`.
+    #[error("{engine}: {source}")]
+    Compare {
+        /// The engine.
+        engine: Engine,
+        /// What failed.
+        source: lagrange_validation::Error,
+    },
+    /// The validation library failed: a reference, a sweep or a stability case could not run.
+    #[error(transparent)]
+    Validation(#[from] lagrange_validation::Error),
+    /// A file could not be written.
+    #[error("cannot write {}: {source}", .path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// The report's output directory (`--out`) cannot be created or written into.
+    #[error("--out {}: {what}: {source}", .path.display())]
+    OutputDirectory {
+        /// The directory.
+        path: PathBuf,
+        /// What failed: `cannot create the output directory`, `cannot write into it`.
+        what: &'static str,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// Standard output could not be written.
+    #[error("cannot write to standard output: {0}")]
+    Stdout(#[source] std::io::Error),
+    /// A result could not be serialized as JSON.
+    #[error("cannot serialize the output as JSON: {0}")]
+    Json(#[from] serde_json::Error),
+    /// A plot could not be drawn or written.
+    #[error("cannot draw {}: {source}", .path.display())]
+    Plot {
+        /// The SVG file.
+        path: PathBuf,
+        /// plotters' error.
+        source: plotters::drawing::DrawingAreaErrorKind<std::io::Error>,
+    },
+}
+
+/// The maximal engines' names, comma-separated.
+fn engine_names() -> String {
+    Engine::ALL.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
+}
+
+/// Whether the engine rejected a value out of its domain (a parameter, a step, a tolerance, an
+/// output time): a value the user gave, so a bad argument rather than a failure.
+fn rejects_a_value(error: &lagrange::Error) -> bool {
+    matches!(error, lagrange::Error::InvalidParameter { .. } | lagrange::Error::InvalidSetting { .. })
+}
+
+impl CliError {
+    /// The process exit code: [`USAGE`] (2) for a bad argument value, including a value the
+    /// engine rejects as outside its domain (`--tol 0`, an `--every` off the step grid, a rapier
+    /// `--dt 0`); [`FAILURE`] (1) for everything that fails at run time.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::ParamForm(_)
+            | CliError::NotANumber { .. }
+            | CliError::Arity { .. }
+            | CliError::NotFinite { .. }
+            | CliError::NotPositive { .. }
+            | CliError::NotForIntegrator { .. }
+            | CliError::UnknownEngine(_)
+            | CliError::EmptyOut
+            | CliError::Param(_)
+            | CliError::Argument(_) => USAGE,
+            CliError::Engine(e)
+            | CliError::Compare {
+                source:
+                    lagrange_validation::Error::Engine(e) | lagrange_validation::Error::Build(BuildError::Invalid(e)),
+                ..
+            } if rejects_a_value(e) => USAGE,
+            CliError::Engine(_)
+            | CliError::Compare { .. }
+            | CliError::Validation(_)
+            | CliError::Io { .. }
+            | CliError::OutputDirectory { .. }
+            | CliError::Stdout(_)
+            | CliError::Json(_)
+            | CliError::Plot { .. } => FAILURE,
+        }
+    }
+}
