@@ -13,6 +13,9 @@
 //! ([`AngleReference::World`](crate::tree::AngleReference)) is `q_i = r_i + φ_λ(i)`, the parent's
 //! orientation — a constant linear change of coordinates `q = T⁻¹ r`, handled inside the
 //! passes: `ṙ_i = q̇_i − ω_λ(i)`, `q̈_i = r̈_i + ω̇_λ(i)`, and the joint forces `τ = T⁻ᵀ Q` (pass 2).
+//! A clockwise joint ([`Sense`](crate::tree::Sense)) counts its angle the other way: its
+//! counter-clockwise angle is `σ_i q_i` with `σ_i = −1`, so `ṙ_i`, `τ_i` and `q̈_i` take the
+//! factor `σ_i` as well (`T` gains `σ` on its diagonal; `σ_i = 1` multiplies exactly).
 
 use super::{all_finite, kinematics, non_finite};
 use crate::error::{Stage, bad_pivot};
@@ -154,7 +157,8 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             (body.angle, body.sin, body.cos) = (parent_angle, parent_sin, parent_cos);
             continue;
         }
-        body.angle = if link.absolute { q[i] } else { parent_angle + q[i] };
+        let turn = q[i] * link.sense; // σ_i q_i: the joint's counter-clockwise angle
+        body.angle = if link.absolute { turn } else { parent_angle + turn };
         (body.sin, body.cos) = body.angle.sin_cos();
     }
 
@@ -170,7 +174,8 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             Some(p) => (bodies[p].sin, bodies[p].cos, bodies[p].velocity),
         };
         let body = &mut bodies[i];
-        let rate = if link.absolute { qdot[i] - parent_velocity.angular } else { qdot[i] };
+        let turn_rate = qdot[i] * link.sense;
+        let rate = if link.absolute { turn_rate - parent_velocity.angular } else { turn_rate };
         let [px, py] = link.parent_anchor;
         let (ax, ay) = if link.revolute {
             (S::from(px), S::from(py))
@@ -222,7 +227,7 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             subtree.add_assign(&child);
         }
         let Subtree { articulated_inertia, composite_inertia, bias_force, absolute_force_below } = subtree;
-        let mut tau = if forces { ws.rhs[i] } else { S::zero() };
+        let mut tau = if forces { ws.rhs[i] * link.sense } else { S::zero() };
         if link.revolute && forces {
             tau += absolute_force_below;
         }
@@ -251,7 +256,8 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             bias_force: x
                 .force_to_parent(bias_force.add(articulated_inertia.apply(c)))
                 .add(transported.scale(body.acceleration_offset)),
-            absolute_force_below: absolute_force_below + if link.absolute && forces { ws.rhs[i] } else { S::zero() },
+            absolute_force_below: absolute_force_below
+                + if link.absolute && forces { ws.rhs[i] * link.sense } else { S::zero() },
         };
         if p + 1 == i {
             from_next = Some(passed);
@@ -282,7 +288,7 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             .add(body.bias_acceleration)
             .add(body.subspace.scale(relative));
         body.acceleration = previous;
-        ws.qddot[i] = if link.absolute { relative + parent_acceleration.angular } else { relative };
+        ws.qddot[i] = (if link.absolute { relative + parent_acceleration.angular } else { relative }) * link.sense;
     }
     if !all_finite(&ws.qddot) {
         let stage = if model.has_potential && !all_finite(&ws.potential_gradient) {

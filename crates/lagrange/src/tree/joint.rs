@@ -24,6 +24,27 @@ pub enum AngleReference {
     World,
 }
 
+/// Which way a revolute joint's angle turns as its coordinate grows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sense {
+    /// Counter-clockwise (the mathematical sense; the default).
+    #[default]
+    CounterClockwise,
+    /// Clockwise: the angle the joint adds is `−q` (e.g. an angle measured clockwise from the
+    /// vertical, as some textbooks draw it).
+    Clockwise,
+}
+
+impl Sense {
+    /// `+1` counter-clockwise, `−1` clockwise.
+    pub fn sign(self) -> f64 {
+        match self {
+            Sense::CounterClockwise => 1.0,
+            Sense::Clockwise => -1.0,
+        }
+    }
+}
+
 /// The kind of a joint, with its one degree of freedom.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum JointKind {
@@ -32,6 +53,8 @@ pub enum JointKind {
     Revolute {
         /// Whether the angle is relative to the parent or absolute.
         angle: AngleReference,
+        /// Which way the angle turns as the coordinate grows.
+        sense: Sense,
     },
     /// Translation along `axis` (a unit vector fixed in the parent frame); the child keeps the
     /// parent's orientation and its `child_anchor` sits at `parent_anchor + q · axis` in the
@@ -69,7 +92,7 @@ impl Joint {
             parent,
             parent_anchor,
             child_anchor,
-            kind: JointKind::Revolute { angle: AngleReference::Parent },
+            kind: JointKind::Revolute { angle: AngleReference::Parent, sense: Sense::CounterClockwise },
         }
     }
 
@@ -86,8 +109,38 @@ impl Joint {
             parent,
             parent_anchor,
             child_anchor,
-            kind: JointKind::Revolute { angle: AngleReference::World },
+            kind: JointKind::Revolute { angle: AngleReference::World, sense: Sense::CounterClockwise },
         }
+    }
+
+    /// The same joint with its coordinate counted the other way: a revolute joint's angle
+    /// turns clockwise ([`Sense::Clockwise`]; applied twice, counter-clockwise again), a
+    /// prismatic joint's axis is reversed.
+    ///
+    /// ```
+    /// use lagrange::tree::{Joint, Parent, Tree};
+    /// use lagrange::{Body, Model, accelerations};
+    ///
+    /// // A pendulum whose angle θ is measured clockwise from the downward vertical.
+    /// let joint = Joint::absolute_revolute("θ", Parent::Ground, [0.0, 0.0], [0.0, 1.0]).clockwise();
+    /// let model = Model::new(Tree::new(vec![joint], vec![Body::point("bob", 1.0)], 9.81)?)?;
+    /// let mut ws = model.workspace();
+    /// let qddot = accelerations(&model, &mut ws, 0.0, &[0.3], &[0.0])?;
+    /// // θ̈ = −g sinθ / l, whichever way θ is counted.
+    /// approx::assert_relative_eq!(qddot[0], -9.81 * 0.3_f64.sin(), max_relative = 1e-14);
+    /// # Ok::<(), lagrange::Error>(())
+    /// ```
+    pub fn clockwise(mut self) -> Self {
+        match &mut self.kind {
+            JointKind::Revolute { sense, .. } => {
+                *sense = match sense {
+                    Sense::CounterClockwise => Sense::Clockwise,
+                    Sense::Clockwise => Sense::CounterClockwise,
+                }
+            }
+            JointKind::Prismatic { axis } => *axis = [-axis[0], -axis[1]],
+        }
+        self
     }
 
     /// A prismatic joint along the unit `axis` (parent frame): the child's `child_anchor` at

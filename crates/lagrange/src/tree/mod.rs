@@ -11,5 +11,5 @@ pub(crate) mod spatial;
 #[allow(clippy::module_inception)]
 mod tree;
 
-pub use joint::{AngleReference, Joint, JointKind, Parent};
+pub use joint::{AngleReference, Joint, JointKind, Parent, Sense};
 pub use tree::Tree;

@@ -1,6 +1,8 @@
 //! A planar kinematic tree: bodies hung from each other or from the ground by one-coordinate
 //! joints, described once and usable as a [`Mechanism`].
 
+#[cfg(doc)]
+use super::joint::Sense;
 use super::joint::{AngleReference, Joint, JointKind, Parent};
 use crate::{Body, Coordinate, Error, Mechanism, Pose, Scalar};
 
@@ -16,6 +18,9 @@ pub(crate) struct Link {
     pub revolute: bool,
     /// Whether a revolute joint's angle is absolute ([`AngleReference::World`]).
     pub absolute: bool,
+    /// `+1` if a revolute joint's angle turns counter-clockwise, `−1` clockwise; `+1` for a
+    /// prismatic joint (whose direction is its axis).
+    pub sense: f64,
     /// Parent anchor (parent frame).
     pub parent_anchor: [f64; 2],
     /// Child anchor (child frame).
@@ -40,7 +45,9 @@ pub(crate) struct Link {
 ///
 /// Forward kinematics, for joint `i` from parent `p` (pose `(x_p, y_p, φ_p)`; the ground is
 /// `(0, 0, 0)`), with `R(φ)` the rotation by `φ`:
-/// - revolute: `φ_i = φ_p + q_i` (relative) or `φ_i = q_i` (absolute), and the anchors meet:
+/// - revolute: `φ_i = φ_p + σ_i q_i` (relative) or `φ_i = σ_i q_i` (absolute), with `σ_i = 1`
+///   for a counter-clockwise joint and `−1` for a clockwise one ([`Joint::clockwise`]), and the
+///   anchors meet:
 ///   `(x_i, y_i) = (x_p, y_p) + R(φ_p) parent_anchor − R(φ_i) child_anchor`;
 /// - prismatic: `φ_i = φ_p` and
 ///   `(x_i, y_i) = (x_p, y_p) + R(φ_p) (parent_anchor + q_i axis) − R(φ_i) child_anchor`.
@@ -142,7 +149,11 @@ impl Tree {
                     Parent::Body(p) => Some(p),
                 },
                 revolute: matches!(joint.kind, JointKind::Revolute { .. }),
-                absolute: matches!(joint.kind, JointKind::Revolute { angle: AngleReference::World }),
+                absolute: matches!(joint.kind, JointKind::Revolute { angle: AngleReference::World, .. }),
+                sense: match joint.kind {
+                    JointKind::Revolute { sense, .. } => sense.sign(),
+                    JointKind::Prismatic { .. } => 1.0,
+                },
                 parent_anchor: joint.parent_anchor,
                 child_anchor: joint.child_anchor,
                 axis: match joint.kind {
@@ -205,9 +216,9 @@ impl Mechanism for Tree {
                 ay += q[i] * link.axis[1];
                 parent_pose.angle
             } else if link.absolute {
-                q[i]
+                q[i] * link.sense
             } else {
-                parent_pose.angle + q[i]
+                parent_pose.angle + q[i] * link.sense
             };
             // World position of the joint, then of the child's centre of mass.
             let joint_x = parent_pose.x + parent_cos * ax - parent_sin * ay;

@@ -366,3 +366,5 @@ fn a_constant_mass_matrix_takes_precedence_over_the_tree() {
     let (fast, reference, kappa) = both_paths(&tree, 0.0, &[0.1, 0.2], &[0.3, -0.1]);
     assert_agree("slider", &fast, &reference, kappa);
 }
+
+mod clockwise;
