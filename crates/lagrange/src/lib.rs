@@ -16,7 +16,8 @@
 //! acceleration) and `F_b = (0, −m_b g, 0)`.
 //!
 //! A second path takes a raw Lagrangian `L(q, q̇, t)` ([`Lagrangian`], [`RawModel`]) for
-//! velocity-dependent potentials, and solves `∂²L/∂q̇² q̈ = ∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q`.
+//! velocity-dependent potentials, and solves `∂²L/∂q̇² q̈ = ∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q`
+//! (example below); the same functions evaluate both.
 //!
 //! # The short form: a double pendulum
 //!
@@ -151,9 +152,14 @@
 //! [`integrate`]. Everything is generic over the scalar ([`Scalar`]), so the engine's own
 //! results can be differentiated again.
 //!
-//! The raw path's names work on a body model too, and the reverse: [`Model::workspace_in`]
-//! and [`RawModel::workspace_in`] allocate a workspace in any scalar, [`Model::velocity_hessian`]
-//! and [`RawModel::mass_matrix`] are the mass matrix under either name.
+//! One name per operation, for both input paths: [`accelerations`], [`mass_matrix`],
+//! [`momenta`], [`energy_function`] and [`lagrangian`] take a body [`Model`] or a [`RawModel`]
+//! (through the sealed trait [`Equations`]) with its workspace, which both models allocate by
+//! `workspace()` for `f64` and `workspace_in::<S>()` for any scalar. The energies `T`, `V`,
+//! `T + V` ([`kinetic_energy`], [`potential_energy`], [`total_energy`]) and [`reaction_forces`]
+//! need bodies and take a body model only. [`Dynamics`] (the integrators' `f64` interface) and
+//! [`System`] (an object-safe facade for systems picked at run time) run the same functions
+//! under the same method names.
 
 // Modules from the bottom layer up; a module uses only modules of its layer or below
 // (checked by the `layering` test of `lagrange-tests`).
@@ -184,11 +190,11 @@ mod system;
 mod test_support;
 
 pub use dynamics::Dynamics;
-pub use eom::energy::{energy_function, kinetic_energy, lagrangian, momenta, potential_energy, total_energy};
+pub use eom::energy::{kinetic_energy, potential_energy, total_energy};
+pub use eom::equations::{Equations, accelerations, energy_function, lagrangian, mass_matrix, momenta};
 pub use eom::raw::{RawModel, RawWorkspace};
 pub use eom::reactions::reaction_forces;
-pub use eom::{accelerations, mass_matrix};
-pub use error::{Error, Stage};
+pub use error::{Derived, Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
 pub use mechanism::{
     Body, Coordinate, CoordinateKind, Described, Lagrangian, LagrangianFunction, Loads, Mechanism, Poses,
