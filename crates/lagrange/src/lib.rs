@@ -128,6 +128,42 @@
 //! # Ok::<(), lagrange::Error>(())
 //! ```
 //!
+//! # Example: a raw Lagrangian (a charge in a magnetic field)
+//!
+//! A velocity-dependent potential is no force on a body: write `L` itself ([`Lagrangian`]) and
+//! wrap it in a [`RawModel`], which the same functions evaluate. [`RawModel::new`] checks `L`
+//! at probe states as [`Model::new`] checks poses: finite, no derivative lost to `.re()`, and
+//! `∂²L/∂q̇²` positive definite.
+//!
+//! ```
+//! use lagrange::{Coordinate, Lagrangian, RawModel, Scalar, accelerations, momenta};
+//!
+//! /// Mass m, charge e, field B along z: L = ½ m |v|² + (e B / 2)(x ẏ − y ẋ); q = (x, y).
+//! struct Charge { coordinates: [Coordinate; 2], m: f64, e_b: f64 }
+//!
+//! impl Lagrangian for Charge {
+//!     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
+//!     fn lagrangian<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S]) -> S {
+//!         let (x, y, vx, vy) = (q[0], q[1], qdot[0], qdot[1]);
+//!         (vx * vx + vy * vy) * (0.5 * self.m) + (x * vy - y * vx) * (0.5 * self.e_b)
+//!     }
+//! }
+//!
+//! let (m, e_b) = (2.0, 3.0);
+//! let coordinates = [Coordinate::length("x"), Coordinate::length("y")];
+//! let raw = RawModel::new(Charge { coordinates, m, e_b })?;
+//! let mut ws = raw.workspace();
+//! let (q, qdot) = ([0.3_f64, -0.2], [0.7_f64, 1.1]);
+//! let qddot = accelerations(&raw, &mut ws, 0.0, &q, &qdot)?.to_vec();
+//!
+//! // The Lorentz force: m ẍ = e B ẏ, m ÿ = −e B ẋ; the canonical momentum p = m v + e A.
+//! approx::assert_relative_eq!(qddot[0], e_b * qdot[1] / m, max_relative = 1e-14);
+//! approx::assert_relative_eq!(qddot[1], -e_b * qdot[0] / m, max_relative = 1e-14);
+//! let p = momenta(&raw, &mut ws, 0.0, &q, &qdot)?;
+//! approx::assert_relative_eq!(p[0], m * qdot[0] - 0.5 * e_b * q[1], max_relative = 1e-14);
+//! # Ok::<(), lagrange::Error>(())
+//! ```
+//!
 //! # Constants in generic code
 //!
 //! For a generic scalar `S`, `S * f64`, `S + f64` and `S - f64` compile but `f64 * S` and
