@@ -124,7 +124,7 @@ pub(crate) fn energy_function<M: Mechanism, S: Scalar>(
 }
 
 /// The total energy `T + V` (gravity included). It equals the energy function `h` of
-/// [`energy_function`] for scleronomic mechanisms; for rheonomic ones (poses that depend on
+/// [`energy_function`](crate::energy_function) for scleronomic mechanisms; for rheonomic ones (poses that depend on
 /// time) they differ, and `h`, not `T + V`, is the one conserved when `∂L/∂t = 0`.
 ///
 /// # Errors

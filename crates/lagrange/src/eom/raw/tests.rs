@@ -88,7 +88,7 @@ fn mixed_kinetic_signs_are_indefinite_and_a_missing_one_singular() {
     assert!(RawModel::new(signs(1.0)).is_ok());
 }
 
-/// `L = ½ ẋ² + 1/(x − x)`: infinite everywhere.
+/// `L = ½ ẋ² − ln(x − 2)`: not defined (NaN) for `x < 2`, where the probe states are.
 #[derive(Debug)]
 struct Infinite([Coordinate; 1]);
 
@@ -97,7 +97,7 @@ impl Lagrangian for Infinite {
         &self.0
     }
     fn lagrangian<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S]) -> S {
-        qdot[0] * qdot[0] * 0.5 + (q[0] - q[0]).recip()
+        qdot[0] * qdot[0] * 0.5 - (q[0] - 2.0).ln()
     }
 }
 
