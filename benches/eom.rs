@@ -29,7 +29,7 @@ impl MechanismVisitor for Register<'_> {
         let s = self.state;
         let mut group = self.criterion.benchmark_group(self.id);
         // Setup (workspaces, buffers) outside the timed closures.
-        let mut ws = model.workspace::<f64>();
+        let mut ws = model.workspace();
         group.bench_function("engine", |b| {
             b.iter(|| {
                 black_box(
@@ -49,7 +49,8 @@ impl MechanismVisitor for Register<'_> {
         group.bench_function("raw_path", |b| {
             b.iter(|| {
                 black_box(
-                    raw.accelerations(&mut rws, black_box(s.t), black_box(&s.q), black_box(&s.qdot)).map(|a| a[0]),
+                    lagrange::accelerations(&raw, &mut rws, black_box(s.t), black_box(&s.q), black_box(&s.qdot))
+                        .map(|a| a[0]),
                 )
             })
         });

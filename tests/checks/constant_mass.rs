@@ -45,10 +45,10 @@ impl MechanismVisitor for Check<'_> {
         let declared = Model::new(mechanism.clone()).expect("valid");
         let assembled = Model::new(Undeclared(mechanism)).expect("valid");
         assert!(declared.has_constant_mass_matrix() && !assembled.has_constant_mass_matrix());
-        let (mut wd, mut wa) = (declared.workspace::<f64>(), assembled.workspace::<f64>());
+        let (mut wd, mut wa) = (declared.workspace(), assembled.workspace());
         for s in self.states {
-            let stored = lagrange::mass_matrix(&declared, &mut wd, s.t, &s.q).expect("valid").to_vec();
-            let full = lagrange::mass_matrix(&assembled, &mut wa, s.t, &s.q).expect("valid").to_vec();
+            let stored = lagrange::mass_matrix(&declared, &mut wd, s.t, &s.q, &s.qdot).expect("valid").to_vec();
+            let full = lagrange::mass_matrix(&assembled, &mut wa, s.t, &s.q, &s.qdot).expect("valid").to_vec();
             assert!(max_abs_diff(&stored, &full) <= tolerance::ROUNDOFF * max_abs(&stored), "M {stored:?} vs {full:?}");
             let a = lagrange::accelerations(&declared, &mut wd, s.t, &s.q, &s.qdot).expect("valid").to_vec();
             let b = lagrange::accelerations(&assembled, &mut wa, s.t, &s.q, &s.qdot).expect("valid").to_vec();

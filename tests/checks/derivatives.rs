@@ -29,7 +29,7 @@ impl MechanismVisitor for FiniteDifferences<'_> {
         let model = Model::new(mechanism).expect("valid");
         let n = model.dof();
         let rows = 3 * model.bodies();
-        let mut ws = model.workspace::<f64>();
+        let mut ws = model.workspace();
         let h = tolerance::FD_STEP;
         for s in self.states {
             // J and γ from the engine (the momenta call runs both passes).

@@ -16,10 +16,10 @@ impl MechanismVisitor for Identities<'_> {
     fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
         let n = model.dof();
-        let mut ws = model.workspace::<f64>();
-        let mut dual = model.workspace::<Dual64>();
+        let mut ws = model.workspace();
+        let mut dual = model.workspace_in::<Dual64>();
         for s in self.states {
-            let m = lagrange::mass_matrix(&model, &mut ws, s.t, &s.q).expect("valid").to_vec();
+            let m = lagrange::mass_matrix(&model, &mut ws, s.t, &s.q, &s.qdot).expect("valid").to_vec();
             // M is symmetric (assembled from one triangle) and positive definite.
             for i in 0..n {
                 for j in 0..n {

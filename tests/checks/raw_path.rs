@@ -64,3 +64,31 @@ fn raw_lagrangian_path_equals_body_path_on_every_scene() {
     // Every body scene (all but the raw charged particle) was compared.
     assert!(compared >= 24 * (all().len() - 1), "only {compared} states compared");
 }
+
+/// Tells body scenes (a mechanism) from raw ones (`None`).
+struct IsBody;
+
+impl MechanismVisitor for IsBody {
+    type Output = ();
+
+    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, _mechanism: M) {}
+}
+
+/// `RawModel::new` checks a raw Lagrangian at probe states (finite, no derivative lost to
+/// `.re()`, `∂²L/∂q̇²` positive definite): every raw scene passes, at its defaults and at
+/// sampled parameters.
+#[test]
+fn every_raw_scene_passes_the_construction_checks() {
+    let mut built = 0;
+    for (index, scene) in all().iter().enumerate() {
+        let mut rng = rng(4100 + index as u64);
+        for set in 0..4 {
+            let params = if set == 0 { scene.default_params() } else { sampling::regular_params(*scene, &mut rng) };
+            if visit_mechanism(scene.id(), &params, IsBody).expect("valid").is_none() {
+                scene.build(&params).unwrap_or_else(|error| panic!("{}: {error}", scene.id()));
+                built += 1;
+            }
+        }
+    }
+    assert!(built >= 4, "only {built} raw scenes built");
+}

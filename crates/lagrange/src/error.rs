@@ -85,6 +85,12 @@ pub enum Error {
     },
     /// The mass matrix (or `∂²L/∂q̇²`) is indefinite or negative definite at this
     /// configuration: the kinetic energy is negative along some velocity.
+    ///
+    /// A negative-definite raw Lagrangian is refused too, although `L` and `−L` have the same
+    /// equations of motion: `−L` flips the signs of the momenta `p = ∂L/∂q̇` and of the energy
+    /// function `h` that the engine reports, and writing `V − T` for `T − V` is a sign slip far
+    /// more often than a choice. [`RawModel::new`](crate::RawModel::new) checks it at probe
+    /// states; write `L = T − V` with `T` positive definite in `q̇`.
     #[error(
         "indefinite mass matrix at t = {}, q = {}: pivot {} for coordinate `{coordinate}` (its diagonal \
          entry is {}): the kinetic energy is not positive along it — check the signs of the \
@@ -207,22 +213,23 @@ pub enum Error {
         /// Configuration of the probe state.
         q: Vec<f64>,
     },
-    /// An exact derivative of a body's pose (by automatic differentiation) disagrees with
-    /// central differences of the poses: [`Mechanism::poses`](crate::Mechanism::poses) reads
-    /// the real part of the time or of a coordinate (`t.re()`), which drops its derivative.
+    /// An exact derivative (by automatic differentiation) of a body's pose or of a raw
+    /// Lagrangian disagrees with central differences at a probe state: the user's function
+    /// reads the real part of the time, a coordinate or a velocity (`t.re()`), which drops its
+    /// derivative. [`Model::new`](crate::Model::new) and [`RawModel::new`](crate::RawModel::new)
+    /// check it.
     #[error(
-        "the {component} of body `{body}`: ∂/∂{variable} = {} by automatic differentiation but \
-         {} by finite differences — do the poses read `{variable}.re()`? Use the \
-         scalar argument itself",
+        "{of}: ∂/∂{variable} = {} by automatic differentiation but {} by finite differences — \
+         {} read `{variable}.re()`? Use the scalar argument itself",
         compact(.exact),
-        compact(.finite_difference)
+        compact(.finite_difference),
+        .of.reader()
     )]
     LostDerivative {
-        /// The body.
-        body: String,
-        /// `x`, `y` or `angle`.
-        component: &'static str,
-        /// The coordinate's name, or `t`.
+        /// What was differentiated: a component of a body's pose, or the Lagrangian.
+        of: Derived,
+        /// The variable: a coordinate's name, `t`, or (raw Lagrangian) a coordinate's name
+        /// with a dot for its velocity (`ẋ`).
         variable: String,
         /// The derivative by automatic differentiation.
         exact: f64,
@@ -235,6 +242,39 @@ pub enum Error {
         /// What is contradicted.
         what: String,
     },
+}
+
+/// What an [`Error::LostDerivative`] was found in.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Derived {
+    /// A component of a body's pose ([`Mechanism::poses`](crate::Mechanism::poses)).
+    Pose {
+        /// The body.
+        body: String,
+        /// `x`, `y` or `angle`.
+        component: &'static str,
+    },
+    /// A raw Lagrangian ([`Lagrangian::lagrangian`](crate::Lagrangian::lagrangian)).
+    Lagrangian,
+}
+
+impl Derived {
+    /// Whose code the message asks about.
+    fn reader(&self) -> &'static str {
+        match self {
+            Derived::Pose { .. } => "do the poses",
+            Derived::Lagrangian => "does the Lagrangian",
+        }
+    }
+}
+
+impl fmt::Display for Derived {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Derived::Pose { body, component } => write!(f, "the {component} of body `{body}`"),
+            Derived::Lagrangian => f.write_str("the Lagrangian"),
+        }
+    }
 }
 
 /// Check that every entry is finite (its real part, for dual numbers).

@@ -16,7 +16,8 @@
 //! acceleration) and `F_b = (0, −m_b g, 0)`.
 //!
 //! A second path takes a raw Lagrangian `L(q, q̇, t)` ([`Lagrangian`], [`RawModel`]) for
-//! velocity-dependent potentials, and solves `∂²L/∂q̇² q̈ = ∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q`.
+//! velocity-dependent potentials, and solves `∂²L/∂q̇² q̈ = ∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q`
+//! (example below); the same functions evaluate both.
 //!
 //! # The short form: a double pendulum
 //!
@@ -127,6 +128,42 @@
 //! # Ok::<(), lagrange::Error>(())
 //! ```
 //!
+//! # Example: a raw Lagrangian (a charge in a magnetic field)
+//!
+//! A velocity-dependent potential is no force on a body: write `L` itself ([`Lagrangian`]) and
+//! wrap it in a [`RawModel`], which the same functions evaluate. [`RawModel::new`] checks `L`
+//! at probe states as [`Model::new`] checks poses: finite, no derivative lost to `.re()`, and
+//! `∂²L/∂q̇²` positive definite.
+//!
+//! ```
+//! use lagrange::{Coordinate, Lagrangian, RawModel, Scalar, accelerations, momenta};
+//!
+//! /// Mass m, charge e, field B along z: L = ½ m |v|² + (e B / 2)(x ẏ − y ẋ); q = (x, y).
+//! struct Charge { coordinates: [Coordinate; 2], m: f64, e_b: f64 }
+//!
+//! impl Lagrangian for Charge {
+//!     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
+//!     fn lagrangian<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S]) -> S {
+//!         let (x, y, vx, vy) = (q[0], q[1], qdot[0], qdot[1]);
+//!         (vx * vx + vy * vy) * (0.5 * self.m) + (x * vy - y * vx) * (0.5 * self.e_b)
+//!     }
+//! }
+//!
+//! let (m, e_b) = (2.0, 3.0);
+//! let coordinates = [Coordinate::length("x"), Coordinate::length("y")];
+//! let raw = RawModel::new(Charge { coordinates, m, e_b })?;
+//! let mut ws = raw.workspace();
+//! let (q, qdot) = ([0.3_f64, -0.2], [0.7_f64, 1.1]);
+//! let qddot = accelerations(&raw, &mut ws, 0.0, &q, &qdot)?.to_vec();
+//!
+//! // The Lorentz force: m ẍ = e B ẏ, m ÿ = −e B ẋ; the canonical momentum p = m v + e A.
+//! approx::assert_relative_eq!(qddot[0], e_b * qdot[1] / m, max_relative = 1e-14);
+//! approx::assert_relative_eq!(qddot[1], -e_b * qdot[0] / m, max_relative = 1e-14);
+//! let p = momenta(&raw, &mut ws, 0.0, &q, &qdot)?;
+//! approx::assert_relative_eq!(p[0], m * qdot[0] - 0.5 * e_b * q[1], max_relative = 1e-14);
+//! # Ok::<(), lagrange::Error>(())
+//! ```
+//!
 //! # Constants in generic code
 //!
 //! For a generic scalar `S`, `S * f64`, `S + f64` and `S - f64` compile but `f64 * S` and
@@ -151,9 +188,14 @@
 //! [`integrate`]. Everything is generic over the scalar ([`Scalar`]), so the engine's own
 //! results can be differentiated again.
 //!
-//! The raw path's names work on a body model too, and the reverse: [`Model::workspace_in`]
-//! and [`RawModel::workspace_in`] allocate a workspace in any scalar, [`Model::velocity_hessian`]
-//! and [`RawModel::mass_matrix`] are the mass matrix under either name.
+//! One name per operation, for both input paths: [`accelerations`], [`mass_matrix`],
+//! [`momenta`], [`energy_function`] and [`lagrangian`] take a body [`Model`] or a [`RawModel`]
+//! (through the sealed trait [`Equations`]) with its workspace, which both models allocate by
+//! `workspace()` for `f64` and `workspace_in::<S>()` for any scalar. The energies `T`, `V`,
+//! `T + V` ([`kinetic_energy`], [`potential_energy`], [`total_energy`]) and [`reaction_forces`]
+//! need bodies and take a body model only. [`Dynamics`] (the integrators' `f64` interface) and
+//! [`System`] (an object-safe facade for systems picked at run time) run the same functions
+//! under the same method names.
 
 // Modules from the bottom layer up; a module uses only modules of its layer or below
 // (checked by the `layering` test of `lagrange-tests`).
@@ -184,11 +226,11 @@ mod system;
 mod test_support;
 
 pub use dynamics::Dynamics;
-pub use eom::energy::{energy_function, kinetic_energy, lagrangian, momenta, potential_energy, total_energy};
+pub use eom::energy::{kinetic_energy, potential_energy, total_energy};
+pub use eom::equations::{Equations, accelerations, energy_function, lagrangian, mass_matrix, momenta};
 pub use eom::raw::{RawModel, RawWorkspace};
 pub use eom::reactions::reaction_forces;
-pub use eom::{accelerations, mass_matrix};
-pub use error::{Error, Stage};
+pub use error::{Derived, Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
 pub use mechanism::{
     Body, Coordinate, CoordinateKind, Described, Lagrangian, LagrangianFunction, Loads, Mechanism, Poses,

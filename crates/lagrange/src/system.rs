@@ -6,6 +6,12 @@ use crate::{Body, Coordinate, Dynamics, Error, State};
 
 /// A system with its own workspace, usable as `Box<dyn System>`. All results are `f64` and
 /// borrowed from internal buffers.
+///
+/// This is the run-time facade (scene registries, the command line pick a system by name); its
+/// methods run [`Dynamics`], which runs the free functions [`accelerations`](crate::accelerations),
+/// [`mass_matrix`](crate::mass_matrix), [`momenta`](crate::momenta),
+/// [`energy_function`](crate::energy_function) — the spelling to use on a model whose type is
+/// known (any scalar, no buffers of its own).
 pub trait System {
     /// The generalized coordinates.
     fn coordinates(&self) -> &[Coordinate];

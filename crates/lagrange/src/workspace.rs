@@ -1,7 +1,6 @@
 //! Every buffer an evaluation of a body model needs, allocated once.
 
 use crate::eom::articulated::ArticulatedBody;
-use crate::error::Error;
 use crate::mechanism::Mechanism;
 use crate::model::Model;
 use crate::pose::Pose;
@@ -10,7 +9,8 @@ use crate::seed::Tangent;
 use num_dual::{Dual, Dual2, Dual64};
 
 /// Scratch space for evaluating a [`Model`] in scalar `S` (the *data* of Pinocchio's
-/// model/data split). Allocate it once with [`Model::workspace`]; no evaluation allocates.
+/// model/data split). Allocate it once with [`Model::workspace`] (`f64`) or
+/// [`Model::workspace_in`] (any scalar); no evaluation allocates.
 ///
 /// Results are borrowed from it: the fields below are public for reading (shapes in
 /// parentheses; `n` coordinates, `B` bodies; matrices row-major).
@@ -120,32 +120,14 @@ impl<S: Scalar> Workspace<S> {
 }
 
 impl<M: Mechanism> Model<M> {
-    /// A workspace for evaluations in scalar `S` (allocate once, reuse for every step).
-    pub fn workspace<S: Scalar>(&self) -> Workspace<S> {
+    /// A workspace for `f64` evaluations (allocate once, reuse for every step).
+    pub fn workspace(&self) -> Workspace<f64> {
         Workspace::new(self)
     }
 
-    /// The same as [`workspace`](Self::workspace), under the raw path's name
-    /// ([`RawModel::workspace_in`](crate::RawModel::workspace_in)).
+    /// A workspace for evaluations in scalar `S` (e.g. `Dual64`, to differentiate the
+    /// accelerations).
     pub fn workspace_in<S: Scalar>(&self) -> Workspace<S> {
         Workspace::new(self)
-    }
-
-    /// The mass matrix `M = ∂²L/∂q̇²` under the raw path's name
-    /// ([`RawModel::velocity_hessian`](crate::RawModel::velocity_hessian)): the same as
-    /// [`mass_matrix`](crate::mass_matrix), which does not depend on `q̇` for a body model
-    /// (`q̇` is checked, then ignored).
-    ///
-    /// # Errors
-    /// As [`mass_matrix`](crate::mass_matrix), and for a malformed or non-finite `q̇`.
-    pub fn velocity_hessian<'w, S: Scalar>(
-        &self,
-        ws: &'w mut Workspace<S>,
-        t: S,
-        q: &[S],
-        qdot: &[S],
-    ) -> Result<&'w [S], Error> {
-        crate::eom::check_state(self.dof(), t, q, Some(qdot))?;
-        crate::eom::mass_matrix(self, ws, t, q)
     }
 }

@@ -222,7 +222,7 @@ mod tests {
             let tree = Model::new(chain.clone()).unwrap();
             let generic = Model::new_generic(chain).unwrap();
             assert!(tree.uses_tree_path() && !generic.uses_tree_path(), "N = {n}");
-            let (mut wt, mut wg) = (tree.workspace::<f64>(), generic.workspace::<f64>());
+            let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
             let tolerance = crate::testing::ENGINE_VS_CLOSED_FORM.max(10.0 * 6.0 * (n * n) as f64 * f64::EPSILON);
             for state in states(n) {
                 let fast = lagrange::accelerations(&tree, &mut wt, state.t, &state.q, &state.qdot).unwrap().to_vec();

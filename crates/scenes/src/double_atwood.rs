@@ -184,7 +184,7 @@ mod tests {
         let scene = DoubleAtwood::new(3.0, 1.0, 1.5, 5.0, 2.0, 0.8, 9.81).unwrap();
         let model = Model::new(scene.clone()).unwrap();
         let mut ws = model.workspace();
-        let mass_matrix = lagrange::mass_matrix(&model, &mut ws, 0.0, &[2.0, 1.0]).unwrap().to_vec();
+        let mass_matrix = lagrange::mass_matrix(&model, &mut ws, 0.0, &[2.0, 1.0], &[0.0, 0.0]).unwrap().to_vec();
         let expected: Vec<f64> = scene.mass_matrix().concat();
         assert_close("M", &expected, &mass_matrix, ENGINE_VS_CLOSED_FORM * 6.0);
         let qddot = lagrange::accelerations(&model, &mut ws, 0.0, &[2.0, 1.0], &[0.0, 0.0]).unwrap().to_vec();

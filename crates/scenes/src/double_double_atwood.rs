@@ -234,7 +234,7 @@ mod tests {
             let model = Model::new(scene.clone()).unwrap();
             let mut ws = model.workspace();
             let q = [2.0, 1.0, 1.0];
-            let engine_mass_matrix = lagrange::mass_matrix(&model, &mut ws, 0.0, &q).unwrap().to_vec();
+            let engine_mass_matrix = lagrange::mass_matrix(&model, &mut ws, 0.0, &q, &[0.0; 3]).unwrap().to_vec();
             let derived: Vec<f64> = scene.mass_matrix().concat();
             let scale = derived.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             assert_close("M", &derived, &engine_mass_matrix, ENGINE_VS_CLOSED_FORM * scale);

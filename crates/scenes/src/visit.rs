@@ -97,7 +97,7 @@ mod tests {
             let tree = Model::new(mechanism.clone()).expect("the declared tree matches the poses");
             let generic = Model::new_generic(mechanism).expect("valid");
             assert!(tree.uses_tree_path() && !generic.uses_tree_path());
-            let (mut wt, mut wg) = (tree.workspace::<f64>(), generic.workspace::<f64>());
+            let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
             let mut worst = 0.0_f64;
             for s in self.states {
                 let a = lagrange::accelerations(&tree, &mut wt, s.t, &s.q, &s.qdot).expect("valid").to_vec();

@@ -1,6 +1,10 @@
 //! The interface integrators see: equations of motion in `f64` with caller-owned scratch,
 //! and their exact Jacobian for the implicit integrators.
 //!
+//! Both models implement it by one blanket implementation over [`Equations`]: each method is
+//! the free function of the same name ([`accelerations`](crate::accelerations),
+//! [`mass_matrix`](crate::mass_matrix), …) in `f64`, copied into the caller's buffer.
+//!
 //! The Jacobian `∂q̈/∂(q, q̇)` is forward-mode AD through the engine's own generic evaluation:
 //! `q̈` evaluated in `Dual64` with one input seeded per pass (`2n` passes). For a body
 //! [`Model`](crate::Model) that is [`accelerations`](crate::accelerations) in a
@@ -13,18 +17,22 @@
 //! a Jacobian allocates nothing.
 
 pub(crate) mod jacobian;
-mod model;
-mod raw;
 #[cfg(test)]
 pub(crate) mod tests;
 
-use crate::{Error, LagrangianFunction};
+use crate::eom::equations::{self, Equations};
+use crate::{Body, Error, LagrangianFunction};
 
-/// A system whose equations of motion `q̈ = a(t, q, q̇)` can be evaluated, with its energy
-/// function and momenta: a body [`Model`](crate::Model) or a [`RawModel`](crate::RawModel).
+/// A system whose equations of motion `q̈ = a(t, q, q̇)` can be evaluated in `f64`, with its
+/// energy function and momenta: a body [`Model`](crate::Model), a [`RawModel`](crate::RawModel),
+/// or a system of the user's own.
 ///
-/// Every integrator is written against this trait. It extends [`LagrangianFunction`] because
-/// the variational integrator works on `L` itself.
+/// This is the integrators' interface, not the user's spelling: every integrator is written
+/// against it, and its methods write into caller-owned buffers. To evaluate a model, call the
+/// free functions [`accelerations`](crate::accelerations), [`mass_matrix`](crate::mass_matrix),
+/// [`momenta`](crate::momenta), [`energy_function`](crate::energy_function) (any scalar, results
+/// borrowed from the workspace), which these methods run for both models. It extends
+/// [`LagrangianFunction`] because the variational integrator works on `L` itself.
 pub trait Dynamics: LagrangianFunction {
     /// Scratch space, allocated once by [`new_workspace`](Self::new_workspace).
     type Workspace;
@@ -109,7 +117,7 @@ pub trait Dynamics: LagrangianFunction {
     fn conserves_energy(&self) -> bool;
 
     /// The bodies, for systems described by bodies (empty for a raw Lagrangian).
-    fn bodies(&self) -> &[crate::Body] {
+    fn bodies(&self) -> &[Body] {
         &[]
     }
 
@@ -128,5 +136,85 @@ pub trait Dynamics: LagrangianFunction {
     ) -> Result<bool, Error> {
         let _ = (ws, t, q, qdot, reaction);
         Ok(false)
+    }
+}
+
+/// Both models: every method runs the free function of its name (through [`Equations`]).
+impl<E: Equations + LagrangianFunction> Dynamics for E {
+    type Workspace = E::Workspace<f64>;
+
+    fn new_workspace(&self) -> Self::Workspace {
+        self.allocate_for_jacobian()
+    }
+
+    fn accelerations(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        qddot: &mut [f64],
+    ) -> Result<(), Error> {
+        qddot.copy_from_slice(equations::accelerations(self, ws, t, q, qdot)?);
+        Ok(())
+    }
+
+    fn energy_function(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64]) -> Result<f64, Error> {
+        equations::energy_function(self, ws, t, q, qdot)
+    }
+
+    fn mass_matrix(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        mass: &mut [f64],
+    ) -> Result<(), Error> {
+        mass.copy_from_slice(equations::mass_matrix(self, ws, t, q, qdot)?);
+        Ok(())
+    }
+
+    fn momenta(&self, ws: &mut Self::Workspace, t: f64, q: &[f64], qdot: &[f64], p: &mut [f64]) -> Result<(), Error> {
+        p.copy_from_slice(equations::momenta(self, ws, t, q, qdot)?);
+        Ok(())
+    }
+
+    fn acceleration_jacobian(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        jacobian: &mut [f64],
+    ) -> Result<(), Error> {
+        self.eval_acceleration_jacobian(ws, t, q, qdot, jacobian)
+    }
+
+    fn cyclic_coordinates(&self) -> &[bool] {
+        self.cyclic()
+    }
+
+    fn has_generalized_force(&self) -> bool {
+        self.forced()
+    }
+
+    fn conserves_energy(&self) -> bool {
+        self.conserved()
+    }
+
+    fn bodies(&self) -> &[Body] {
+        self.body_list()
+    }
+
+    fn reaction_forces(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        reaction: &mut [f64],
+    ) -> Result<bool, Error> {
+        self.eval_reaction_forces(ws, t, q, qdot, reaction)
     }
 }

@@ -1,4 +1,6 @@
-//! Energies, the energy function and the generalized momenta of a body model.
+//! Energies, the energy function and the generalized momenta of a body model (the body half
+//! of [`momenta`](crate::momenta), [`energy_function`](crate::energy_function) and
+//! [`lagrangian`](crate::lagrangian); the energies `T`, `V`, `T + V` are body-only).
 
 use super::{all_finite, check_state, kinematics, non_finite};
 use crate::error::Stage;
@@ -49,7 +51,7 @@ pub fn potential_energy<M: Mechanism, S: Scalar>(
 }
 
 /// The Lagrangian `L = T − V`.
-pub fn lagrangian<M: Mechanism, S: Scalar>(
+pub(crate) fn lagrangian<M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &mut Workspace<S>,
     t: S,
@@ -64,7 +66,7 @@ pub fn lagrangian<M: Mechanism, S: Scalar>(
 /// # Errors
 /// [`Error::DimensionMismatch`], or [`Error::NonFinite`] for a non-finite state or momenta
 /// that overflow.
-pub fn momenta<'w, M: Mechanism, S: Scalar>(
+pub(crate) fn momenta<'w, M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &'w mut Workspace<S>,
     t: S,
@@ -98,7 +100,7 @@ pub fn momenta<'w, M: Mechanism, S: Scalar>(
 /// # Errors
 /// As [`momenta`]; [`Error::NonFinite`] (stage [`Potential`](Stage::Potential)) for a potential
 /// that is not finite here (a singular point).
-pub fn energy_function<M: Mechanism, S: Scalar>(
+pub(crate) fn energy_function<M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &mut Workspace<S>,
     t: S,
@@ -122,7 +124,7 @@ pub fn energy_function<M: Mechanism, S: Scalar>(
 }
 
 /// The total energy `T + V` (gravity included). It equals the energy function `h` of
-/// [`energy_function`] for scleronomic mechanisms; for rheonomic ones (poses that depend on
+/// [`energy_function`](crate::energy_function) for scleronomic mechanisms; for rheonomic ones (poses that depend on
 /// time) they differ, and `h`, not `T + V`, is the one conserved when `∂L/∂t = 0`.
 ///
 /// # Errors

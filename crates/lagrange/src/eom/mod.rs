@@ -1,12 +1,14 @@
 //! Equations of motion of a body model, stage by stage:
 //! position (`kinematics`) → mass matrix → right-hand side (`bias`) → `solve`; for kinematic
 //! trees the articulated-body algorithm (`articulated`) instead; plus the quantities derived
-//! from the same passes (`energy`, `reactions`) and the raw-Lagrangian path (`raw`).
+//! from the same passes (`energy`, `reactions`) and the raw-Lagrangian path (`raw`). The
+//! public spelling of both paths is in `equations`: free functions over either model.
 
 pub(crate) mod applied;
 pub(crate) mod articulated;
 pub(crate) mod bias;
 pub(crate) mod energy;
+pub(crate) mod equations;
 pub(crate) mod kinematics;
 pub(crate) mod mass_matrix;
 pub(crate) mod raw;
@@ -17,7 +19,8 @@ pub(crate) use crate::error::{all_finite, non_finite};
 use crate::linalg::{self, size};
 use crate::{Error, Mechanism, Model, Scalar, Workspace};
 
-/// Generalized accelerations `q̈ = M(q, t)⁻¹ f(q, q̇, t)` of a body model.
+/// Generalized accelerations `q̈ = M(q, t)⁻¹ f(q, q̇, t)` of a body model (the body half of
+/// [`accelerations`](crate::accelerations)).
 ///
 /// `M = Σ_b J_bᵀ D_b J_b`, `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q`: `n` first-order dual
 /// passes give `J` (and `∂V/∂q`), one second-order pass along `(q̇, 1)` gives `γ`, then an
@@ -30,7 +33,7 @@ use crate::{Error, Mechanism, Model, Scalar, Workspace};
 /// # Errors
 /// [`Error::DimensionMismatch`], [`Error::NonFinite`] (naming the stage), or
 /// [`Error::SingularMassMatrix`] where the coordinates are not independent.
-pub fn accelerations<'w, M: Mechanism, S: Scalar>(
+pub(crate) fn accelerations<'w, M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &'w mut Workspace<S>,
     t: S,
@@ -124,11 +127,12 @@ pub(crate) fn check_state<S: Scalar>(n: usize, t: S, q: &[S], qdot: Option<&[S]>
     Ok(())
 }
 
-/// The mass matrix `M(q, t) = Σ_b J_bᵀ D_b J_b` (n × n, row-major), borrowed from the workspace.
+/// The mass matrix `M(q, t) = Σ_b J_bᵀ D_b J_b` (n × n, row-major) of a body model, borrowed
+/// from the workspace (the body half of [`mass_matrix`](crate::mass_matrix), without `q̇`).
 ///
 /// # Errors
 /// [`Error::DimensionMismatch`] or [`Error::NonFinite`] for a bad configuration.
-pub fn mass_matrix<'w, M: Mechanism, S: Scalar>(
+pub(crate) fn mass_matrix<'w, M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &'w mut Workspace<S>,
     t: S,

@@ -1,9 +1,10 @@
 //! The raw-Lagrangian path: Lagrange's equations from second derivatives of `L(q, q̇, t)`.
 
 use super::check_state;
+use super::equations::{Equations, tangent_jacobian};
 use crate::error::{Stage, bad_pivot};
 use crate::linalg;
-use crate::probe::ProbeStates;
+use crate::probe::{self, ProbeStates};
 use crate::seed::Tangent;
 use crate::{Coordinate, Error, LagrangianFunction, Scalar};
 use num_dual::{Dual64, HyperDual};
@@ -15,6 +16,11 @@ use num_dual::{Dual64, HyperDual};
 ///
 /// all derivatives exact (hyper-dual passes). For a body model this is an independent
 /// assembly of the same equations: on every scene both paths must agree to round-off.
+///
+/// It is evaluated by the same free functions as a body model, with its own workspace:
+/// [`accelerations`](crate::accelerations), [`mass_matrix`](crate::mass_matrix) (here
+/// `∂²L/∂q̇²`, which may depend on `q̇`), [`momenta`](crate::momenta),
+/// [`energy_function`](crate::energy_function) and [`lagrangian`](crate::lagrangian).
 ///
 /// Every evaluation is generic over the scalar `S` of its [`RawWorkspace<F, S>`]: the
 /// Lagrangian is evaluated in `HyperDual<S>` (second derivatives in `ε₁ε₂`, the outer
@@ -41,17 +47,18 @@ pub struct RawWorkspace<F: LagrangianFunction, S: Scalar = f64> {
     q: Vec<HyperDual<S>>,
     /// Seeded velocities (n).
     qdot: Vec<HyperDual<S>>,
-    /// `∂²L/∂q̇²` (n × n), filled by [`RawModel::accelerations`].
+    /// `∂²L/∂q̇²` (n × n), filled by [`accelerations`](crate::accelerations) and
+    /// [`mass_matrix`](crate::mass_matrix).
     pub hessian: Vec<S>,
     /// Its LDLᵀ factor (n × n).
     factor: Vec<S>,
     /// `∂L/∂q − ∂²L/∂q̇∂q q̇ − ∂²L/∂q̇∂t + Q` (n).
     pub rhs: Vec<S>,
-    /// `q̈` (n).
+    /// `q̈` (n), filled by [`accelerations`](crate::accelerations).
     pub qddot: Vec<S>,
     /// `Q` (n).
     pub generalized_force: Vec<S>,
-    /// `p = ∂L/∂q̇` (n), filled by [`RawModel::momenta`].
+    /// `p = ∂L/∂q̇` (n), filled by [`momenta`](crate::momenta).
     pub momenta: Vec<S>,
     /// The `Dual64` workspace and seeds of the tangent passes of
     /// [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian): allocated
@@ -61,10 +68,17 @@ pub struct RawWorkspace<F: LagrangianFunction, S: Scalar = f64> {
 }
 
 impl<F: LagrangianFunction> RawModel<F> {
-    /// Wrap a Lagrangian.
+    /// Wrap a Lagrangian, after checking it at a few fixed, generic probe states (the body
+    /// path's, see [`Model::new`](crate::Model::new)).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a system without coordinates.
+    /// [`Error::InvalidParameter`] for a system without coordinates; [`Error::NonFinite`]
+    /// (stage [`Lagrangian`](Stage::Lagrangian)) for a Lagrangian or first derivative that is
+    /// not finite at a probe state; [`Error::LostDerivative`] if an exact first derivative of
+    /// `L` disagrees with central differences (the Lagrangian reads `t.re()`, `q[i].re()` or
+    /// `qdot[i].re()`); [`Error::IndefiniteMassMatrix`] if `∂²L/∂q̇²` is indefinite or negative
+    /// definite at a probe state (a negative-definite `L` is refused although `−L` has the same
+    /// equations: see the error), [`Error::SingularMassMatrix`] if it is singular there.
     pub fn new(function: F) -> Result<Self, Error> {
         let n = function.coordinates().len();
         if n == 0 {
@@ -75,11 +89,39 @@ impl<F: LagrangianFunction> RawModel<F> {
             });
         }
         let probes = ProbeStates::new(n);
+        probe::check_lagrangian(&function, &probes)?;
         let (q, qdot, t) = probes.state(0);
         let mut force = vec![0.0; n];
         let has_force = function.generalized_force_with(&mut function.scratch(), t, q, qdot, &mut force);
         let (cyclic, autonomous) = probes.lagrangian_structure(&function);
-        Ok(Self { function, n, has_force, cyclic, autonomous })
+        let model = Self { function, n, has_force, cyclic, autonomous };
+        model.check_mass_matrix(&probes)?;
+        Ok(model)
+    }
+
+    /// `∂²L/∂q̇²` factored at every probe state, as [`accelerations`](crate::accelerations)
+    /// factors it.
+    fn check_mass_matrix(&self, probes: &ProbeStates) -> Result<(), Error> {
+        let mut ws = self.workspace();
+        for k in 0..probes.len() {
+            let (q, qdot, t) = probes.state(k);
+            Self::reset(&mut ws, q, qdot);
+            self.fill_velocity_hessian(&mut ws, HyperDual::from_re(t));
+            ws.factor.copy_from_slice(&ws.hessian);
+            self.factor(&mut ws, t, q)?;
+        }
+        Ok(())
+    }
+
+    /// The LDLᵀ factor of `ws.hessian` into `ws.factor` (which holds a copy of it).
+    fn factor<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: S, q: &[S]) -> Result<(), Error> {
+        if let Err(bad) = linalg::ldlt_factor(self.n, &mut ws.factor) {
+            if !super::all_finite(&ws.hessian) {
+                return Err(super::non_finite(Stage::Lagrangian, t, q));
+            }
+            return Err(bad_pivot(t, q, &self.coordinates()[bad.index].name, bad.pivot, bad.diagonal));
+        }
+        Ok(())
     }
 
     /// The wrapped Lagrangian.
@@ -152,12 +194,34 @@ impl<F: LagrangianFunction> RawModel<F> {
         }
     }
 
+    /// `∂²L/∂q̇_i∂q̇_j`: one pass per pair, seeding `q̇_i` (ε1) and `q̇_j` (ε2). Expects the
+    /// unseeded state in `ws.q`, `ws.qdot`.
+    fn fill_velocity_hessian<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: HyperDual<S>) {
+        let n = self.n;
+        let (zero, one) = (S::zero(), S::one());
+        for i in 0..n {
+            for j in i..n {
+                ws.qdot[i].eps1 = one;
+                ws.qdot[j].eps2 = one;
+                let l = self.eval(ws, t);
+                ws.hessian[i * n + j] = l.eps1eps2;
+                ws.hessian[j * n + i] = l.eps1eps2;
+                ws.qdot[i].eps1 = zero;
+                ws.qdot[j].eps2 = zero;
+            }
+        }
+    }
+}
+
+impl<F: LagrangianFunction> Equations for RawModel<F> {
+    type Workspace<S: Scalar> = RawWorkspace<F, S>;
+
+    fn allocate<S: Scalar>(&self) -> RawWorkspace<F, S> {
+        self.workspace_in()
+    }
+
     /// Generalized accelerations from the raw Lagrangian, borrowed from the workspace.
-    ///
-    /// # Errors
-    /// [`Error::DimensionMismatch`], [`Error::NonFinite`], or [`Error::SingularMassMatrix`]
-    /// when `∂²L/∂q̇²` is singular or indefinite.
-    pub fn accelerations<'w, S: Scalar>(
+    fn eval_accelerations<'w, S: Scalar>(
         &self,
         ws: &'w mut RawWorkspace<F, S>,
         t: S,
@@ -201,12 +265,7 @@ impl<F: LagrangianFunction> RawModel<F> {
         }
         // Solve.
         ws.factor.copy_from_slice(&ws.hessian);
-        if let Err(bad) = linalg::ldlt_factor(n, &mut ws.factor) {
-            if !super::all_finite(&ws.hessian) {
-                return Err(super::non_finite(Stage::Lagrangian, t, q));
-            }
-            return Err(bad_pivot(t, q, &self.coordinates()[bad.index].name, bad.pivot, bad.diagonal));
-        }
+        self.factor(ws, t, q)?;
         ws.qddot.copy_from_slice(&ws.rhs);
         linalg::ldlt_solve(n, &ws.factor, &mut ws.qddot);
         if !super::all_finite(&ws.qddot) {
@@ -216,29 +275,8 @@ impl<F: LagrangianFunction> RawModel<F> {
         Ok(&ws.qddot)
     }
 
-    /// `∂²L/∂q̇_i∂q̇_j`: one pass per pair, seeding `q̇_i` (ε1) and `q̇_j` (ε2). Expects the
-    /// unseeded state in `ws.q`, `ws.qdot`.
-    fn fill_velocity_hessian<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: HyperDual<S>) {
-        let n = self.n;
-        let (zero, one) = (S::zero(), S::one());
-        for i in 0..n {
-            for j in i..n {
-                ws.qdot[i].eps1 = one;
-                ws.qdot[j].eps2 = one;
-                let l = self.eval(ws, t);
-                ws.hessian[i * n + j] = l.eps1eps2;
-                ws.hessian[j * n + i] = l.eps1eps2;
-                ws.qdot[i].eps1 = zero;
-                ws.qdot[j].eps2 = zero;
-            }
-        }
-    }
-
     /// The generalized mass matrix `∂²L/∂q̇²` (n × n), borrowed from the workspace.
-    ///
-    /// # Errors
-    /// On a malformed or non-finite state.
-    pub fn velocity_hessian<'w, S: Scalar>(
+    fn eval_mass_matrix<'w, S: Scalar>(
         &self,
         ws: &'w mut RawWorkspace<F, S>,
         t: S,
@@ -251,32 +289,8 @@ impl<F: LagrangianFunction> RawModel<F> {
         Ok(&ws.hessian)
     }
 
-    /// The same matrix under the body path's name ([`mass_matrix`](crate::mass_matrix)): for a
-    /// raw Lagrangian it may depend on `q̇`, hence the extra argument.
-    ///
-    /// # Errors
-    /// As [`velocity_hessian`](Self::velocity_hessian).
-    pub fn mass_matrix<'w, S: Scalar>(
-        &self,
-        ws: &'w mut RawWorkspace<F, S>,
-        t: S,
-        q: &[S],
-        qdot: &[S],
-    ) -> Result<&'w [S], Error> {
-        self.velocity_hessian(ws, t, q, qdot)
-    }
-
-    /// `L(q, q̇, t)`.
-    pub fn lagrangian<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: S, q: &[S], qdot: &[S]) -> S {
-        Self::reset(ws, q, qdot);
-        self.eval(ws, HyperDual::from_re(t)).re
-    }
-
     /// Generalized momenta `p = ∂L/∂q̇`, borrowed from the workspace.
-    ///
-    /// # Errors
-    /// On a malformed or non-finite state, or momenta that overflow.
-    pub fn momenta<'w, S: Scalar>(
+    fn eval_momenta<'w, S: Scalar>(
         &self,
         ws: &'w mut RawWorkspace<F, S>,
         t: S,
@@ -297,10 +311,7 @@ impl<F: LagrangianFunction> RawModel<F> {
     }
 
     /// The energy function `h = q̇·∂L/∂q̇ − L`: one pass seeded along `q̇` in velocity space.
-    ///
-    /// # Errors
-    /// On a malformed or non-finite state, or an energy that overflows.
-    pub fn energy_function<S: Scalar>(
+    fn eval_energy_function<S: Scalar>(
         &self,
         ws: &mut RawWorkspace<F, S>,
         t: S,
@@ -319,4 +330,74 @@ impl<F: LagrangianFunction> RawModel<F> {
         }
         Ok(energy)
     }
+
+    /// `L(q, q̇, t)`.
+    fn eval_lagrangian<S: Scalar>(&self, ws: &mut RawWorkspace<F, S>, t: S, q: &[S], qdot: &[S]) -> Result<S, Error> {
+        check_state(self.n, t, q, Some(qdot))?;
+        Self::reset(ws, q, qdot);
+        Ok(self.eval(ws, HyperDual::from_re(t)).re)
+    }
+
+    /// The `Dual64` workspace of the tangent passes: the Lagrangian then runs in
+    /// `HyperDual<Dual64>`.
+    fn allocate_for_jacobian(&self) -> RawWorkspace<F> {
+        let mut ws = self.workspace();
+        ws.tangent = Some(Tangent::new(self.workspace_in(), self.n));
+        ws
+    }
+
+    fn eval_acceleration_jacobian(
+        &self,
+        ws: &mut RawWorkspace<F>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        jacobian: &mut [f64],
+    ) -> Result<(), Error> {
+        tangent_jacobian(self, self.n, &mut ws.tangent, t, q, qdot, jacobian)
+    }
+
+    fn cyclic(&self) -> &[bool] {
+        &self.cyclic
+    }
+
+    fn forced(&self) -> bool {
+        self.has_force
+    }
+
+    fn conserved(&self) -> bool {
+        self.autonomous && !self.has_force
+    }
 }
+
+/// A raw model is itself a Lagrangian (the variational integrator works on `L`); its
+/// generalized force is the one found at construction.
+impl<F: LagrangianFunction> LagrangianFunction for RawModel<F> {
+    type Scratch<S: Scalar> = F::Scratch<S>;
+
+    fn coordinates(&self) -> &[Coordinate] {
+        self.function.coordinates()
+    }
+
+    fn scratch<S: Scalar>(&self) -> Self::Scratch<S> {
+        self.function.scratch()
+    }
+
+    fn lagrangian_with<S: Scalar>(&self, scratch: &mut Self::Scratch<S>, t: S, q: &[S], qdot: &[S]) -> S {
+        self.function.lagrangian_with(scratch, t, q, qdot)
+    }
+
+    fn generalized_force_with<S: Scalar>(
+        &self,
+        scratch: &mut Self::Scratch<S>,
+        t: S,
+        q: &[S],
+        qdot: &[S],
+        force: &mut [S],
+    ) -> bool {
+        self.has_generalized_force() && self.function.generalized_force_with(scratch, t, q, qdot, force)
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -2,7 +2,7 @@
 //! the checks [`Model::new`](crate::Model::new) runs there: below the model, working on the
 //! user's [`Mechanism`] and [`Tree`] directly (no evaluation stage of `eom`).
 
-use crate::error::{Error, bad_pivot};
+use crate::error::{Derived, Error, Stage, bad_pivot, non_finite};
 use crate::linalg::{self, size::Dynamic};
 use crate::mechanism::{LagrangianFunction, Mechanism};
 use crate::pose::Pose;
@@ -295,19 +295,30 @@ fn poses_f64<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], out: &mut [Pose<f64
     mechanism.poses(t, q, out);
 }
 
-/// Check, at every probe state, that `poses` writes every component of every body (the
-/// buffer is pre-filled with NaN: a forgotten body would otherwise sit wherever the buffer
-/// left it), and that the exact derivatives `∂p/∂t` and `∂p/∂q_j` of the components that carry
-/// mass agree with central differences of the `f64` poses — they differ when `poses` reads the
-/// real part of `t` or of a coordinate (`t.re()`), which silently drops that derivative.
+/// Compare an exact derivative with the central difference of the values `[f(x + h),
+/// f(x − h), f(x + 2h), f(x − 2h)]`: `Ok` when they agree, else `Err(D(h))`.
 ///
-/// The difference quotient `D(h) = (p(x + h) − p(x − h)) / 2h`, `h = ε^{1/3} max(|x|, 1)`,
+/// The difference quotient `D(h) = (f(x + h) − f(x − h)) / 2h`, `h = ε^{1/3} max(|x|, 1)`,
 /// errs by its truncation `c h²` and its round-off `≤ k ε P / h` (`P` the size of the
-/// components, `k` the ulps a user's formula may lose; we allow `k = 64`). The truncation is
+/// values, `k` the ulps a user's formula may lose; we allow `k = 64`). The truncation is
 /// measured rather than assumed: `D(h) − D(2h) ≈ −3 c h²`, so `|D(h) − D(2h)|` bounds it three
 /// times over. A derivative fails when it differs from `D(h)` by more than
 /// `4 (|D(h) − D(2h)| + 64 ε P / h)`; a dropped derivative is off by its whole size, orders of
-/// magnitude above that for any smooth map.
+/// magnitude above that for any smooth function. A NaN fails too.
+fn central_difference(exact: f64, [plus, minus, plus2, minus2]: [f64; 4], h: f64) -> Result<(), f64> {
+    let narrow = (plus - minus) / (2.0 * h);
+    let broad = (plus2 - minus2) / (4.0 * h);
+    let size = [plus, minus, plus2, minus2].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let tolerance = 4.0 * ((narrow - broad).abs() + 64.0 * f64::EPSILON * size / h);
+    if (exact - narrow).abs() <= tolerance { Ok(()) } else { Err(narrow) }
+}
+
+/// Check, at every probe state, that `poses` writes every component of every body (the
+/// buffer is pre-filled with NaN: a forgotten body would otherwise sit wherever the buffer
+/// left it), and that the exact derivatives `∂p/∂t` and `∂p/∂q_j` of the components that carry
+/// mass agree with central differences of the `f64` poses ([`central_difference`]) — they
+/// differ when `poses` reads the real part of `t` or of a coordinate (`t.re()`), which
+/// silently drops that derivative.
 pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> Result<(), Error> {
     let bodies = mechanism.bodies();
     let n = probes.n;
@@ -358,25 +369,91 @@ pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> 
                     }
                     let exact = if j < n { jac[(3 * b + c) * n + j] } else { components(&time_poses[b])[c].eps };
                     let at = |p: &[Pose<f64>]| components(&p[b])[c];
-                    let (plus, minus) = (at(&moved[0]), at(&moved[1]));
-                    let (plus2, minus2) = (at(&wide[0]), at(&wide[1]));
-                    let narrow = (plus - minus) / (2.0 * h);
-                    let broad = (plus2 - minus2) / (4.0 * h);
-                    let size = [plus, minus, plus2, minus2].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-                    let tolerance = 4.0 * ((narrow - broad).abs() + 64.0 * f64::EPSILON * size / h);
-                    // A NaN fails too.
-                    let agrees = (exact - narrow).abs() <= tolerance;
-                    if !agrees {
+                    let values = [at(&moved[0]), at(&moved[1]), at(&wide[0]), at(&wide[1])];
+                    if let Err(finite_difference) = central_difference(exact, values, h) {
                         let coordinates = mechanism.coordinates();
                         return Err(Error::LostDerivative {
-                            body: body.name.clone(),
-                            component: COMPONENTS[c],
+                            of: Derived::Pose { body: body.name.clone(), component: COMPONENTS[c] },
                             variable: if j < n { coordinates[j].name.clone() } else { "t".into() },
                             exact,
-                            finite_difference: narrow,
+                            finite_difference,
                         });
                     }
                 }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Check a raw Lagrangian at every probe state: `L` is finite, and its exact first derivatives
+/// `∂L/∂q_j`, `∂L/∂q̇_j` and `∂L/∂t` (one `Dual64` pass each) are finite and agree with central
+/// differences of the `f64` Lagrangian ([`central_difference`], the same test as for the
+/// poses) — they differ when `L` reads the real part of `t`, a coordinate or a velocity.
+pub(crate) fn check_lagrangian<F: LagrangianFunction>(f: &F, probes: &ProbeStates) -> Result<(), Error> {
+    let n = probes.n;
+    let mut scratch = f.scratch::<f64>();
+    let mut dual_scratch = f.scratch::<Dual64>();
+    let (mut q_dual, mut qdot_dual) = (vec![Dual64::from_re(0.0); n], vec![Dual64::from_re(0.0); n]);
+    for k in 0..probes.len() {
+        let (q, qdot, t) = probes.state(k);
+        if !f.lagrangian_with(&mut scratch, t, q, qdot).is_finite() {
+            return Err(non_finite(Stage::Lagrangian, t, q));
+        }
+        seed::constant(&mut q_dual, q);
+        seed::constant(&mut qdot_dual, qdot);
+        let (mut q_moved, mut qdot_moved) = (q.to_vec(), qdot.to_vec());
+        // Variable j < n is q_j, n ≤ j < 2n is q̇_{j−n}, j = 2n is t.
+        for j in 0..=2 * n {
+            let exact = if j < n {
+                q_dual[j].eps = 1.0;
+                let l = f.lagrangian_with(&mut dual_scratch, Dual64::from_re(t), &q_dual, &qdot_dual);
+                q_dual[j].eps = 0.0;
+                l.eps
+            } else if j < 2 * n {
+                qdot_dual[j - n].eps = 1.0;
+                let l = f.lagrangian_with(&mut dual_scratch, Dual64::from_re(t), &q_dual, &qdot_dual);
+                qdot_dual[j - n].eps = 0.0;
+                l.eps
+            } else {
+                f.lagrangian_with(&mut dual_scratch, Dual64::new(t, 1.0), &q_dual, &qdot_dual).eps
+            };
+            if !exact.is_finite() {
+                return Err(non_finite(Stage::Lagrangian, t, q));
+            }
+            let x = if j < n {
+                q[j]
+            } else if j < 2 * n {
+                qdot[j - n]
+            } else {
+                t
+            };
+            let h = f64::EPSILON.cbrt() * x.abs().max(1.0);
+            let mut at = |step: f64| {
+                let mut time = t;
+                if j < n {
+                    q_moved[j] = x + step;
+                } else if j < 2 * n {
+                    qdot_moved[j - n] = x + step;
+                } else {
+                    time = x + step;
+                }
+                let value = f.lagrangian_with(&mut scratch, time, &q_moved, &qdot_moved);
+                q_moved.copy_from_slice(q);
+                qdot_moved.copy_from_slice(qdot);
+                value
+            };
+            let values = [at(h), at(-h), at(2.0 * h), at(-2.0 * h)];
+            if let Err(finite_difference) = central_difference(exact, values, h) {
+                let coordinates = f.coordinates();
+                let variable = if j < n {
+                    coordinates[j].name.clone()
+                } else if j < 2 * n {
+                    format!("{}\u{307}", coordinates[j - n].name)
+                } else {
+                    "t".into()
+                };
+                return Err(Error::LostDerivative { of: Derived::Lagrangian, variable, exact, finite_difference });
             }
         }
     }

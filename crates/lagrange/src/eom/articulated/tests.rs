@@ -12,10 +12,10 @@ fn both_paths<M: Mechanism + Clone>(mechanism: &M, t: f64, q: &[f64], qdot: &[f6
     let tree = Model::new(mechanism.clone()).expect("valid");
     let generic = Model::new_generic(mechanism.clone()).expect("valid");
     assert!(tree.uses_tree_path() && !generic.uses_tree_path());
-    let (mut wt, mut wg) = (tree.workspace::<f64>(), generic.workspace::<f64>());
+    let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
     let fast = accelerations(&tree, &mut wt, t, q, qdot).expect("valid").to_vec();
     let reference = accelerations(&generic, &mut wg, t, q, qdot).expect("valid").to_vec();
-    let kappa = condition_number(q.len(), mass_matrix(&generic, &mut wg, t, q).expect("valid"));
+    let kappa = condition_number(q.len(), mass_matrix(&generic, &mut wg, t, q, qdot).expect("valid"));
     (fast, reference, kappa)
 }
 
@@ -204,7 +204,7 @@ fn a_branched_tree_with_every_joint_kind_a_potential_and_forces_matches_the_gene
 fn check_derivative<M: Mechanism + Clone>(what: &str, mechanism: &M, rng: &mut Rng) {
     let n = mechanism.coordinates().len();
     let (fast, generic) = (Model::new(mechanism.clone()).unwrap(), Model::new_generic(mechanism.clone()).unwrap());
-    let (mut wt, mut wg) = (fast.workspace::<Dual64>(), generic.workspace::<Dual64>());
+    let (mut wt, mut wg) = (fast.workspace_in::<Dual64>(), generic.workspace_in::<Dual64>());
     let (q, qdot) = random_state(n, rng);
     let (dq, dv) = random_state(n, rng);
     let seed = |x: &[f64], d: &[f64]| x.iter().zip(d).map(|(a, b)| Dual64::new(*a, *b)).collect::<Vec<_>>();
@@ -213,9 +213,10 @@ fn check_derivative<M: Mechanism + Clone>(what: &str, mechanism: &M, rng: &mut R
     let b = accelerations(&generic, &mut wg, t, &q, &qdot).expect("valid").to_vec();
     let (re_a, re_b): (Vec<f64>, Vec<f64>) = (a.iter().map(|d| d.re).collect(), b.iter().map(|d| d.re).collect());
     let (eps_a, eps_b): (Vec<f64>, Vec<f64>) = (a.iter().map(|d| d.eps).collect(), b.iter().map(|d| d.eps).collect());
-    let mut wf = generic.workspace::<f64>();
+    let mut wf = generic.workspace();
     let q_re: Vec<f64> = q.iter().map(|d| d.re).collect();
-    let kappa = condition_number(n, mass_matrix(&generic, &mut wf, 0.7, &q_re).expect("valid"));
+    let qdot_re: Vec<f64> = qdot.iter().map(|d| d.re).collect();
+    let kappa = condition_number(n, mass_matrix(&generic, &mut wf, 0.7, &q_re, &qdot_re).expect("valid"));
     assert_agree(&format!("{what}: q̈"), &re_a, &re_b, kappa);
     // The derivative solves M δq̈ = δf − δM q̈: the same conditioning, one more product.
     assert_agree(&format!("{what}: δq̈"), &eps_a, &eps_b, 2.0 * kappa);
@@ -236,11 +237,11 @@ fn the_tree_path_is_differentiable_like_the_generic_path() {
 fn reaction_forces_on_the_tree_path_match_the_generic_path() {
     let crane = Crane::new();
     let (tree, generic) = (Model::new(crane.clone()).unwrap(), Model::new_generic(crane).unwrap());
-    let (mut wt, mut wg) = (tree.workspace::<f64>(), generic.workspace::<f64>());
+    let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
     let (q, qdot) = random_state(5, &mut rng(0xABA0_0005));
     let a = crate::reaction_forces(&tree, &mut wt, 0.3, &q, &qdot).unwrap().to_vec();
     let b = crate::reaction_forces(&generic, &mut wg, 0.3, &q, &qdot).unwrap().to_vec();
-    let kappa = condition_number(5, mass_matrix(&generic, &mut wg, 0.3, &q).unwrap());
+    let kappa = condition_number(5, mass_matrix(&generic, &mut wg, 0.3, &q, &qdot).unwrap());
     assert_agree("reactions", &a, &b, kappa);
 }
 
@@ -258,7 +259,7 @@ fn a_joint_that_moves_no_mass_is_a_singular_mass_matrix_error() {
     )
     .unwrap();
     let model = Model::new(tree).unwrap();
-    let mut ws = model.workspace::<f64>();
+    let mut ws = model.workspace();
     match accelerations(&model, &mut ws, 0.0, &[0.3, 0.1], &[0.2, 0.0]) {
         Err(Error::SingularMassMatrix { coordinate, .. }) => assert_eq!(coordinate, "φ"),
         other => panic!("{other:?}"),
