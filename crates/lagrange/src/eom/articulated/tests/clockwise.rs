@@ -74,7 +74,7 @@ impl Mechanism for Flipped {
 fn clockwise_joints_describe_the_same_machine_in_negated_coordinates() {
     let flipped = Flipped::new();
     let crane = Model::new(flipped.crane.clone()).expect("valid");
-    let mut ws = crane.workspace::<f64>();
+    let mut ws = crane.workspace();
     let mut rng = rng(0xABA0_0006);
     for _ in 0..20 {
         let (mut q, qdot) = random_state(5, &mut rng);
