@@ -2,7 +2,7 @@
 //! and A-stable (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §II.1.3 and
 //! §VIII.6; Hairer & Wanner, *Solving ODE II*, §IV.5, Table 5.2).
 
-use super::integrator::{Grid, Integrator, Stats, check_finite, diverged};
+use super::integrator::{Grid, OnGrid, Stats};
 use super::newton::StageSystem;
 use super::{check_step, non_finite_quantity};
 use crate::{Dynamics, Error, State};
@@ -60,7 +60,7 @@ enum Failure {
 /// allocates nothing.
 ///
 /// Two ways to use it: [`step`](Self::step) advances a [`State`] the caller holds; as an
-/// [`Integrator`] (with the step set by [`with_step`](Self::with_step)) it holds its own state
+/// [`Integrator`](super::Integrator) (with the step set by [`with_step`](Self::with_step)) it holds its own state
 /// on the grid `t0 + k dt`.
 #[derive(Clone, Debug)]
 pub struct Gauss4 {
@@ -92,7 +92,7 @@ pub struct Gauss4 {
     pub max_residual: f64,
     /// Counters.
     stats: Stats,
-    /// The state and step grid of the [`Integrator`] interface.
+    /// The state and step grid of the [`Integrator`](super::Integrator) interface.
     state: State,
     grid: Grid,
 }
@@ -134,7 +134,7 @@ impl Gauss4 {
         self.stats
     }
 
-    /// The fixed step of the [`Integrator`] interface.
+    /// The fixed step of the [`Integrator`](super::Integrator) interface.
     ///
     /// # Errors
     /// [`Error::InvalidSetting`] for a step that is not positive and finite.
@@ -436,54 +436,29 @@ impl Gauss4 {
     }
 }
 
-impl<D: Dynamics> Integrator<D> for Gauss4 {
-    fn begin(&mut self, _: &D, _: &mut D::Workspace, initial: &State, _: f64) -> Result<(), Error> {
-        check_step(self.grid.dt)?;
-        self.state.clone_from(initial);
-        self.grid = Grid::new(initial.t, self.grid.dt);
-        self.stats = Stats::default();
+impl OnGrid for Gauss4 {
+    fn grid(&self) -> (&State, &Grid, Stats) {
+        (&self.state, &self.grid, self.stats)
+    }
+
+    fn grid_mut(&mut self) -> (&mut State, &mut Grid, &mut Stats) {
+        (&mut self.state, &mut self.grid, &mut self.stats)
+    }
+
+    fn forget(&mut self) {
         self.jacobian_fresh = false;
         self.refresh_jacobian = true;
         self.factored_step = f64::NAN;
         self.last_step = f64::NAN;
-        Ok(())
     }
 
-    fn t(&self) -> f64 {
-        self.state.t
-    }
-
-    fn fixed_step(&self) -> Option<f64> {
-        Some(self.grid.dt)
-    }
-
-    fn proposed_step(&self) -> f64 {
-        self.grid.dt
-    }
-
-    fn reached(&self, t_out: f64) -> bool {
-        self.grid.reached(t_out)
-    }
-
-    fn advance(&mut self, system: &D, ws: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
-        let (t, h) = self.grid.next(t_out);
-        let k = self.grid.k;
-        let mut state = std::mem::replace(&mut self.state, State { t, q: Vec::new(), qdot: Vec::new() });
-        state.t = t;
-        let result = self.step(system, ws, &mut state, h).map_err(|e| diverged(system, e, t, k));
-        self.state = state;
-        result?;
-        self.grid.k += 1;
-        check_finite(system, &self.state.q, &self.state.qdot, self.state.t, k)
-    }
-
-    fn read(&mut self, _: &D, _: &mut D::Workspace, _: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
-        q.copy_from_slice(&self.state.q);
-        qdot.copy_from_slice(&self.state.qdot);
-        Ok(())
-    }
-
-    fn stats(&self) -> Stats {
-        Self::stats(self)
+    fn step_state<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        state: &mut State,
+        h: f64,
+    ) -> Result<(), Error> {
+        self.step(system, ws, state, h)
     }
 }

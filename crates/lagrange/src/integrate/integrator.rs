@@ -1,7 +1,7 @@
 //! The stepping trait every integrator implements, its one statistics type, and the step grid
 //! of the fixed-step methods.
 
-use super::non_finite_quantity;
+use super::{check_step, non_finite_quantity};
 use crate::{Dynamics, Error, State};
 
 /// Work counters of an integrator, and of a run.
@@ -84,6 +84,77 @@ pub trait Integrator<D: Dynamics> {
 
     /// Work done since [`begin`](Self::begin).
     fn stats(&self) -> Stats;
+}
+
+/// A fixed-step method that holds its own [`State`] on a [`Grid`] ([`Rk4`](super::Rk4),
+/// [`Gauss4`](super::Gauss4)): the one [`Integrator`] implementation below serves them all.
+pub(crate) trait OnGrid {
+    /// The state on the grid, the grid and the counters.
+    fn grid(&self) -> (&State, &Grid, Stats);
+    /// The same, to change.
+    fn grid_mut(&mut self) -> (&mut State, &mut Grid, &mut Stats);
+    /// Forget what an earlier run left (a Newton matrix), at [`Integrator::begin`].
+    fn forget(&mut self) {}
+    /// Advance `state` by `h`: the method's own `step`.
+    fn step_state<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        state: &mut State,
+        h: f64,
+    ) -> Result<(), Error>;
+}
+
+impl<D: Dynamics, M: OnGrid> Integrator<D> for M {
+    fn begin(&mut self, _: &D, _: &mut D::Workspace, initial: &State, _: f64) -> Result<(), Error> {
+        let (state, grid, stats) = self.grid_mut();
+        check_step(grid.dt)?;
+        state.clone_from(initial);
+        *grid = Grid::new(initial.t, grid.dt);
+        *stats = Stats::default();
+        self.forget();
+        Ok(())
+    }
+
+    fn t(&self) -> f64 {
+        self.grid().0.t
+    }
+
+    fn fixed_step(&self) -> Option<f64> {
+        Some(self.grid().1.dt)
+    }
+
+    fn proposed_step(&self) -> f64 {
+        self.grid().1.dt
+    }
+
+    fn reached(&self, t_out: f64) -> bool {
+        self.grid().1.reached(t_out)
+    }
+
+    fn advance(&mut self, system: &D, ws: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
+        let (current, grid, _) = self.grid_mut();
+        let ((t, h), k) = (grid.next(t_out), grid.k);
+        let mut state = std::mem::replace(current, State { t, q: Vec::new(), qdot: Vec::new() });
+        state.t = t;
+        let result = self.step_state(system, ws, &mut state, h).map_err(|e| diverged(system, e, t, k));
+        let (current, grid, _) = self.grid_mut();
+        *current = state;
+        result?;
+        grid.k += 1;
+        check_finite(system, &current.q, &current.qdot, current.t, k)
+    }
+
+    fn read(&mut self, _: &D, _: &mut D::Workspace, _: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        let state = self.grid().0;
+        q.copy_from_slice(&state.q);
+        qdot.copy_from_slice(&state.qdot);
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        self.grid().2
+    }
 }
 
 /// The step grid of a fixed-step method: steps number `k` starts at `t0 + k dt` (no

@@ -1,14 +1,14 @@
 //! The classical fourth-order Runge–Kutta method, fixed step.
 
 use super::check_step;
-use super::integrator::{Grid, Integrator, Stats, check_finite, diverged};
+use super::integrator::{Grid, OnGrid, Stats};
 use crate::{Dynamics, Error, State};
 
 /// Classical RK4 on `(q, q̇)' = (q̇, a(t, q, q̇))`: global error `O(h⁴)`.
 /// Buffers are allocated once in [`Rk4::new`]; [`Rk4::step`] allocates nothing.
 ///
 /// Two ways to use it: [`step`](Self::step) advances a [`State`] the caller holds; as an
-/// [`Integrator`] (with the step set by [`with_step`](Self::with_step)) it holds its own state
+/// [`Integrator`](super::Integrator) (with the step set by [`with_step`](Self::with_step)) it holds its own state
 /// on the grid `t0 + k dt`.
 #[derive(Clone, Debug)]
 pub struct Rk4 {
@@ -18,7 +18,7 @@ pub struct Rk4 {
     vel: [Vec<f64>; 4],
     /// Stage coordinates (n).
     q_stage: Vec<f64>,
-    /// The state and step grid of the [`Integrator`] interface.
+    /// The state and step grid of the [`Integrator`](super::Integrator) interface.
     state: State,
     grid: Grid,
     stats: Stats,
@@ -43,7 +43,7 @@ impl Rk4 {
         self.stats
     }
 
-    /// The fixed step of the [`Integrator`] interface.
+    /// The fixed step of the [`Integrator`](super::Integrator) interface.
     ///
     /// # Errors
     /// [`Error::InvalidSetting`] for a step that is not positive and finite.
@@ -92,50 +92,22 @@ impl Rk4 {
     }
 }
 
-impl<D: Dynamics> Integrator<D> for Rk4 {
-    fn begin(&mut self, _: &D, _: &mut D::Workspace, initial: &State, _: f64) -> Result<(), Error> {
-        check_step(self.grid.dt)?;
-        self.state.clone_from(initial);
-        self.grid = Grid::new(initial.t, self.grid.dt);
-        self.stats = Stats::default();
-        Ok(())
+impl OnGrid for Rk4 {
+    fn grid(&self) -> (&State, &Grid, Stats) {
+        (&self.state, &self.grid, self.stats)
     }
 
-    fn t(&self) -> f64 {
-        self.state.t
+    fn grid_mut(&mut self) -> (&mut State, &mut Grid, &mut Stats) {
+        (&mut self.state, &mut self.grid, &mut self.stats)
     }
 
-    fn fixed_step(&self) -> Option<f64> {
-        Some(self.grid.dt)
-    }
-
-    fn proposed_step(&self) -> f64 {
-        self.grid.dt
-    }
-
-    fn reached(&self, t_out: f64) -> bool {
-        self.grid.reached(t_out)
-    }
-
-    fn advance(&mut self, system: &D, ws: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
-        let (t, h) = self.grid.next(t_out);
-        let k = self.grid.k;
-        let mut state = std::mem::replace(&mut self.state, State { t, q: Vec::new(), qdot: Vec::new() });
-        state.t = t;
-        let result = self.step(system, ws, &mut state, h).map_err(|e| diverged(system, e, t, k));
-        self.state = state;
-        result?;
-        self.grid.k += 1;
-        check_finite(system, &self.state.q, &self.state.qdot, self.state.t, k)
-    }
-
-    fn read(&mut self, _: &D, _: &mut D::Workspace, _: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
-        q.copy_from_slice(&self.state.q);
-        qdot.copy_from_slice(&self.state.qdot);
-        Ok(())
-    }
-
-    fn stats(&self) -> Stats {
-        Self::stats(self)
+    fn step_state<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        state: &mut State,
+        h: f64,
+    ) -> Result<(), Error> {
+        self.step(system, ws, state, h)
     }
 }
