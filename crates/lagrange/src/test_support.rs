@@ -5,64 +5,74 @@
 //! trait from the one under test. These stay minimal (no parameters, no closed forms beyond
 //! the one each test needs).
 
-use crate::{Body, Coordinate, Lagrangian, Mechanism, Pose, Scalar};
+use crate::{Body, Coordinate, Described, Lagrangian, Mechanism, Pose, Poses, Scalar};
 
-/// Pendulum on a cart (docs/scenes.md#cart_pendulum): q = (X, θ).
-#[derive(Clone, Debug)]
+/// Pendulum on a cart (docs/scenes.md#cart_pendulum): q = (X, θ), in the short form.
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct Cart {
-    pub bodies: [Body; 2],
-    pub coordinates: [Coordinate; 2],
+    pub cart: f64,
+    pub bob: f64,
     pub r: f64,
     pub g: f64,
 }
 
+/// The cart pendulum: cart of mass `cart`, bob of mass `bob` on a rod `r`, `g = 9.81`.
+pub(crate) fn cart(cart: f64, bob: f64, r: f64) -> Described<Cart> {
+    let poses = Cart { cart, bob, r, g: 9.81 };
+    poses.with_poses(poses)
+}
+
 impl Cart {
-    pub(crate) fn new(cart: f64, bob: f64, r: f64) -> Self {
-        Self {
-            bodies: [Body::point("cart", cart), Body::point("bob", bob)],
-            coordinates: [Coordinate::length("X"), Coordinate::angle("θ")],
-            r,
-            g: 9.81,
-        }
+    /// The cart pendulum's names, masses and gravity around other `poses`.
+    pub(crate) fn with_poses<P: Poses>(&self, poses: P) -> Described<P> {
+        Described::new(poses).length("X").angle("θ").point("cart", self.cart).point("bob", self.bob).gravity(self.g)
     }
 
     /// The closed form of docs/scenes.md#cart_pendulum.
     pub(crate) fn closed_form(&self, q: &[f64], v: &[f64]) -> [f64; 2] {
-        let (big, m, r, g) = (self.bodies[0].mass, self.bodies[1].mass, self.r, self.g);
+        let (big, m, r, g) = (self.cart, self.bob, self.r, self.g);
         let (s, c) = q[1].sin_cos();
         let den = big + m * s * s;
         [m * s * (r * v[1] * v[1] + g * c) / den, -((big + m) * g * s + m * r * v[1] * v[1] * s * c) / (r * den)]
     }
 }
 
-impl Mechanism for Cart {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        self.g
-    }
+impl Poses for Cart {
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
         p[1] = Pose::point(q[0] + q[1].sin() * self.r, -q[1].cos() * self.r);
     }
 }
 
-/// Harmonic oscillator `m ẍ = −k x − c ẋ`, potential through the pose: constant mass matrix.
+/// A mass `m` on a spring `k` whose anchor moves as `A sin t`, with viscous damping `c`:
+/// `V = ½ k (x − A sin t)²` (through the pose), `m ẍ = −k (x − A sin t) − c ẋ`; a constant mass
+/// matrix. With `A = 0` ([`Spring::new`]) the damped harmonic oscillator.
 #[derive(Clone, Debug)]
 pub(crate) struct Spring {
     pub bodies: [Body; 1],
     pub coordinates: [Coordinate; 1],
     pub k: f64,
     pub c: f64,
+    pub amplitude: f64,
 }
 
 impl Spring {
+    /// `m ẍ = −k x − c ẋ`.
     pub(crate) fn new(m: f64, k: f64, c: f64) -> Self {
-        Self { bodies: [Body::point("mass", m)], coordinates: [Coordinate::length("x")], k, c }
+        Self { bodies: [Body::point("mass", m)], coordinates: [Coordinate::length("x")], k, c, amplitude: 0.0 }
+    }
+
+    /// A stiff spring whose anchor moves slowly, undamped: from `x = 0`,
+    /// `ẋ = A ω²/(ω² − 1)` (`ω² = k/m`) the motion is exactly the slow `x = A ω²/(ω² − 1) sin t`,
+    /// with the fast mode (frequency `ω`) not excited.
+    pub(crate) fn driven(m: f64, k: f64, amplitude: f64) -> Self {
+        Self { amplitude, ..Self::new(m, k, 0.0) }
+    }
+
+    /// `ω²/(ω² − 1) A`: the amplitude of the slow solution.
+    pub(crate) fn slow_amplitude(&self) -> f64 {
+        let omega2 = self.k / self.bodies[0].mass;
+        self.amplitude * omega2 / (omega2 - 1.0)
     }
 }
 
@@ -76,8 +86,9 @@ impl Mechanism for Spring {
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
     }
-    fn potential<S: Scalar>(&self, _t: S, _q: &[S], p: &[Pose<S>]) -> Option<S> {
-        Some(p[0].x * p[0].x * (0.5 * self.k))
+    fn potential<S: Scalar>(&self, t: S, _q: &[S], p: &[Pose<S>]) -> Option<S> {
+        let stretch = p[0].x - t.sin() * self.amplitude;
+        Some(stretch * stretch * (0.5 * self.k))
     }
     fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S], force: &mut [S]) -> bool {
         if self.c == 0.0 {
@@ -96,6 +107,13 @@ pub(crate) struct Charge {
     pub coordinates: [Coordinate; 2],
     pub m: f64,
     pub e_b: f64,
+}
+
+impl Charge {
+    /// Mass `m`, charge times field `e_b`, in the plane `(x, y)`.
+    pub(crate) fn new(m: f64, e_b: f64) -> Self {
+        Self { coordinates: [Coordinate::length("x"), Coordinate::length("y")], m, e_b }
+    }
 }
 
 impl Lagrangian for Charge {
@@ -189,11 +207,11 @@ impl Mechanism for RodChain {
 
 /// A pendulum (point bob `m` on a rod `r`) whose pivot is driven horizontally,
 /// `x_p = A sin(ω t)`, with a torsional spring `V = ½ k θ²` and viscous damping `Q = −c θ̇`:
-/// every optional term at once (time-dependent poses, a potential, a velocity-dependent force).
-#[derive(Clone, Debug)]
+/// every optional term at once (time-dependent poses, a potential, a velocity-dependent force),
+/// in the short form.
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct Driven {
-    pub bodies: [Body; 1],
-    pub coordinates: [Coordinate; 1],
+    pub m: f64,
     pub r: f64,
     pub amplitude: f64,
     pub omega: f64,
@@ -201,30 +219,28 @@ pub(crate) struct Driven {
     pub c: f64,
 }
 
+/// The driven pendulum with its defaults ([`Driven::new`]).
+pub(crate) fn driven() -> Described<Driven> {
+    Driven::new().described()
+}
+
 impl Driven {
     pub(crate) fn new() -> Self {
-        Self {
-            bodies: [Body::point("bob", 0.7)],
-            coordinates: [Coordinate::angle("θ")],
-            r: 1.3,
-            amplitude: 0.2,
-            omega: 2.5,
-            k: 3.0,
-            c: 0.4,
-        }
+        Self { m: 0.7, r: 1.3, amplitude: 0.2, omega: 2.5, k: 3.0, c: 0.4 }
+    }
+
+    /// The driven pendulum's names, mass and gravity around other `poses`.
+    pub(crate) fn with_poses<P: Poses>(&self, poses: P) -> Described<P> {
+        Described::new(poses).angle("θ").point("bob", self.m).gravity(9.81)
+    }
+
+    /// As a mechanism.
+    pub(crate) fn described(self) -> Described<Self> {
+        self.with_poses(self)
     }
 }
 
-impl Mechanism for Driven {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        9.81
-    }
+impl Poses for Driven {
     fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
         let pivot = (t * self.omega).sin() * self.amplitude;
         p[0] = Pose::point(pivot + q[0].sin() * self.r, -q[0].cos() * self.r);
@@ -234,48 +250,6 @@ impl Mechanism for Driven {
     }
     fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S], force: &mut [S]) -> bool {
         force[0] -= qdot[0] * self.c;
-        true
-    }
-}
-
-/// A stiff spring whose anchor moves slowly: `V = ½ k (x − A sin t)²`, `m ẍ = −k (x − A sin t)`.
-/// From `x = 0`, `ẋ = A ω²/(ω² − 1)` (`ω² = k/m`) the motion is exactly the slow
-/// `x = A ω²/(ω² − 1) sin t`, with the fast mode (frequency `ω`) not excited.
-#[derive(Clone, Debug)]
-pub(crate) struct DrivenSpring {
-    pub bodies: [Body; 1],
-    pub coordinates: [Coordinate; 1],
-    pub k: f64,
-    pub amplitude: f64,
-}
-
-impl DrivenSpring {
-    pub(crate) fn new(m: f64, k: f64, amplitude: f64) -> Self {
-        Self { bodies: [Body::point("mass", m)], coordinates: [Coordinate::length("x")], k, amplitude }
-    }
-
-    /// `ω²/(ω² − 1) A`: the amplitude of the slow solution.
-    pub(crate) fn slow_amplitude(&self) -> f64 {
-        let omega2 = self.k / self.bodies[0].mass;
-        self.amplitude * omega2 / (omega2 - 1.0)
-    }
-}
-
-impl Mechanism for DrivenSpring {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
-        p[0] = Pose::point(q[0], S::zero());
-    }
-    fn potential<S: Scalar>(&self, t: S, q: &[S], _p: &[Pose<S>]) -> Option<S> {
-        let stretch = q[0] - t.sin() * self.amplitude;
-        Some(stretch * stretch * (0.5 * self.k))
-    }
-    fn constant_mass_matrix(&self) -> bool {
         true
     }
 }

@@ -1,7 +1,7 @@
 //! The acceleration Jacobian against central finite differences on every evaluation path.
 
 use super::Dynamics;
-use crate::test_support::{Cart, Charge, Driven, Range, RodChain, Spring, rng};
+use crate::test_support::{Charge, Range, RodChain, Spring, cart, driven, rng};
 use crate::{Coordinate, Error, LagrangianFunction, Model, RawModel, Scalar};
 
 /// Central differences of `q̈` with step `h max(|x_j|, 1)`, `h = 1e-6`.
@@ -69,13 +69,13 @@ fn check<D: Dynamics>(name: &str, system: &D) {
 
 #[test]
 fn jacobian_matches_finite_differences_on_the_assembled_body_path() {
-    let cart = Model::new(Cart::new(2.0, 1.0, 1.3)).unwrap();
+    let cart = Model::new(cart(2.0, 1.0, 1.3)).unwrap();
     assert!(!cart.uses_tree_path() && !cart.has_constant_mass_matrix());
     check("cart pendulum", &cart);
     let chain = Model::new_generic(RodChain::new(&[1.0, 0.7, 1.4], &[1.0, 0.8, 0.6], 9.81)).unwrap();
     check("rod chain, assembled", &chain);
     // Time-dependent poses, a potential and a velocity-dependent force.
-    let driven = Model::new(Driven::new()).unwrap();
+    let driven = Model::new(driven()).unwrap();
     assert!(driven.has_potential() && driven.has_generalized_force() && !driven.is_autonomous());
     check("driven pendulum", &driven);
 }
@@ -101,20 +101,18 @@ fn jacobian_matches_finite_differences_on_the_constant_mass_path() {
 
 #[test]
 fn jacobian_matches_finite_differences_on_the_raw_path() {
-    let charge =
-        RawModel::new(Charge { coordinates: [Coordinate::length("x"), Coordinate::length("y")], m: 2.0, e_b: 3.0 })
-            .unwrap();
+    let charge = RawModel::new(Charge::new(2.0, 3.0)).unwrap();
     check("charge in a magnetic field (raw)", &charge);
-    check("cart pendulum (raw)", &RawModel::new(Model::new(Cart::new(2.0, 1.0, 1.3)).unwrap()).unwrap());
-    check("driven pendulum (raw)", &RawModel::new(Model::new(Driven::new()).unwrap()).unwrap());
+    check("cart pendulum (raw)", &RawModel::new(Model::new(cart(2.0, 1.0, 1.3)).unwrap()).unwrap());
+    check("driven pendulum (raw)", &RawModel::new(Model::new(driven()).unwrap()).unwrap());
     check("damped oscillator (raw)", &RawModel::new(Model::new(Spring::new(1.5, 7.0, 0.3)).unwrap()).unwrap());
 }
 
 /// Two exact derivatives of the same equations: equal to round-off.
 #[test]
 fn body_and_raw_jacobians_agree_to_round_off() {
-    let body = Model::new(Cart::new(2.0, 1.0, 1.3)).unwrap();
-    let raw = RawModel::new(Model::new(Cart::new(2.0, 1.0, 1.3)).unwrap()).unwrap();
+    let body = Model::new(cart(2.0, 1.0, 1.3)).unwrap();
+    let raw = RawModel::new(Model::new(cart(2.0, 1.0, 1.3)).unwrap()).unwrap();
     let (mut wb, mut wr) = (body.new_workspace(), raw.new_workspace());
     let (mut a, mut b) = ([0.0; 8], [0.0; 8]);
     for (t, q, v) in states(2) {
@@ -129,7 +127,7 @@ fn body_and_raw_jacobians_agree_to_round_off() {
 
 #[test]
 fn jacobian_rejects_a_wrong_shape_and_a_non_finite_state() {
-    let cart = Model::new(Cart::new(2.0, 1.0, 1.3)).unwrap();
+    let cart = Model::new(cart(2.0, 1.0, 1.3)).unwrap();
     let mut ws = cart.new_workspace();
     let mut short = [0.0; 7];
     let error = cart.acceleration_jacobian(&mut ws, 0.0, &[0.1, 0.2], &[0.0, 0.0], &mut short).unwrap_err();
@@ -197,8 +195,8 @@ impl<D: Dynamics> Dynamics for WithoutJacobian<D> {
 /// truncation and cancellation both `~ε^{2/3} ≈ 4e-11` of the scale; 1e-8 leaves a wide margin.
 #[test]
 fn default_jacobian_is_finite_differences_close_to_ad() {
-    let exact = Model::new(Driven::new()).unwrap();
-    let fallback = WithoutJacobian(Model::new(Driven::new()).unwrap());
+    let exact = Model::new(driven()).unwrap();
+    let fallback = WithoutJacobian(Model::new(driven()).unwrap());
     let (mut we, mut wf) = (exact.new_workspace(), fallback.new_workspace());
     let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
     for (t, q, v) in states(1) {

@@ -1,53 +1,36 @@
 //! Construction turns silent wrong answers into typed errors.
 
-use crate::test_support::{Cart, Driven};
-use crate::{Body, Coordinate, Derived, Error, Mechanism, Model, Pose, Scalar};
+use crate::test_support::{Driven, cart, driven};
+use crate::{Coordinate, Derived, Error, Model, Pose, Poses, Scalar};
 
-/// The cart pendulum whose poses forget the cart.
+/// The cart pendulum's poses, forgetting the cart.
 #[derive(Debug)]
-struct WithoutCart(Cart);
+struct WithoutCart(f64);
 
-impl Mechanism for WithoutCart {
-    fn coordinates(&self) -> &[Coordinate] {
-        self.0.coordinates()
-    }
-    fn bodies(&self) -> &[Body] {
-        self.0.bodies()
-    }
-    fn gravity(&self) -> f64 {
-        self.0.gravity()
-    }
+impl Poses for WithoutCart {
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
-        p[1] = Pose::point(q[0] + q[1].sin() * self.0.r, -q[1].cos() * self.0.r);
+        p[1] = Pose::point(q[0] + q[1].sin() * self.0, -q[1].cos() * self.0);
     }
 }
 
 #[test]
 fn a_body_the_poses_forget_is_an_error_naming_it() {
-    let error = Model::new(WithoutCart(Cart::new(2.0, 1.0, 1.5))).unwrap_err();
+    let whole = cart(2.0, 1.0, 1.5);
+    let error = Model::new(whole.poses().with_poses(WithoutCart(1.5))).unwrap_err();
     assert!(matches!(&error, Error::UnwrittenPose { body, component: "x", .. } if body == "cart"), "{error}");
     assert!(error.to_string().contains("body `cart`"), "{error}");
     // The whole mechanism is fine.
-    assert!(Model::new(Cart::new(2.0, 1.0, 1.5)).is_ok());
+    assert!(Model::new(whole).is_ok());
 }
 
-/// The driven pendulum, with poses that read the real part of the time or of the angle.
+/// The driven pendulum's poses, reading the real part of the time or of the angle.
 #[derive(Debug)]
 struct ReadsRealPart {
     driven: Driven,
     time: bool,
 }
 
-impl Mechanism for ReadsRealPart {
-    fn coordinates(&self) -> &[Coordinate] {
-        self.driven.coordinates()
-    }
-    fn bodies(&self) -> &[Body] {
-        self.driven.bodies()
-    }
-    fn gravity(&self) -> f64 {
-        self.driven.gravity()
-    }
+impl Poses for ReadsRealPart {
     fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
         let d = &self.driven;
         let pivot =
@@ -59,20 +42,21 @@ impl Mechanism for ReadsRealPart {
 
 #[test]
 fn poses_that_read_the_real_part_are_an_error_naming_body_component_and_variable() {
-    let error = Model::new(ReadsRealPart { driven: Driven::new(), time: true }).unwrap_err();
+    let d = Driven::new();
+    let error = Model::new(d.with_poses(ReadsRealPart { driven: d, time: true })).unwrap_err();
     assert!(
         matches!(&error, Error::LostDerivative { of: Derived::Pose { body, component: "x" }, variable, exact, .. }
             if body == "bob" && variable == "t" && *exact == 0.0),
         "{error}"
     );
-    let error = Model::new(ReadsRealPart { driven: Driven::new(), time: false }).unwrap_err();
+    let error = Model::new(d.with_poses(ReadsRealPart { driven: d, time: false })).unwrap_err();
     assert!(
         matches!(&error, Error::LostDerivative { of: Derived::Pose { body, component: "x" }, variable, .. }
             if body == "bob" && variable == "θ"),
         "{error}"
     );
     // Reading the time as the scalar it is passes.
-    assert!(Model::new(Driven::new()).is_ok());
+    assert!(Model::new(driven()).is_ok());
 }
 
 /// A Lagrangian whose kinetic term is negative: `L = −½ q̇²`.
@@ -102,13 +86,13 @@ fn a_negative_definite_raw_lagrangian_is_refused_at_construction_as_indefinite()
 #[test]
 fn the_energy_function_and_the_total_energy_differ_for_a_rheonomic_mechanism() {
     // The driven pendulum without its spring and damper: h = T + V − ẋ_p m r θ̇ cosθ − m ẋ_p².
-    let model = Model::new(Driven { k: 0.0, c: 0.0, ..Driven::new() }).unwrap();
+    let model = Model::new(Driven { k: 0.0, c: 0.0, ..Driven::new() }.described()).unwrap();
     let mut ws = model.workspace();
     let (t, q, qdot) = (0.3, [0.4], [0.7]);
     let h = crate::energy_function(&model, &mut ws, t, &q, &qdot).unwrap();
     let e = crate::total_energy(&model, &mut ws, t, &q, &qdot).unwrap();
     let d = Driven::new();
-    let (m, r) = (d.bodies[0].mass, d.r);
+    let (m, r) = (d.m, d.r);
     let xdot_p = d.amplitude * d.omega * (d.omega * t).cos();
     // h = q̇ p − L = T + V − (ẋ_p² m + ẋ_p m r θ̇ cosθ), since p = m r² θ̇ + m r ẋ_p cosθ.
     let expected = e - m * xdot_p * (xdot_p + r * qdot[0] * q[0].cos());
@@ -118,8 +102,8 @@ fn the_energy_function_and_the_total_energy_differ_for_a_rheonomic_mechanism() {
 
 #[test]
 fn the_body_and_raw_paths_answer_to_the_same_names() -> Result<(), Error> {
-    let model = Model::new(Cart::new(2.0, 1.0, 1.5))?;
-    let raw = crate::RawModel::new(Model::new(Cart::new(2.0, 1.0, 1.5))?)?;
+    let model = Model::new(cart(2.0, 1.0, 1.5))?;
+    let raw = crate::RawModel::new(Model::new(cart(2.0, 1.0, 1.5))?)?;
     let (t, q, qdot) = (0.0, [0.2, 0.7], [-0.4, 0.9]);
     let (mut ws, mut raw_ws) = (model.workspace(), raw.workspace());
     // Each function, the same spelling for both models, agrees to round-off.

@@ -2,7 +2,7 @@
 //! model: a Lagrangian that is not finite, that loses a derivative, or whose `∂²L/∂q̇²` is not
 //! positive definite.
 
-use crate::test_support::{Cart, Charge, Driven, Spring};
+use crate::test_support::{Charge, Spring, cart, driven};
 use crate::{Coordinate, Derived, Error, Lagrangian, Model, RawModel, Scalar, Stage};
 
 /// A charge in the plane in a magnetic field `B(t) = B₀ (1 + ½ sin ωt)` along `z` and an
@@ -115,7 +115,7 @@ fn the_existing_raw_models_still_construct() {
     for (m, e_b) in [(2.0, 3.0), (1.0, 0.0), (0.5, -4.0)] {
         RawModel::new(Charge { coordinates: xy.clone(), m, e_b }).unwrap();
     }
-    RawModel::new(Model::new(Cart::new(2.0, 1.0, 1.3)).unwrap()).unwrap();
-    RawModel::new(Model::new(Driven::new()).unwrap()).unwrap();
+    RawModel::new(Model::new(cart(2.0, 1.0, 1.3)).unwrap()).unwrap();
+    RawModel::new(Model::new(driven()).unwrap()).unwrap();
     RawModel::new(Model::new(Spring::new(1.5, 7.0, 0.3)).unwrap()).unwrap();
 }

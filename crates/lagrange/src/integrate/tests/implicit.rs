@@ -4,12 +4,12 @@
 use super::{final_state, max_diff};
 use crate::dynamics::tests::WithoutJacobian;
 use crate::integrate::*;
-use crate::test_support::{Cart, DrivenSpring, Spring};
+use crate::test_support::{Spring, cart};
 use crate::{Dynamics, Error, Model, State};
 
 #[test]
 fn gauss4_is_fourth_order_on_the_cart_pendulum() {
-    let model = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let initial = State::new(0.0, [0.0, 0.5], [0.0, 0.0]);
     let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
     let errors: Vec<f64> = [0.04, 0.02, 0.01]
@@ -47,7 +47,7 @@ fn gauss4_conserves_the_linear_oscillator_energy_to_round_off() {
 #[test]
 fn sdirk4_error_tracks_tolerance_on_a_smooth_problem() {
     // Cart pendulum over 2 s against a 1e-13 reference.
-    let model = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let initial = State::new(0.0, [0.0, 0.5], [0.0, 0.0]);
     let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
     let mut previous = f64::INFINITY;
@@ -82,7 +82,7 @@ fn sdirk4_error_tracks_tolerance_on_a_smooth_problem() {
 /// step blows up.
 #[test]
 fn sdirk4_is_stable_and_accurate_on_a_stiff_oscillator() {
-    let spring = DrivenSpring::new(1.0, 1e8, 0.1);
+    let spring = Spring::driven(1.0, 1e8, 0.1);
     let (omega, amplitude) = (1e4, spring.slow_amplitude());
     let model = Model::new(spring).unwrap();
     let initial = State::new(0.0, [0.0], [amplitude]);
@@ -142,7 +142,7 @@ fn dopri5_flags_stiffness_on_a_stiff_damped_problem() {
     let flagged = traj.stats.stiffness.expect("stiffness detected");
     assert!(flagged < 0.05, "flagged at t = {flagged}");
     // Not on a smooth non-stiff problem.
-    let cart = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let cart = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let traj = simulate(&cart, &State::new(0.0, [0.0, 0.5], [0.0, 0.0]), 5.0, method, &Output::Ends).unwrap();
     assert_eq!(traj.stats.stiffness, None);
     // A collapse after the test fired says so and points to the implicit integrator.
@@ -186,7 +186,7 @@ fn divergence_messages_name_the_quantity() {
         }
     }
     // A Gauss step far too large for the motion: Newton fails, and says so.
-    let cart = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let cart = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let result =
         simulate(&cart, &State::new(0.0, [0.0, 3.0], [0.0, 5.0]), 20.0, Method::Gauss { dt: 2.0 }, &Output::Ends);
     assert!(matches!(result, Err(Error::NewtonFailed { t: 0.0, .. })), "{result:?}");
@@ -194,7 +194,7 @@ fn divergence_messages_name_the_quantity() {
 
 #[test]
 fn implicit_methods_report_their_work_and_run_on_finite_difference_jacobians() {
-    let model = Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap();
+    let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let initial = State::new(0.0, [0.0, 0.5], [0.3, 0.0]);
     let tol = Tolerances::uniform(1e-8);
     let exact = simulate(&model, &initial, 2.0, Method::Implicit { tol }, &Output::Ends).unwrap();
@@ -206,7 +206,7 @@ fn implicit_methods_report_their_work_and_run_on_finite_difference_jacobians() {
     assert!(gauss.stats.jacobians > 0 && gauss.stats.newton_iterations >= 200, "{:?}", gauss.stats);
     // A system without AD derivatives gets the default finite-difference Jacobian: Newton
     // converges as well, to the same results (simplified Newton tolerates an inexact matrix).
-    let fallback = WithoutJacobian(Model::new(Cart::new(2.0, 1.0, 1.0)).unwrap());
+    let fallback = WithoutJacobian(Model::new(cart(2.0, 1.0, 1.0)).unwrap());
     let approximate = simulate(&fallback, &initial, 2.0, Method::Implicit { tol }, &Output::Ends).unwrap();
     assert!(max_diff(exact.q(1), approximate.q(1)) <= 1e-8, "{:?} vs {:?}", exact.q(1), approximate.q(1));
     let approximate = simulate(&fallback, &initial, 2.0, Method::Gauss { dt: 0.01 }, &Output::Ends).unwrap();
