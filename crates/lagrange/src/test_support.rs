@@ -125,6 +125,12 @@ impl Lagrangian for Charge {
     }
 }
 
+/// `|got − expected| ≤ rtol · max(|expected|, 1)`: relative, or absolute below 1.
+#[track_caller]
+pub(crate) fn assert_relative(got: f64, expected: f64, rtol: f64) {
+    assert!((got - expected).abs() <= rtol * expected.abs().max(1.0), "{got} vs {expected}");
+}
+
 /// The seeded generator of every check (the validation library's), with `range(a, b)` uniform
 /// in `[a, b)`.
 pub(crate) use lagrange_validation::fixtures::{Rng, rng};

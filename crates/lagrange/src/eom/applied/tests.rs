@@ -1,7 +1,7 @@
 //! Forces applied at points of bodies against closed forms, against the same force written by
 //! hand as a generalized force, on the generic and the tree path.
 
-use crate::test_support::RodChain;
+use crate::test_support::{RodChain, assert_relative};
 use crate::tree::Tree;
 use crate::{
     Body, Coordinate, Dynamics, Error, Loads, Mechanism, Method, Model, Output, Pose, Scalar, Stage, State, Tolerances,
@@ -103,10 +103,6 @@ impl Mechanism for TippedRods {
     }
 }
 
-fn assert_close(a: f64, b: f64, rtol: f64) {
-    assert!((a - b).abs() <= rtol * b.abs().max(1.0), "{a} vs {b}");
-}
-
 #[test]
 fn a_horizontal_push_at_the_bob_matches_the_hand_derived_equation() -> Result<(), Error> {
     let (m, r, push) = (0.5, 1.2, 2.0);
@@ -117,7 +113,7 @@ fn a_horizontal_push_at_the_bob_matches_the_hand_derived_equation() -> Result<()
         let qddot = accelerations(&model, &mut ws, 0.0, &[theta], &[0.7])?;
         // m r² θ̈ = −m g r sinθ + F r cosθ.
         let expected = (-m * G * r * f64::sin(theta) + push * r * f64::cos(theta)) / (m * r * r);
-        assert_close(qddot[0], expected, 1e-14);
+        assert_relative(qddot[0], expected, 1e-14);
     }
     Ok(())
 }
@@ -137,7 +133,7 @@ fn a_force_off_the_centre_of_mass_of_a_rod_adds_its_moment() -> Result<(), Error
             let (s, c) = f64::sin_cos(theta);
             let moment = l * s * force[1] + l * c * force[0];
             let expected = (-m * G * 0.5 * l * s + moment + torque) / (m * l * l / 12.0 + m * l * l / 4.0);
-            assert_close(qddot[0], expected, 1e-14);
+            assert_relative(qddot[0], expected, 1e-14);
         }
     }
     Ok(())
@@ -155,13 +151,13 @@ fn the_tree_path_agrees_with_the_generic_path_on_a_pushed_chain() -> Result<(), 
     let a = accelerations(&tree, &mut ws_tree, 0.0, &q, &qdot)?.to_vec();
     let b = accelerations(&generic, &mut ws_generic, 0.0, &q, &qdot)?;
     for (x, y) in a.iter().zip(b) {
-        assert_close(*x, *y, 1e-12);
+        assert_relative(*x, *y, 1e-12);
     }
     // Reactions: the same on both paths.
     let a = reaction_forces(&tree, &mut ws_tree, 0.0, &q, &qdot)?.to_vec();
     let b = reaction_forces(&generic, &mut ws_generic, 0.0, &q, &qdot)?;
     for (x, y) in a.iter().zip(b) {
-        assert_close(*x, *y, 1e-12);
+        assert_relative(*x, *y, 1e-12);
     }
     Ok(())
 }
@@ -175,13 +171,13 @@ fn an_applied_force_equals_the_same_force_written_by_hand() -> Result<(), Error>
     let (q, qdot) = ([0.8], [-0.3]);
     let a = accelerations(&applied, &mut wa, 0.0, &q, &qdot)?[0];
     let h = accelerations(&by_hand, &mut wh, 0.0, &q, &qdot)?[0];
-    assert_close(a, h, 1e-15);
+    assert_relative(a, h, 1e-15);
     // The applied force is not a reaction: the rod's pull alone remains. The hand-written Q acts
     // along θ and stays in the reaction (it cannot be attributed to a body).
     let ra = reaction_forces(&applied, &mut wa, 0.0, &q, &qdot)?.to_vec();
     let rh = reaction_forces(&by_hand, &mut wh, 0.0, &q, &qdot)?;
-    assert_close(ra[0], rh[0] - push, 1e-14);
-    assert_close(ra[1], rh[1], 1e-14);
+    assert_relative(ra[0], rh[0] - push, 1e-14);
+    assert_relative(ra[1], rh[1], 1e-14);
     // The rod's pull points along the rod, towards the pivot: R × (bob − pivot) = 0.
     let (s, c) = f64::sin_cos(q[0]);
     assert!((ra[0] * (-c * r) - ra[1] * (s * r)).abs() < 1e-13, "{ra:?}");
@@ -191,7 +187,7 @@ fn an_applied_force_equals_the_same_force_written_by_hand() -> Result<(), Error>
     applied.acceleration_jacobian(&mut da, 0.0, &q, &qdot, &mut ja)?;
     by_hand.acceleration_jacobian(&mut dh, 0.0, &q, &qdot, &mut jh)?;
     for (x, y) in ja.iter().zip(&jh) {
-        assert_close(*x, *y, 1e-14);
+        assert_relative(*x, *y, 1e-14);
     }
     // Whole runs: the implicit SDIRK4 (acceleration Jacobian) and the variational integrator
     // (the model's Lagrangian view with its generalized forces).
@@ -200,7 +196,7 @@ fn an_applied_force_equals_the_same_force_written_by_hand() -> Result<(), Error>
         let ta = simulate(&applied, &start, 1.0, method, &Output::Every(0.5))?;
         let th = simulate(&by_hand, &start, 1.0, method, &Output::Every(0.5))?;
         for (x, y) in ta.q.iter().zip(&th.q) {
-            assert_close(*x, *y, 1e-12);
+            assert_relative(*x, *y, 1e-12);
         }
     }
     Ok(())
@@ -249,19 +245,13 @@ fn a_non_finite_applied_force_is_an_error_naming_its_stage() -> Result<(), Error
     Ok(())
 }
 
-/// A mechanism whose applied force names a body it does not have.
+/// A torque on a body the mechanism does not have.
 #[derive(Debug)]
-struct WrongBody(Pushed);
+struct WrongBody;
 
-impl Mechanism for WrongBody {
-    fn coordinates(&self) -> &[Coordinate] {
-        self.0.coordinates()
-    }
-    fn bodies(&self) -> &[Body] {
-        self.0.bodies()
-    }
-    fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
-        self.0.poses(t, q, p);
+impl crate::Poses for WrongBody {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
+        p[0] = Pose::point(q[0].sin(), -q[0].cos());
     }
     fn applied_forces<S: Scalar>(
         &self,
@@ -278,7 +268,7 @@ impl Mechanism for WrongBody {
 
 #[test]
 fn an_applied_force_on_a_missing_body_is_a_construction_error() {
-    let error = Model::new(WrongBody(Pushed::new(1.0, 1.0, 0.0, false))).unwrap_err();
+    let error = Model::new(crate::Described::new(WrongBody).angle("θ").point("bob", 1.0)).unwrap_err();
     assert!(matches!(&error, Error::InvalidParameter { name, .. } if name == "applied force"), "{error}");
 }
 
@@ -364,9 +354,9 @@ fn a_constant_mass_matrix_takes_applied_forces_too() -> Result<(), Error> {
         Model::new(PushedBlock { bodies: [Body::point("block", m)], coordinates: [Coordinate::length("x")], push })?;
     assert!(model.has_constant_mass_matrix());
     let mut ws = model.workspace();
-    assert_close(accelerations(&model, &mut ws, 0.0, &[0.4], &[1.0])?[0], push[0] / m, 1e-15);
+    assert_relative(accelerations(&model, &mut ws, 0.0, &[0.4], &[1.0])?[0], push[0] / m, 1e-15);
     // The rail carries the weight minus the push's vertical part.
     let reaction = reaction_forces(&model, &mut ws, 0.0, &[0.4], &[1.0])?;
-    assert_close(reaction[1], m * G - push[1], 1e-15);
+    assert_relative(reaction[1], m * G - push[1], 1e-15);
     Ok(())
 }
