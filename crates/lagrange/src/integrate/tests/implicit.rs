@@ -1,26 +1,17 @@
 //! The implicit integrators (Gauss4, Sdirk4), stiffness detection in Dopri5, and divergence
 //! reports of every integrator.
 
-use super::{final_state, max_diff};
+use super::{assert_order, final_state};
 use crate::dynamics::tests::WithoutJacobian;
 use crate::integrate::*;
 use crate::test_support::{Spring, cart};
 use crate::{Dynamics, Error, Model, State};
+use lagrange_validation::fixtures::max_abs_diff;
 
 #[test]
 fn gauss4_is_fourth_order_on_the_cart_pendulum() {
-    let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
-    let initial = State::new(0.0, [0.0, 0.5], [0.0, 0.0]);
-    let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
-    let errors: Vec<f64> = [0.04, 0.02, 0.01]
-        .iter()
-        .map(|&dt| max_diff(&final_state(&model, &initial, 2.0, Method::Gauss { dt }), &reference))
-        .collect();
-    for w in errors.windows(2) {
-        let ratio = w[0] / w[1];
-        // Order 4: ratio 2⁴ = 16 per halving, ±25 % for the asymptotic regime (measured 16.0).
-        assert!((12.0..20.0).contains(&ratio), "errors {errors:?}, ratio {ratio}");
-    }
+    // Order 4: ratio 2⁴ = 16 per halving, ±25 % for the asymptotic regime (measured 16.0).
+    assert_order(&State::new(0.0, [0.0, 0.5], [0.0, 0.0]), [0.04, 0.02, 0.01], |dt| Method::Gauss { dt }, 12.0..20.0);
 }
 
 /// Gauss methods conserve quadratic invariants exactly; with Newton solved to round-off, the
@@ -52,7 +43,7 @@ fn sdirk4_error_tracks_tolerance_on_a_smooth_problem() {
     let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
     let mut previous = f64::INFINITY;
     for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
-        let err = max_diff(
+        let err = max_abs_diff(
             &final_state(&model, &initial, 2.0, Method::Implicit { tol: Tolerances::uniform(tol) }),
             &reference,
         );
@@ -208,8 +199,8 @@ fn implicit_methods_report_their_work_and_run_on_finite_difference_jacobians() {
     // converges as well, to the same results (simplified Newton tolerates an inexact matrix).
     let fallback = WithoutJacobian(Model::new(cart(2.0, 1.0, 1.0)).unwrap());
     let approximate = simulate(&fallback, &initial, 2.0, Method::Implicit { tol }, &Output::Ends).unwrap();
-    assert!(max_diff(exact.q(1), approximate.q(1)) <= 1e-8, "{:?} vs {:?}", exact.q(1), approximate.q(1));
+    assert!(max_abs_diff(exact.q(1), approximate.q(1)) <= 1e-8, "{:?} vs {:?}", exact.q(1), approximate.q(1));
     let approximate = simulate(&fallback, &initial, 2.0, Method::Gauss { dt: 0.01 }, &Output::Ends).unwrap();
-    assert!(max_diff(gauss.q(1), approximate.q(1)) <= 1e-13, "{:?} vs {:?}", gauss.q(1), approximate.q(1));
+    assert!(max_abs_diff(gauss.q(1), approximate.q(1)) <= 1e-13, "{:?} vs {:?}", gauss.q(1), approximate.q(1));
     assert_eq!([Method::Implicit { tol }.name(), Method::Gauss { dt: 0.1 }.name()], ["implicit", "gauss"]);
 }

@@ -5,6 +5,7 @@ mod implicit;
 use super::*;
 use crate::test_support::{Charge, Spring, assert_relative, cart};
 use crate::{Dynamics, Model, RawModel, State};
+use lagrange_validation::fixtures::max_abs_diff;
 
 pub(super) fn final_state<D: Dynamics>(system: &D, initial: &State, t_end: f64, method: Method) -> Vec<f64> {
     let traj = simulate(system, initial, t_end, method, &Output::Ends).unwrap();
@@ -12,40 +13,31 @@ pub(super) fn final_state<D: Dynamics>(system: &D, initial: &State, t_end: f64, 
     [traj.q(k), traj.qdot(k)].concat()
 }
 
-pub(super) fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+/// The final-state errors of `method(dt)` on the cart pendulum over 2 s, against a 1e-13
+/// reference, at three halving steps `dts`: each halving divides the error by a ratio in `ratios`.
+pub(super) fn assert_order(initial: &State, dts: [f64; 3], method: fn(f64) -> Method, ratios: std::ops::Range<f64>) {
+    let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
+    let reference = final_state(&model, initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
+    let errors: Vec<f64> =
+        dts.iter().map(|&dt| max_abs_diff(&final_state(&model, initial, 2.0, method(dt)), &reference)).collect();
+    for w in errors.windows(2) {
+        let ratio = w[0] / w[1];
+        assert!(ratios.contains(&ratio), "errors {errors:?}, ratio {ratio}");
+    }
 }
 
 #[test]
 fn rk4_is_fourth_order_on_the_cart_pendulum() {
-    let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
-    let initial = State::new(0.0, [0.0, 0.5], [0.0, 0.0]);
-    let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
-    let errors: Vec<f64> = [0.02, 0.01, 0.005]
-        .iter()
-        .map(|&dt| max_diff(&final_state(&model, &initial, 2.0, Method::Rk4 { dt }), &reference))
-        .collect();
-    for w in errors.windows(2) {
-        let ratio = w[0] / w[1];
-        // Order 4: ratio 2⁴ = 16 per halving, ±25 % for the asymptotic regime at these steps.
-        assert!((12.0..20.0).contains(&ratio), "errors {errors:?}, ratio {ratio}");
-    }
+    // Order 4: ratio 2⁴ = 16 per halving, ±25 % for the asymptotic regime at these steps.
+    assert_order(&State::new(0.0, [0.0, 0.5], [0.0, 0.0]), [0.02, 0.01, 0.005], |dt| Method::Rk4 { dt }, 12.0..20.0);
 }
 
 #[test]
 fn variational_is_second_order_and_conserves_cart_momentum() {
     let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let initial = State::new(0.0, [0.0, 0.5], [0.3, 0.0]);
-    let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
-    let errors: Vec<f64> = [0.02, 0.01, 0.005]
-        .iter()
-        .map(|&dt| max_diff(&final_state(&model, &initial, 2.0, Method::Variational { dt }), &reference))
-        .collect();
-    for w in errors.windows(2) {
-        let ratio = w[0] / w[1];
-        // Order 2: ratio 4 per halving, ±25 %.
-        assert!((3.0..5.0).contains(&ratio), "errors {errors:?}, ratio {ratio}");
-    }
+    // Order 2: ratio 4 per halving, ±25 %.
+    assert_order(&initial, [0.02, 0.01, 0.005], |dt| Method::Variational { dt }, 3.0..5.0);
     // Horizontal momentum p_X: exactly conserved by the discrete Noether theorem.
     let traj = simulate(&model, &initial, 20.0, Method::Variational { dt: 0.01 }, &Output::Every(1.0)).unwrap();
     let mut ws = model.new_workspace();
