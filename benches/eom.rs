@@ -4,13 +4,12 @@
 //! `cargo bench -p lagrange-benches --bench eom` measures, then prints a table of the ratios
 //! (engine / hand-coded) read back from criterion's estimates.
 
-use criterion::{BatchSize, Criterion};
+use criterion::Criterion;
 use lagrange::integrate::Rk4;
 use lagrange::{Dynamics, Mechanism, Model, RawModel, State};
-use lagrange_benches::mean_ns;
+use lagrange_benches::{bench_step, criterion, mean_ns};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::hint::black_box;
-use std::time::Duration;
 
 /// Registers the benches of one typed scene.
 struct Register<'a> {
@@ -55,23 +54,13 @@ impl MechanismVisitor for Register<'_> {
             })
         });
         let mut rk4 = Rk4::new(n);
-        group.bench_function("rk4_step", |b| {
-            b.iter_batched_ref(
-                || s.clone(),
-                |state| rk4.step(&model, &mut ws, state, black_box(1e-3)).map(|_| state.q[0]),
-                BatchSize::SmallInput,
-            )
-        });
+        bench_step(&mut group, "rk4_step", &s, |state| rk4.step(&model, &mut ws, state, black_box(1e-3)));
         group.finish();
     }
 }
 
 fn main() {
-    let mut criterion = Criterion::default()
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .sample_size(40)
-        .configure_from_args();
+    let mut criterion = criterion(40);
     let mut ids = Vec::new();
     for scene in all() {
         let params = scene.default_params();

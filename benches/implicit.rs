@@ -5,13 +5,12 @@
 //! `cargo bench -p lagrange-benches --bench implicit` measures, then prints both tables from
 //! criterion's estimates of this run.
 
-use criterion::{BatchSize, Criterion};
+use criterion::Criterion;
 use lagrange::integrate::{Gauss4, Rk4};
 use lagrange::{Dynamics, Mechanism, Method, Model, Output, State, Tolerances};
-use lagrange_benches::{format_ns, mean_ns};
+use lagrange_benches::{bench_step, criterion, format_ns, mean_ns};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, find, visit_mechanism};
 use std::hint::black_box;
-use std::time::Duration;
 
 /// Step of the per-step benches (s): well inside every scene's accuracy range, so Gauss's
 /// Newton converges in its usual two or three iterations on a kept Jacobian.
@@ -34,25 +33,13 @@ impl MechanismVisitor for Register<'_> {
         let mut group = self.criterion.benchmark_group(format!("implicit_{}", self.id));
         let mut ws = model.new_workspace();
         let mut rk4 = Rk4::new(n);
-        group.bench_function("rk4_step", |b| {
-            b.iter_batched_ref(
-                || s.clone(),
-                |state| rk4.step(&model, &mut ws, state, black_box(STEP)).map(|_| state.q[0]),
-                BatchSize::SmallInput,
-            )
-        });
+        bench_step(&mut group, "rk4_step", &s, |state| rk4.step(&model, &mut ws, state, black_box(STEP)));
         // Gauss keeps its Jacobian, factor and stage values between steps, as in a run: the
         // first (untimed) step sets them up, every timed step starts from the same state.
         let mut gauss = Gauss4::new(n);
         let mut warm = s.clone();
         gauss.step(&model, &mut ws, &mut warm, STEP).expect("converges");
-        group.bench_function("gauss4_step", |b| {
-            b.iter_batched_ref(
-                || s.clone(),
-                |state| gauss.step(&model, &mut ws, state, black_box(STEP)).map(|_| state.q[0]),
-                BatchSize::SmallInput,
-            )
-        });
+        bench_step(&mut group, "gauss4_step", &s, |state| gauss.step(&model, &mut ws, state, black_box(STEP)));
         let mut jacobian = vec![0.0; 2 * n * n];
         group.bench_function("jacobian", |b| {
             b.iter(|| {
@@ -131,11 +118,7 @@ fn stiff_runs(criterion: &mut Criterion) {
 }
 
 fn main() {
-    let mut criterion = Criterion::default()
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .sample_size(40)
-        .configure_from_args();
+    let mut criterion = criterion(40);
     let mut ids = Vec::new();
     for scene in all() {
         let params = scene.default_params();

@@ -4,14 +4,13 @@
 //!
 //! `cargo bench -p lagrange-benches --bench rapier` measures, then prints the table.
 
-use criterion::{BatchSize, Criterion};
+use criterion::Criterion;
 use lagrange::integrate::Rk4;
 use lagrange::{Dynamics, Model};
-use lagrange_benches::{format_ns, mean_ns};
+use lagrange_benches::{bench_advance, bench_step, criterion, format_ns, mean_ns};
 use lagrange_maximal::{BuildError, Engine, Settings, build};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::hint::black_box;
-use std::time::Duration;
 
 const DT: f64 = 1e-3;
 
@@ -30,22 +29,14 @@ impl MechanismVisitor for ReducedStep<'_> {
         let mut ws = model.new_workspace();
         let mut rk4 = Rk4::new(model.dof());
         let state = self.state;
-        self.criterion.benchmark_group(self.id).bench_function("reduced_rk4", |b| {
-            b.iter_batched_ref(
-                || state.clone(),
-                |s| rk4.step(&model, &mut ws, s, black_box(DT)).map(|_| s.q[0]),
-                BatchSize::SmallInput,
-            )
+        bench_step(&mut self.criterion.benchmark_group(self.id), "reduced_rk4", &state, |s| {
+            rk4.step(&model, &mut ws, s, black_box(DT))
         });
     }
 }
 
 fn main() {
-    let mut criterion = Criterion::default()
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .sample_size(30)
-        .configure_from_args();
+    let mut criterion = criterion(30);
     let settings = Settings { dt: DT, substeps: 1, ..Settings::default() };
     let mut rows: Vec<(&str, Vec<Option<String>>)> = Vec::new();
     for scene in all() {
@@ -56,14 +47,7 @@ fn main() {
         for engine in &Engine::ALL[1..] {
             match build(*engine, id, &params, &state, &settings) {
                 Ok(built) => {
-                    let mut simulation = built.simulation;
-                    let mut t = 0.0;
-                    criterion.benchmark_group(id).bench_function(engine.name(), |b| {
-                        b.iter(|| {
-                            t += DT;
-                            simulation.advance_to(black_box(t)).expect("steps");
-                        })
-                    });
+                    bench_advance(&mut criterion.benchmark_group(id), engine.name(), built.simulation, DT);
                     reasons.push(None);
                 }
                 Err(BuildError::Unbuildable { reason, .. }) => reasons.push(Some(reason)),

@@ -4,25 +4,19 @@
 //!
 //! `cargo bench -p lagrange-benches --bench scaling` measures, then prints the table.
 
-use criterion::{BatchSize, Criterion};
 use lagrange::integrate::Rk4;
 use lagrange::{Dynamics, Model};
-use lagrange_benches::{format_ns, mean_ns};
+use lagrange_benches::{bench_advance, bench_step, criterion, format_ns, mean_ns};
 use lagrange_maximal::{Engine, Settings, build};
 use lagrange_scenes::SceneType;
 use lagrange_scenes::chain::Chain;
 use std::hint::black_box;
-use std::time::Duration;
 
 const DT: f64 = 1e-3;
 const LINKS: [usize; 6] = [2, 4, 8, 16, 32, 64];
 
 fn main() {
-    let mut criterion = Criterion::default()
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .sample_size(20)
-        .configure_from_args();
+    let mut criterion = criterion(20);
     let scene = lagrange_scenes::find("chain").expect("registered");
     let settings = Settings { dt: DT, substeps: 1, ..Settings::default() };
     for n in LINKS {
@@ -39,24 +33,11 @@ fn main() {
             b.iter(|| model.accelerations(&mut ws, 0.0, black_box(&state.q), black_box(&state.qdot), &mut qddot))
         });
         let mut rk4 = Rk4::new(n);
-        g.bench_function("reduced_rk4", |b| {
-            b.iter_batched_ref(
-                || state.clone(),
-                |s| rk4.step(&model, &mut ws, s, black_box(DT)).map(|_| s.q[0]),
-                BatchSize::SmallInput,
-            )
-        });
+        bench_step(&mut g, "reduced_rk4", &state, |s| rk4.step(&model, &mut ws, s, black_box(DT)));
         // rapier, multibody and impulse joints.
         for engine in [Engine::RapierMultibody, Engine::RapierImpulse] {
-            let mut simulation =
-                build(engine, "chain", &params, &state, &settings).expect("chains are buildable").simulation;
-            let mut t = 0.0;
-            g.bench_function(engine.name(), |b| {
-                b.iter(|| {
-                    t += DT;
-                    simulation.advance_to(black_box(t)).expect("steps");
-                })
-            });
+            let built = build(engine, "chain", &params, &state, &settings).expect("chains are buildable");
+            bench_advance(&mut g, engine.name(), built.simulation, DT);
         }
         g.finish();
     }

@@ -6,7 +6,36 @@
 //! our step against rapier's), `--bench implicit` (Gauss4 step and AD Jacobian beside RK4; whole
 //! stiff runs of SDIRK4 against Dormand–Prince).
 
+use criterion::measurement::WallTime;
+use criterion::{BatchSize, BenchmarkGroup, Criterion};
+use lagrange::{Error, State};
+use lagrange_maximal::MaximalSimulation;
+use std::hint::black_box;
 use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// Criterion as every bench runs it: 0.3 s warm-up, 1 s of measurement, `samples` samples,
+/// then the options of the command line.
+pub fn criterion(samples: usize) -> Criterion {
+    Criterion::default()
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .sample_size(samples)
+        .configure_from_args()
+}
+
+/// Bench one integrator step as `name`: every timed call advances a fresh copy of `state`, made
+/// outside the timing.
+pub fn bench_step(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    state: &State,
+    mut step: impl FnMut(&mut State) -> Result<(), Error>,
+) {
+    group.bench_function(name, |b| {
+        b.iter_batched_ref(|| state.clone(), |s| step(s).map(|_| s.q[0]), BatchSize::SmallInput)
+    });
+}
 
 /// Mean time (ns) of a finished benchmark `group/bench`, from criterion's `estimates.json`.
 pub fn mean_ns(group: &str, bench: &str) -> Option<f64> {
@@ -36,4 +65,21 @@ pub fn format_ns(ns: f64) -> String {
     } else {
         format!("{ns:.1} ns")
     }
+}
+
+/// Bench one step `dt` of a maximal-coordinate simulation as `name`: every timed call advances it
+/// by `dt` from where the last one stopped.
+pub fn bench_advance(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    mut simulation: Box<dyn MaximalSimulation>,
+    dt: f64,
+) {
+    let mut t = 0.0;
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            t += dt;
+            simulation.advance_to(black_box(t)).expect("steps");
+        })
+    });
 }
