@@ -5,6 +5,33 @@
 //! *Solving ODE II*, §IV.8 and the `SDIRK4` code).
 
 use super::Tolerances;
+use super::integrator::{Stats, rhs};
+use crate::{Dynamics, Error};
+
+/// Hairer's `HINIT` for a method whose error is `O(h^{1/exponent})`, at `(t, y)` (`y = (q, q̇)`
+/// of `n` coordinates each), at most `h_max`: evaluates `f0 = f(t, y)` and, from the trial step
+/// `h` of [`trial_step`], `f1 = f(t + h, y + h f0)` (with `y1 = y + h f0`), counting both in
+/// `stats`, and returns the first step of [`initial_step`].
+pub(crate) fn first_step<D: Dynamics>(
+    (system, ws): (&D, &mut D::Workspace),
+    (tol, h_max, exponent): (Tolerances, f64, f64),
+    t: f64,
+    y: &[f64],
+    [f0, y1, f1]: [&mut [f64]; 3],
+    stats: &mut Stats,
+) -> Result<f64, Error> {
+    let n = y.len() / 2;
+    rhs(system, ws, n, t, y, f0)?;
+    stats.evaluations += 1;
+    let trial = trial_step(tol, y, f0, h_max);
+    let h = trial.0;
+    for i in 0..2 * n {
+        y1[i] = y[i] + h * f0[i];
+    }
+    rhs(system, ws, n, t + h, y1, f1)?;
+    stats.evaluations += 1;
+    Ok(initial_step(tol, y, f0, f1, trial, h_max, exponent))
+}
 
 /// The scaled root-mean-square norm `‖e_i / (atol + rtol max(|y_i|, |y'_i|))‖_rms` of an error
 /// estimate `e` of a step from `y0` to `y1`: a step is acceptable when it is at most 1.
@@ -19,7 +46,7 @@ pub(crate) fn error_norm(tol: Tolerances, e: &[f64], y0: &[f64], y1: &[f64]) -> 
 
 /// The first trial step of `HINIT`, from `‖y‖` and `‖f(t0, y)‖` (scaled), at most `h_max`;
 /// with the squared scaled norm of `f`, for [`initial_step`].
-pub(crate) fn trial_step(tol: Tolerances, y: &[f64], f0: &[f64], h_max: f64) -> (f64, f64) {
+fn trial_step(tol: Tolerances, y: &[f64], f0: &[f64], h_max: f64) -> (f64, f64) {
     let scale = |i: usize| tol.atol + tol.rtol * y[i].abs();
     let (mut dnf, mut dny) = (0.0, 0.0);
     for i in 0..y.len() {
@@ -32,7 +59,7 @@ pub(crate) fn trial_step(tol: Tolerances, y: &[f64], f0: &[f64], h_max: f64) -> 
 
 /// The first step of `HINIT` for a method whose error is `O(h^{1/exponent})`: from the trial
 /// step `h` and `dnf` of [`trial_step`], and `f1 = f(t0 + h, y + h f0)` (an estimate of `‖f'‖`).
-pub(crate) fn initial_step(
+fn initial_step(
     tol: Tolerances,
     y: &[f64],
     f0: &[f64],

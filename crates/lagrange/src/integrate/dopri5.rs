@@ -2,7 +2,7 @@
 //! Nørsett & Wanner, *Solving Ordinary Differential Equations I*, §II.5, §II.6 and §II.10;
 //! the `DOPRI5` code).
 
-use super::control::{Controller, Verdict, error_norm, initial_step, trial_step};
+use super::control::{Controller, Verdict, error_norm, first_step};
 use super::integrator::{Integrator, Stats, check_finite, diverged, rhs};
 use super::{Tolerances, check_tolerance};
 use crate::{Dynamics, Error, State};
@@ -175,17 +175,8 @@ impl Dopri5 {
         self.stiff_steps = 0;
         self.non_stiff_steps = 0;
         let [k1, k2, ..] = &mut self.k;
-        rhs(system, ws, n, t, &self.y, k1)?;
-        self.stats.evaluations += 1;
-        // HINIT: h0 from ‖y‖/‖f‖, refined with one explicit Euler step and ‖f'‖.
-        let trial = trial_step(self.tol, &self.y, k1, h_max);
-        let h = trial.0;
-        for i in 0..2 * n {
-            self.y_stage[i] = self.y[i] + h * k1[i];
-        }
-        rhs(system, ws, n, t + h, &self.y_stage, k2)?;
-        self.stats.evaluations += 1;
-        self.h = initial_step(self.tol, &self.y, k1, k2, trial, h_max, 0.2);
+        let buffers = [k1.as_mut_slice(), &mut self.y_stage, k2];
+        self.h = first_step((system, ws), (self.tol, h_max, 0.2), t, &self.y, buffers, &mut self.stats)?;
         Ok(())
     }
 

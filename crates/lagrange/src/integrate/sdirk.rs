@@ -3,7 +3,7 @@
 //! Equations II*, §IV.6, Table 6.5 (`γ = 1/4`, 5 stages; their `SDIRK4` code), for stiff
 //! problems.
 
-use super::control::{Controller, Verdict, error_norm, initial_step, trial_step};
+use super::control::{Controller, Verdict, error_norm, first_step};
 use super::integrator::{Integrator, Stats, check_finite, diverged, rhs};
 use super::newton::StageSystem;
 use super::{Tolerances, check_tolerance, non_finite_quantity};
@@ -220,17 +220,8 @@ impl Sdirk4 {
         self.factored_step = f64::NAN;
         self.eta = 1.0;
         self.control.reset();
-        rhs(system, ws, n, t, &self.y, &mut self.derivative)?;
-        self.stats.evaluations += 1;
-        // HINIT: h0 from ‖y‖/‖f‖, refined with one explicit Euler step and ‖f'‖.
-        let trial = trial_step(self.tol, &self.y, &self.derivative, h_max);
-        let h = trial.0;
-        for i in 0..2 * n {
-            self.y_stage[i] = self.y[i] + h * self.derivative[i];
-        }
-        rhs(system, ws, n, t + h, &self.y_stage, &mut self.f_stage)?;
-        self.stats.evaluations += 1;
-        self.h = initial_step(self.tol, &self.y, &self.derivative, &self.f_stage, trial, h_max, 0.25);
+        let buffers = [self.derivative.as_mut_slice(), &mut self.y_stage, &mut self.f_stage];
+        self.h = first_step((system, ws), (self.tol, h_max, 0.25), t, &self.y, buffers, &mut self.stats)?;
         Ok(())
     }
 
