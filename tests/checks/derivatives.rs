@@ -18,6 +18,24 @@ fn assert_close(what: &str, ad: &[f64], fd: &[f64], tol: f64) {
     fixtures::assert_close(what, ad, fd, tol * scale);
 }
 
+/// Central differences of `f: ℝⁿ → ℝᵐ` in every entry of `x` (step `FD_STEP · max(|x_j|, 1)`):
+/// its m × n Jacobian, row-major.
+fn central_differences(x: &[f64], mut f: impl FnMut(&[f64]) -> Vec<f64>) -> Vec<f64> {
+    let n = x.len();
+    let columns: Vec<Vec<f64>> = (0..n)
+        .map(|j| {
+            let step = tolerance::FD_STEP * x[j].abs().max(1.0);
+            let (mut plus, mut minus) = (x.to_vec(), x.to_vec());
+            plus[j] += step;
+            minus[j] -= step;
+            let (fp, fm) = (f(&plus), f(&minus));
+            fp.iter().zip(&fm).map(|(p, m)| (p - m) / (2.0 * step)).collect()
+        })
+        .collect();
+    let m = columns.first().map_or(0, Vec::len);
+    (0..m * n).map(|k| columns[k % n][k / n]).collect()
+}
+
 struct FiniteDifferences<'a> {
     states: &'a [State],
 }
@@ -27,26 +45,14 @@ impl MechanismVisitor for FiniteDifferences<'_> {
 
     fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
-        let n = model.dof();
         let rows = 3 * model.bodies();
         let mut ws = model.workspace();
-        let h = tolerance::FD_STEP;
         for s in self.states {
             // J and γ from the engine (the momenta call runs both passes).
             lagrange::momenta(&model, &mut ws, s.t, &s.q, &s.qdot).expect("valid");
             let (jacobian, convective) = (ws.jacobian.clone(), ws.convective.clone());
-            // J by central differences, column by column.
-            let mut fd = vec![0.0; rows * n];
-            for j in 0..n {
-                let step = h * s.q[j].abs().max(1.0);
-                let (mut plus, mut minus) = (s.q.clone(), s.q.clone());
-                plus[j] += step;
-                minus[j] -= step;
-                let (pp, pm) = (poses(&model, s.t, &plus), poses(&model, s.t, &minus));
-                for r in 0..rows {
-                    fd[r * n + j] = (pp[r] - pm[r]) / (2.0 * step);
-                }
-            }
+            // J by central differences.
+            let fd = central_differences(&s.q, |q| poses(&model, s.t, q));
             assert_close("J", &jacobian, &fd, tolerance::FINITE_DIFFERENCE);
             // γ = d²/ds² p(q + s q̇, t + s): second central difference with a larger step
             // (h = 1e-4: truncation h² p''''/12 ~ 1e-9, cancellation 4ε/h² ~ 1e-7 of the pose scale).
@@ -62,7 +68,6 @@ impl MechanismVisitor for FiniteDifferences<'_> {
             if model.has_potential() {
                 lagrange::accelerations(&model, &mut ws, s.t, &s.q, &s.qdot).expect("valid");
                 let gradient = ws.potential_gradient.clone();
-                let mut fd_v = vec![0.0; n];
                 // Gravity is part of potential_energy; subtract it so that only V remains.
                 let extra = |q: &[f64], ws: &mut lagrange::Workspace<f64>| {
                     let total = lagrange::potential_energy(&model, ws, s.t, q).expect("valid");
@@ -72,27 +77,14 @@ impl MechanismVisitor for FiniteDifferences<'_> {
                         .sum();
                     total - gravity
                 };
-                for j in 0..n {
-                    let step = h * s.q[j].abs().max(1.0);
-                    let (mut plus, mut minus) = (s.q.clone(), s.q.clone());
-                    plus[j] += step;
-                    minus[j] -= step;
-                    fd_v[j] = (extra(&plus, &mut ws) - extra(&minus, &mut ws)) / (2.0 * step);
-                }
+                let fd_v = central_differences(&s.q, |q| vec![extra(q, &mut ws)]);
                 assert_close("∂V/∂q", &gradient, &fd_v, tolerance::FINITE_DIFFERENCE);
             }
             // p = ∂L/∂q̇ against differences of L in q̇.
             let momenta = lagrange::momenta(&model, &mut ws, s.t, &s.q, &s.qdot).expect("valid").to_vec();
-            let mut fd_p = vec![0.0; n];
-            for j in 0..n {
-                let step = h * s.qdot[j].abs().max(1.0);
-                let (mut plus, mut minus) = (s.qdot.clone(), s.qdot.clone());
-                plus[j] += step;
-                minus[j] -= step;
-                let lp = lagrange::lagrangian(&model, &mut ws, s.t, &s.q, &plus).expect("valid");
-                let lm = lagrange::lagrangian(&model, &mut ws, s.t, &s.q, &minus).expect("valid");
-                fd_p[j] = (lp - lm) / (2.0 * step);
-            }
+            let fd_p = central_differences(&s.qdot, |v| {
+                vec![lagrange::lagrangian(&model, &mut ws, s.t, &s.q, v).expect("valid")]
+            });
             assert_close("∂L/∂q̇", &momenta, &fd_p, tolerance::FINITE_DIFFERENCE);
         }
     }
