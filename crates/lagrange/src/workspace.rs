@@ -78,8 +78,8 @@ pub struct Workspace<S> {
 }
 
 impl<S: Scalar> Workspace<S> {
-    /// Allocate every buffer for `model`.
-    pub fn new<M: Mechanism>(model: &Model<M>) -> Self {
+    /// Allocate every buffer for `model` (users call [`Model::workspace`] / [`Model::workspace_in`]).
+    pub(crate) fn new<M: Mechanism>(model: &Model<M>) -> Self {
         let n = model.dof();
         let b = model.bodies();
         let zero = S::zero();

@@ -34,7 +34,7 @@ mod driver;
 mod gauss;
 mod integrator;
 mod method;
-pub mod newton;
+pub(crate) mod newton;
 mod rk4;
 mod sdirk;
 pub mod stability;
