@@ -53,7 +53,7 @@ enum Failure {
 /// round-off: quadratic invariants exactly (the energy of a linear oscillator, angular
 /// momentum), energy errors bounded without drift on nonlinear ones (symplectic, symmetric).
 ///
-/// The Newton matrix is the reduced `I − h A ⊗ ∂f/∂y` of [`newton`](super::newton), factored
+/// The Newton matrix is the reduced `I − h A ⊗ ∂f/∂y` of the shared Newton step (docs/method.md#the-newton-step-shared-by-the-implicit-methods), factored
 /// once and kept, with its Jacobian, for as long as the step size stays and Newton contracts
 /// fast (`θ ≤ 10⁻²`); the stage values start from the extrapolated collocation polynomial of the
 /// previous step. Buffers are allocated once in [`new`](Self::new); [`step`](Self::step)

@@ -23,7 +23,7 @@
 //!
 //! The implicit methods solve their stages by simplified Newton with the exact AD Jacobian
 //! [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian), in the reduced
-//! form of [`newton`]. The error-controlled methods ([`Dopri5`], [`Sdirk4`]) share one step-size
+//! form (docs/method.md#the-newton-step-shared-by-the-implicit-methods). The error-controlled methods ([`Dopri5`], [`Sdirk4`]) share one step-size
 //! controller: the scaled error norm, the first step and PI control. [`Dopri5`] watches for stiffness (Hairer's test) and says so when it
 //! fails ([`Error::Stiff`]). [`stability`] gives the boundaries of the explicit schemes'
 //! stability regions that the stability suite measures against.

@@ -59,7 +59,7 @@ enum Failure {
 ///
 /// Each stage `Y_i = y + h Σ_{j<i} a_ij F_j + γ h f(t + c_i h, Y_i)` is solved by simplified
 /// Newton with one LU factorization of `I − γ h ∂f/∂y` per step, shared by all five stages (in
-/// the reduced form of [`newton`](super::newton)), with the exact AD Jacobian
+/// the reduced form of the shared Newton step, docs/method.md#the-newton-step-shared-by-the-implicit-methods), with the exact AD Jacobian
 /// [`Dynamics::acceleration_jacobian`]. The Jacobian is kept from step to step while Newton
 /// contracts fast (`θ ≤ 0.1`), recomputed when it slows, and recomputed at once when Newton
 /// fails with an old one; a Newton failure with a fresh Jacobian halves the step. Newton starts
