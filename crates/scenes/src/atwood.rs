@@ -3,8 +3,8 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, SceneType};
+use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
 
@@ -117,6 +117,15 @@ impl SceneType for Atwood {
     /// Uniform acceleration: `x = x₀ + ẋ₀ τ + ½ ẍ τ²`.
     fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
         Some(uniformly_accelerated(initial, &[self.acceleration()], t))
+    }
+
+    /// `E` and `p_x − F t`, with `M = m1 + m2 + I/a²`, `F = (m1 − m2) g` and
+    /// `V₀ = −m2 g (l − πa)` (docs/scenes.md#atwood).
+    fn conserved(&self) -> Vec<Conserved> {
+        let (a, g) = (self.pulley_radius, self.gravity);
+        let mass = self.mass_1 + self.mass_2 + self.pulley_inertia / (a * a);
+        let potential_at_zero = -self.mass_2 * g * (self.rope_length - PI * a);
+        constant_force_invariants(self, (vec![mass], vec![(self.mass_1 - self.mass_2) * g]), potential_at_zero, &[])
     }
 
     body_scene!();

@@ -4,7 +4,7 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -180,6 +180,19 @@ impl SceneType for CartPendulum {
     /// `X = 0`, `θ = 0.5`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [0.0, 0.5], [0.0, 0.0])
+    }
+
+    /// `E = ½ (M + m) Ẋ² + m r Ẋ θ̇ cosθ + ½ (m r² + I_b) θ̇² − m g r cosθ` and
+    /// [`p_X`](CartPendulum::horizontal_momentum) (docs/scenes.md#cart_pendulum).
+    fn conserved(&self) -> Vec<Conserved> {
+        let energy = Conserved::energy(self, |s, q, qdot| {
+            let ([_, theta], [v, w]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+            let (cart, bob, r, cos) = (s.cart_mass, s.bob_mass, s.rod_length, theta.cos());
+            let rotation = bob * r * r + s.bob_inertia;
+            0.5 * (cart + bob) * v * v + bob * r * v * w * cos + 0.5 * rotation * w * w - bob * s.gravity * r * cos
+        });
+        let momentum = |s: &Self, _, q: &[f64], qdot: &[f64]| s.horizontal_momentum(q, qdot);
+        vec![energy, Conserved::new(self, "p_X", "X is cyclic", Invariant::CyclicMomentum(0), momentum)]
     }
 
     body_scene!();

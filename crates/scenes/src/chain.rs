@@ -2,7 +2,7 @@
 
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use nalgebra::{DMatrix, DVector};
@@ -75,6 +75,16 @@ impl Chain {
         if i == j { below - 0.75 } else { below - 0.5 }
     }
 
+    /// The mass matrix `M_ij = m l² (S_ij cos(θ_i − θ_j) + δ_ij/12)` (see
+    /// [`closed_form_accelerations`](Self::closed_form_accelerations)).
+    fn mass_matrix(&self, q: &[f64]) -> DMatrix<f64> {
+        let scale = self.link_mass * self.link_length * self.link_length;
+        DMatrix::from_fn(self.links, self.links, |i, j| {
+            let diagonal = if i == j { 1.0 / 12.0 } else { 0.0 };
+            scale * (self.overlap(i, j) * (q[i] - q[j]).cos() + diagonal)
+        })
+    }
+
     /// `q̈` from the hand-derived equations, solved by Cholesky factorization (nalgebra).
     ///
     /// From `T = Σ_k ½ m |ċ_k|² + ½ (m l²/12) θ̇_k²` with `ċ_k = l Σ_i a_ki θ̇_i (cosθ_i, sinθ_i)`
@@ -94,10 +104,7 @@ impl Chain {
         let (m, l, g) = (self.link_mass, self.link_length, self.gravity);
         let scale = m * l * l;
         // Mass matrix and generalized forces.
-        let mass_matrix = DMatrix::from_fn(n, n, |i, j| {
-            let diagonal = if i == j { 1.0 / 12.0 } else { 0.0 };
-            scale * (self.overlap(i, j) * (q[i] - q[j]).cos() + diagonal)
-        });
+        let mass_matrix = self.mass_matrix(q);
         let force = DVector::from_fn(n, |i, _| {
             let centrifugal: f64 = (0..n).map(|j| self.overlap(i, j) * (q[i] - q[j]).sin() * qdot[j] * qdot[j]).sum();
             let weight_below = (n - i) as f64 - 0.5;
@@ -154,6 +161,18 @@ impl SceneType for Chain {
     /// Every `θ_i = 0.5`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, vec![0.5; self.links], vec![0.0; self.links])
+    }
+
+    /// The energy `½ q̇ᵀ M q̇ − m g l Σ_i (N − i − ½) cosθ_i` (`M`, `V` as in
+    /// [`Chain::closed_form_accelerations`]).
+    fn conserved(&self) -> Vec<Conserved> {
+        vec![Conserved::energy(self, |s, q, qdot| {
+            let qdot = DVector::from_column_slice(qdot);
+            let weight = s.link_mass * s.gravity * s.link_length;
+            let potential: f64 =
+                q.iter().enumerate().map(|(i, theta)| ((s.links - i) as f64 - 0.5) * theta.cos()).sum();
+            0.5 * qdot.dot(&(s.mass_matrix(q) * &qdot)) - weight * potential
+        })]
     }
 
     body_scene!();

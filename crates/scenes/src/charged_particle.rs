@@ -4,7 +4,7 @@
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
 use crate::scene::raw_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Coordinate, Lagrangian, Scalar, State};
 
 scene_params! {
@@ -104,6 +104,22 @@ impl SceneType for ChargedParticle {
     fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
         let (q, qdot) = self.motion(&initial.q, &initial.qdot, t - initial.t);
         Some(State::new(t, q, qdot))
+    }
+
+    /// The energy `E = h = ½ m |v|²`; the canonical angular momentum
+    /// `p_φ = m (x ẏ − y ẋ) + (e B/2)(x² + y²)` (`L` is invariant under rotations about the
+    /// origin); and `K = (m ẋ − e B y, m ẏ + e B x)`, `e B` times the guiding centre turned by
+    /// −90° (a translation changes `L` by a total time derivative).
+    fn conserved(&self) -> Vec<Conserved> {
+        let (why, other) = ("translations change L by a total derivative", Invariant::Other);
+        vec![
+            Conserved::energy(self, |s, _, v| 0.5 * s.mass * (v[0] * v[0] + v[1] * v[1])),
+            Conserved::new(self, "p_φ", "L is invariant under rotations", other, |s, _, q, v| {
+                s.mass * (q[0] * v[1] - q[1] * v[0]) + 0.5 * s.charge * s.field * (q[0] * q[0] + q[1] * q[1])
+            }),
+            Conserved::new(self, "K_x", why, other, |s, _, q, v| s.mass * v[0] - s.charge * s.field * q[1]),
+            Conserved::new(self, "K_y", why, other, |s, _, q, v| s.mass * v[1] + s.charge * s.field * q[0]),
+        ]
     }
 
     raw_scene!();

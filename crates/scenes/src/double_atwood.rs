@@ -3,8 +3,8 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, SceneType};
+use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -140,6 +140,15 @@ impl SceneType for DoubleAtwood {
     /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
     fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
         Some(uniformly_accelerated(initial, &self.acceleration(), t))
+    }
+
+    /// `E` and `p − F t` from [`mass_matrix`](DoubleAtwood::mass_matrix) and
+    /// [`applied_force`](DoubleAtwood::applied_force), with `V₀ = −g ((m2 + m3 + m_p) l + m3 l')`.
+    fn conserved(&self) -> Vec<Conserved> {
+        let (m2, m3, mp) = (self.mass_2, self.mass_3, self.lower_pulley_mass);
+        let potential_at_zero = -self.gravity * ((m2 + m3 + mp) * self.rope_length + m3 * self.lower_rope_length);
+        let (mass, force) = (self.mass_matrix().concat(), self.applied_force().to_vec());
+        constant_force_invariants(self, (mass, force), potential_at_zero, &[])
     }
 
     body_scene!();

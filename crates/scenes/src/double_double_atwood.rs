@@ -4,8 +4,8 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, SceneType};
+use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -182,6 +182,17 @@ impl SceneType for DoubleDoubleAtwood {
     /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
     fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
         Some(uniformly_accelerated(initial, &self.acceleration(), t))
+    }
+
+    /// `E` and `p − F t` from [`mass_matrix`](DoubleDoubleAtwood::mass_matrix) and
+    /// [`applied_force`](DoubleDoubleAtwood::applied_force), with
+    /// `V₀ = −g ((m_B + m2 + m3) l + m3 l' + m5 l'')`.
+    fn conserved(&self) -> Vec<Conserved> {
+        let (m2, m3, m5) = (self.mass_2, self.mass_3, self.mass_5);
+        let lengths = m3 * self.rope_length_b + m5 * self.rope_length_a;
+        let potential_at_zero = -self.gravity * ((self.pulley_b_mass + m2 + m3) * self.rope_length + lengths);
+        let (mass, force) = (self.mass_matrix().concat(), self.applied_force().to_vec());
+        constant_force_invariants(self, (mass, force), potential_at_zero, &[])
     }
 
     body_scene!();

@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -196,6 +196,17 @@ impl SceneType for DoublePendulum {
     /// `θ₁ = θ₂ = 0.5`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [0.5, 0.5], [0.0, 0.0])
+    }
+
+    /// The energy `T + V` (`T`, `V` above, with the bobs' rotation `½ I_i θ̇_i²`).
+    fn conserved(&self) -> Vec<Conserved> {
+        vec![Conserved::energy(self, |s, q, qdot| {
+            let ([theta_1, theta_2], [w1, w2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+            let (m1, m2, l1, l2, g) = (s.mass_1, s.mass_2, s.length_1, s.length_2, s.gravity);
+            let rotations = ((m1 + m2) * l1 * l1 + s.inertia_1) * w1 * w1 + (m2 * l2 * l2 + s.inertia_2) * w2 * w2;
+            let kinetic = 0.5 * rotations + m2 * l1 * l2 * w1 * w2 * (theta_1 - theta_2).cos();
+            kinetic - (m1 + m2) * g * l1 * theta_1.cos() - m2 * g * l2 * theta_2.cos()
+        })]
     }
 
     body_scene!();

@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -88,6 +88,18 @@ impl SceneType for DrivenPendulum {
     /// `θ = 0.2`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [0.2], [0.0])
+    }
+
+    /// Driven: none (`∂L/∂t ≠ 0`). Without a drive (`A = 0` or `ω = 0`) the energy
+    /// `E = ½ m l² θ̇² − m g l cosθ`.
+    fn conserved(&self) -> Vec<Conserved> {
+        if self.amplitude != 0.0 && self.drive_frequency != 0.0 {
+            return Vec::new();
+        }
+        let energy = |s: &Self, q: &[f64], v: &[f64]| {
+            s.mass * s.length * (0.5 * s.length * v[0] * v[0] - s.gravity * q[0].cos())
+        };
+        vec![Conserved::energy(self, energy)]
     }
 
     body_scene!();

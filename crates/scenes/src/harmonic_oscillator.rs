@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -137,6 +137,12 @@ impl SceneType for HarmonicOscillator {
     fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
         let (x, v) = self.motion(initial.q[0], initial.qdot[0], t - initial.t);
         Some(State::new(t, [x], [v]))
+    }
+
+    /// Undamped: `E = ½ m ẋ² + ½ k x²`; damped: none (`dE/dt = −c ẋ²`).
+    fn conserved(&self) -> Vec<Conserved> {
+        let energy = |s: &Self, q: &[f64], qdot: &[f64]| 0.5 * (s.mass * qdot[0] * qdot[0] + s.stiffness * q[0] * q[0]);
+        if self.damping == 0.0 { vec![Conserved::energy(self, energy)] } else { Vec::new() }
     }
 
     body_scene!();

@@ -4,7 +4,7 @@
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -67,9 +67,7 @@ impl IsotropicOscillator {
             return ([r, theta0], [r_dot, 0.0]);
         }
         // Cartesian initial state (with the signed r₀).
-        let (sin0, cos0) = theta0.sin_cos();
-        let position0 = [r0 * cos0, r0 * sin0];
-        let velocity0 = [r_dot0 * cos0 - r0 * theta_dot0 * sin0, r_dot0 * sin0 + r0 * theta_dot0 * cos0];
+        let (position0, velocity0) = cartesian(q, qdot);
         // Whole half periods, then the remainder τ_r ∈ [0, π/ω).
         let half_periods = (omega * tau / PI).floor();
         let remainder = tau - half_periods * PI / omega;
@@ -95,6 +93,13 @@ impl IsotropicOscillator {
         let theta_dot = (position_r[0] * velocity_r[1] - position_r[1] * velocity_r[0]) / (distance * distance);
         ([r, theta], [r_dot, theta_dot])
     }
+}
+
+/// The Cartesian position and velocity of the polar state `(r, θ, ṙ, θ̇)`.
+fn cartesian(q: &[f64], qdot: &[f64]) -> ([f64; 2], [f64; 2]) {
+    let ([r, theta], [r_dot, theta_dot]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+    let (sin, cos) = theta.sin_cos();
+    ([r * cos, r * sin], [r_dot * cos - r * theta_dot * sin, r_dot * sin + r * theta_dot * cos])
 }
 
 impl Mechanism for IsotropicOscillator {
@@ -139,6 +144,31 @@ impl SceneType for IsotropicOscillator {
     fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
         let (q, qdot) = self.motion(&initial.q, &initial.qdot, t - initial.t);
         Some(State::new(t, q, qdot))
+    }
+
+    /// `E = ½ m (ṙ² + r² θ̇²) + ½ k r²`, `ℓ = m r² θ̇`, and the Fradkin tensor
+    /// `A_ij = p_i p_j / m + k x_i x_j` (docs/scenes.md#isotropic_oscillator) by its components
+    /// `E_x = A_xx / 2`, the energy of the x motion, and `A_xy`.
+    fn conserved(&self) -> Vec<Conserved> {
+        let (why, other) = ("Fradkin tensor: V ∝ r²", Invariant::Other);
+        let energy = |s: &Self, q: &[f64], v: &[f64]| {
+            0.5 * (s.mass * (v[0] * v[0] + q[0] * q[0] * v[1] * v[1]) + s.stiffness * q[0] * q[0])
+        };
+        let angular_momentum = |s: &Self, _, q: &[f64], v: &[f64]| s.mass * q[0] * q[0] * v[1];
+        let energy_x = |s: &Self, _, q: &[f64], qdot: &[f64]| {
+            let ([x, _], [vx, _]) = cartesian(q, qdot);
+            0.5 * (s.mass * vx * vx + s.stiffness * x * x)
+        };
+        let fradkin_xy = |s: &Self, _, q: &[f64], qdot: &[f64]| {
+            let ([x, y], [vx, vy]) = cartesian(q, qdot);
+            s.mass * vx * vy + s.stiffness * x * y
+        };
+        vec![
+            Conserved::energy(self, energy),
+            Conserved::new(self, "ℓ", "θ is cyclic", Invariant::CyclicMomentum(1), angular_momentum),
+            Conserved::new(self, "E_x", why, other, energy_x),
+            Conserved::new(self, "A_xy", why, other, fradkin_xy),
+        ]
     }
 
     body_scene!();

@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{PI, TAU};
 
@@ -76,6 +76,20 @@ impl Kepler {
         let [r, _] = fixed(q, "q");
         let [r_dot, theta_dot] = fixed(qdot, "q̇");
         0.5 * self.mass * (r_dot * r_dot + r * r * theta_dot * theta_dot) - self.strength / r
+    }
+
+    /// The Runge–Lenz vector `A = p × L − m k r̂ = (ℓ²/r − m k) r̂ − m ṙ ℓ θ̂` in Cartesian
+    /// components (docs/scenes.md#kepler): conserved for `V ∝ 1/r` only, it points to the
+    /// periapsis with length `m k e`.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn runge_lenz(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let ([r, theta], [r_dot, _]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        let l = self.angular_momentum(q, qdot);
+        let (radial, transverse) = (l * l / r - self.mass * self.strength, -self.mass * r_dot * l);
+        let (sin, cos) = theta.sin_cos();
+        [radial * cos - transverse * sin, radial * sin + transverse * cos]
     }
 
     /// Time to fall from rest at `r₀ > 0` to the centre (`ℓ = 0`, the degenerate ellipse of
@@ -223,6 +237,20 @@ impl SceneType for Kepler {
         motion.map(|(q, qdot)| State::new(t, q, qdot))
     }
 
+    /// [`E`](Kepler::energy), [`ℓ`](Kepler::angular_momentum) and the
+    /// [Runge–Lenz vector](Kepler::runge_lenz).
+    fn conserved(&self) -> Vec<Conserved> {
+        let (why, other) = ("Runge–Lenz vector: V ∝ 1/r", Invariant::Other);
+        vec![
+            Conserved::energy(self, Self::energy),
+            Conserved::new(self, "ℓ", "θ is cyclic", Invariant::CyclicMomentum(1), |s, _, q, v| {
+                s.angular_momentum(q, v)
+            }),
+            Conserved::new(self, "A_x", why, other, |s, _, q, qdot| s.runge_lenz(q, qdot)[0]),
+            Conserved::new(self, "A_y", why, other, |s, _, q, qdot| s.runge_lenz(q, qdot)[1]),
+        ]
+    }
+
     body_scene!();
 }
 
@@ -263,6 +291,8 @@ mod tests {
         assert!((orbit.period.unwrap() - 14.99).abs() < 0.01);
         // Periapsis at r = 1 = p/(1 + e): p = 1.44, e = 0.44.
         assert_close("p, e", &[1.44, 0.44], &[orbit.semi_latus_rectum, orbit.eccentricity], 1e-15);
+        // The Runge–Lenz vector points to the periapsis (θ = 0) with length m k e.
+        assert_close("A", &[0.44, 0.0], &scene.runge_lenz(&[1.0, 0.0], &[0.0, 1.2]), 1e-15);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! time; the registry of all scenes, generated from the one list in [`for_each_scene!`](crate::for_each_scene).
 
 use crate::checks::{check_dimensions, check_state};
-use crate::{ClosedForm, MechanismVisitor, ParamSpec, Params};
+use crate::{ClosedForm, Conserved, MechanismVisitor, ParamSpec, Params};
 use lagrange::{Coordinate, Error, State, System};
 use std::marker::PhantomData;
 
@@ -76,11 +76,18 @@ pub trait Scene: Send + Sync {
     /// [`Error::InvalidParameter`] for invalid parameters, [`Error::DimensionMismatch`] for a
     /// state of the wrong size.
     fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error>;
+
+    /// The scene's constants of the motion for these parameters, in closed form, each with
+    /// why it is conserved (empty for a driven or damped scene); see [`SceneType::conserved`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid parameters.
+    fn conserved_quantities(&self, params: &Params) -> Result<Vec<Conserved>, Error>;
 }
 
 /// A scene as one type: its identity, its parameter table and constructor from parameters, its
-/// default state, its closed-form accelerations and exact solution, and how the engine runs
-/// it. Implemented by every typed scene ([`CartPendulum`](crate::CartPendulum), …); the
+/// default state, its closed-form accelerations, exact solution and constants of the motion,
+/// and how the engine runs it. Implemented by every typed scene ([`CartPendulum`](crate::CartPendulum), …); the
 /// object-safe [`Scene`] is derived from it ([`scene_of`]), and the registry lists the types
 /// once ([`for_each_scene!`]).
 ///
@@ -125,6 +132,16 @@ pub trait SceneType: Clone + Send + Sync + Sized + 'static {
     fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
         let _ = (initial, t);
         None
+    }
+
+    /// The constants of the motion, in closed form as functions of `(t, q, q̇)` (whose
+    /// dimensions [`Conserved::value`] checks): the energy where [`Invariant::Energy`] holds,
+    /// the momentum of every cyclic coordinate, and the hidden ones; none by default (a driven
+    /// or damped scene).
+    ///
+    /// [`Invariant::Energy`]: crate::Invariant::Energy
+    fn conserved(&self) -> Vec<Conserved> {
+        Vec::new()
     }
 
     /// The generalized coordinates.
@@ -244,6 +261,10 @@ impl<T: SceneType> Scene for Registered<T> {
         let scene = T::from_params(params)?;
         check_state(scene.generalized_coordinates().len(), initial)?;
         Ok(scene.exact_solution(initial, t))
+    }
+
+    fn conserved_quantities(&self, params: &Params) -> Result<Vec<Conserved>, Error> {
+        Ok(T::from_params(params)?.conserved())
     }
 }
 

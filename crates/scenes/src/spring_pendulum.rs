@@ -3,7 +3,7 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -89,6 +89,16 @@ impl SceneType for SpringPendulum {
     /// `r = 1.1`, `θ = 0.5`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [1.1, 0.5], [0.0, 0.0])
+    }
+
+    /// The energy `E = ½ m (ṙ² + r² θ̇²) − m g r cosθ + ½ k (r − L0)²`.
+    fn conserved(&self) -> Vec<Conserved> {
+        vec![Conserved::energy(self, |s, q, qdot| {
+            let ([r, theta], [r_dot, theta_dot]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+            let stretch = r - s.rest_length;
+            let kinetic = 0.5 * s.mass * (r_dot * r_dot + r * r * theta_dot * theta_dot);
+            kinetic - s.mass * s.gravity * r * theta.cos() + 0.5 * s.stiffness * stretch * stretch
+        })]
     }
 
     body_scene!();

@@ -3,8 +3,8 @@
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::body_scene;
-use crate::uniform_acceleration::uniformly_accelerated;
-use crate::{Domain, SceneType};
+use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
@@ -65,18 +65,6 @@ impl Wedge {
         let (sin, cos) = self.angle.sin_cos();
         wedge * block * self.gravity * cos / (wedge + block * sin * sin)
     }
-
-    /// The conserved horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` (docs/scenes.md#wedge,
-    /// "Conserved quantities": `x` is cyclic). It does not depend on `q`, which is taken for
-    /// symmetry with the other scenes' momenta.
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 2 entries.
-    pub fn horizontal_momentum(&self, q: &[f64], qdot: &[f64]) -> f64 {
-        let _: [f64; 2] = fixed(q, "q");
-        let [wedge_velocity, slide_velocity] = fixed(qdot, "q̇");
-        (self.wedge_mass + self.block_mass) * wedge_velocity + self.block_mass * self.angle.cos() * slide_velocity
-    }
 }
 
 impl Mechanism for Wedge {
@@ -124,6 +112,16 @@ impl SceneType for Wedge {
     /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
     fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
         Some(uniformly_accelerated(initial, &self.acceleration(), t))
+    }
+
+    /// `E`, the horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` (`x` is cyclic) and
+    /// `p_x' − F_x' t`, from `M = [[M + m, m cosα], [m cosα, m]]`, `F = (0, m g sinα)` and
+    /// `V₀ = m g L sinα` (docs/scenes.md#wedge).
+    fn conserved(&self) -> Vec<Conserved> {
+        let (block, (sin, cos)) = (self.block_mass, self.angle.sin_cos());
+        let mass = vec![self.wedge_mass + block, block * cos, block * cos, block];
+        let weight = block * self.gravity * sin;
+        constant_force_invariants(self, (mass, vec![0.0, weight]), weight * self.incline_length, &[0])
     }
 
     body_scene!();
@@ -179,7 +177,8 @@ mod tests {
         let tolerance = ENGINE_VS_CLOSED_FORM * normal;
         assert_close("reaction on the block", &[normal * sin, normal * cos], &reactions[3..5], tolerance);
         let momenta = system.momenta(0.0, &q, &qdot).unwrap();
-        assert_close("p_x", &[scene.horizontal_momentum(&q, &qdot)], &momenta[..1], 1e-14);
+        let horizontal_momentum = scene.conserved()[1].value(0.0, &q, &qdot).unwrap();
+        assert_close("p_x", &[horizontal_momentum], &momenta[..1], 1e-14);
     }
 
     #[test]
