@@ -2,7 +2,7 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
@@ -12,10 +12,6 @@ scene_params! {
     /// Masses `m1` at `(−a, −x)` and `m2` at `(a, −(l − πa − x))` on a rope over a pulley of radius
     /// `a` and inertia `I` at the origin, turning by `x/a` (no slip); `q = (x)`, the depth of `m1`
     /// below the axle, measured downward (docs/scenes.md#atwood).
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct Atwood {
         /// Mass `m₁` (kg) on the left, at depth `x`.
         pub mass_1: f64 = ["m1", "kg", 2.0, Domain::Positive, "mass on the left end of the rope"],
@@ -73,17 +69,7 @@ impl Atwood {
 }
 
 impl Mechanism for Atwood {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, a) = (q[0], self.pulley_radius);
@@ -104,10 +90,6 @@ impl SceneType for Atwood {
     const REFERENCE: &'static str =
         "docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture), example: Atwood machine";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `x = 1`, at rest.
     fn default_state(&self) -> State {

@@ -1,7 +1,7 @@
 //! A hanging chain of `N` uniform rigid links (beyond the lecture).
 
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
@@ -19,10 +19,6 @@ scene_params! {
     /// above and `(0, l/2)` in its own centre-of-mass frame. So [`Model::new`](lagrange::Model::new) checks the tree against
     /// the poses above and computes `q̈` with the articulated-body algorithm, `O(N)`;
     /// [`Model::new_generic`](lagrange::Model::new_generic) assembles `M` from the poses instead.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct Chain {
         /// Number of links `N` (1 to 256).
         pub links: usize = ["N", "", 4.0, Domain::Integer { min: 1, max: 256 }, "number of links"],
@@ -127,10 +123,7 @@ impl Mechanism for Chain {
         self.tree.bodies()
     }
 
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
-
+    fields!(gravity);
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (length, half) = (self.link_length, 0.5 * self.link_length);
         let (mut pivot_x, mut pivot_y) = (S::zero(), S::zero());
@@ -153,10 +146,6 @@ impl SceneType for Chain {
     const TITLE: &'static str = "Hanging chain of N rigid links";
     const REFERENCE: &'static str = "beyond the lecture; closed form derived in chain.rs";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// Every `θ_i = 0.5`, at rest.
     fn default_state(&self) -> State {

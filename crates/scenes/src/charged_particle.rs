@@ -3,7 +3,7 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::raw_scene;
+use crate::scene::{fields, raw_scene};
 use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Coordinate, Lagrangian, Scalar, State};
 
@@ -13,7 +13,6 @@ scene_params! {
     /// `L = ½ m (ẋ² + ẏ²) + (e B / 2)(x ẏ − y ẋ)`; `q = (x, y)`. A velocity-dependent potential, so
     /// it is given as a raw [`Lagrangian`] rather than as bodies (Goldstein, *Classical Mechanics*,
     /// §1.5, `L = T − qφ + q A·v`).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct ChargedParticle {
         /// Mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
@@ -73,9 +72,7 @@ impl ChargedParticle {
 }
 
 impl Lagrangian for ChargedParticle {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
+    fields!(coordinates);
 
     fn lagrangian<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S]) -> S {
         let (x, y, vx, vy) = (q[0], q[1], qdot[0], qdot[1]);
@@ -90,10 +87,6 @@ impl SceneType for ChargedParticle {
     const REFERENCE: &'static str =
         "beyond the lecture (velocity-dependent potential, raw Lagrangian); Goldstein, Classical Mechanics, §1.5";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `x = 1`, `y = 0`, `ẋ = 0`, `ẏ = 1`.
     fn default_state(&self) -> State {

@@ -2,7 +2,7 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
@@ -13,10 +13,6 @@ scene_params! {
     /// depths measured downward from the upper pulley: `x₁ = x`, movable pulley at `x_p = l − x`,
     /// `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`; body `i` at `(0, −x_i)`; `q = (x, x')`
     /// (docs/scenes.md#double_atwood). The movable pulley is a point body of mass `m_p` (0 in the lecture).
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct DoubleAtwood {
         /// Mass `m₁` (kg) on the upper rope.
         pub mass_1: f64 = ["m1", "kg", 3.0, Domain::Positive, "mass on the upper rope"],
@@ -95,17 +91,7 @@ impl DoubleAtwood {
 }
 
 impl Mechanism for DoubleAtwood {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_prime) = (q[0], q[1]);
@@ -127,10 +113,6 @@ impl SceneType for DoubleAtwood {
     const TITLE: &'static str = "Double Atwood machine";
     const REFERENCE: &'static str = "docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture), example: double Atwood machine (massive pulley beyond the lecture)";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `x = 2`, `x' = 1`, at rest.
     fn default_state(&self) -> State {

@@ -3,7 +3,7 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
@@ -15,10 +15,6 @@ scene_params! {
     /// `x_A = x`, `x_B = l − x`, `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`, `x₄ = x + x''`,
     /// `x₅ = x + (l'' − x'')`; body `i` at `(0, −x_i)`; `q = (x, x', x'')` (docs/scenes.md#double_double_atwood). The
     /// pulleys are point bodies of masses `m_A`, `m_B` (0 in docs/scenes.md).
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct DoubleDoubleAtwood {
         /// Mass `m₂` (kg), at `x'` below pulley B.
         pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on pulley B's rope, side x'"],
@@ -129,17 +125,7 @@ fn det3(m: [[f64; 3]; 3]) -> f64 {
 }
 
 impl Mechanism for DoubleDoubleAtwood {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_b, x_a) = (q[0], q[1], q[2]);
@@ -169,10 +155,6 @@ impl SceneType for DoubleDoubleAtwood {
     const TITLE: &'static str = "Double-double Atwood machine";
     const REFERENCE: &'static str = "docs/scenes.md#double_double_atwood; the lecture (docs/scenes.md#the-lecture), homework remark (massive pulleys beyond the lecture)";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `x = 2`, `x' = 1`, `x'' = 1`, at rest.
     fn default_state(&self) -> State {

@@ -2,7 +2,7 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
@@ -23,10 +23,6 @@ scene_params! {
     /// origin, bob 2 from bob 1's centre, each by a revolute joint with the absolute angle `θ_i`
     /// ([`AngleReference::World`](lagrange::tree::AngleReference)) at `(0, l_i)` in the bob's frame;
     /// so [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct DoublePendulum {
         /// Upper bob mass `m₁` (kg).
         pub mass_1: f64 = ["m1", "kg", 1.0, Domain::Positive, "mass of the upper bob"],
@@ -155,17 +151,7 @@ impl DoublePendulum {
 }
 
 impl Mechanism for DoublePendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (theta_1, theta_2) = (q[0], q[1]);
@@ -188,10 +174,6 @@ impl SceneType for DoublePendulum {
     const REFERENCE: &'static str =
         "beyond the lecture; closed forms derived in double_pendulum.rs (cf. Taylor, Classical Mechanics, §11.4)";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `θ₁ = θ₂ = 0.5`, at rest.
     fn default_state(&self) -> State {

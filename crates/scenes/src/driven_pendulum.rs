@@ -2,7 +2,7 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
@@ -10,10 +10,6 @@ scene_params! {
     /// A bob of mass `m` on a massless rod of length `l` whose support moves as `(A sin ωt, 0)`:
     /// bob at `(A sin ωt + l sinθ, −l cosθ)`; `q = (θ)`, from the downward vertical,
     /// counter-clockwise. The pose depends on time (rheonomic), so energy is not conserved.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct DrivenPendulum {
         /// Bob mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the bob"],
@@ -53,17 +49,7 @@ impl DrivenPendulum {
 }
 
 impl Mechanism for DrivenPendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let theta = q[0];
@@ -102,7 +88,7 @@ impl SceneType for DrivenPendulum {
         vec![Conserved::energy(self, energy)]
     }
 
-    body_scene!();
+    body_scene!(rheonomic);
 }
 
 #[cfg(test)]

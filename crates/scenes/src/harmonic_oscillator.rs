@@ -2,7 +2,7 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
@@ -10,10 +10,6 @@ scene_params! {
     /// A mass `m` at `(x, 0)` on a spring of stiffness `k`, `V = ½ k x²`, with an optional
     /// damping force `−c ẋ` (a generalized force); `q = (x)`, the displacement from the spring's
     /// rest position (docs/scenes.md#harmonic_oscillator). No gravity.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct HarmonicOscillator {
         /// Mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass on the spring"],
@@ -86,13 +82,7 @@ impl HarmonicOscillator {
 }
 
 impl Mechanism for HarmonicOscillator {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
+    fields!(coordinates, bodies);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         world_from_body[0] = Pose::point(q[0], S::zero());
@@ -123,10 +113,6 @@ impl SceneType for HarmonicOscillator {
     const TITLE: &'static str = "Harmonic oscillator (optionally damped)";
     const REFERENCE: &'static str = "docs/scenes.md#harmonic_oscillator; the lecture (docs/scenes.md#the-lecture), example: harmonic oscillator (damping beyond the lecture)";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `x = 0.1`, at rest.
     fn default_state(&self) -> State {

@@ -3,7 +3,7 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -11,10 +11,6 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 scene_params! {
     /// A particle of mass `m` at `(r cosθ, r sinθ)` bound to the origin by `V = ½ k r²`;
     /// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#isotropic_oscillator). No gravity.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct IsotropicOscillator {
         /// Mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
@@ -103,13 +99,7 @@ fn cartesian(q: &[f64], qdot: &[f64]) -> ([f64; 2], [f64; 2]) {
 }
 
 impl Mechanism for IsotropicOscillator {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
+    fields!(coordinates, bodies);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
@@ -130,10 +120,6 @@ impl SceneType for IsotropicOscillator {
     const REFERENCE: &'static str =
         "docs/scenes.md#isotropic_oscillator; the lecture (docs/scenes.md#the-lecture), example: central force";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 0.5`.
     fn default_state(&self) -> State {

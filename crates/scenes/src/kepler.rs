@@ -2,7 +2,7 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{PI, TAU};
@@ -11,10 +11,6 @@ scene_params! {
     /// A particle of mass `m` at `(r cosθ, r sinθ)` attracted to the origin by `V = −k/r`;
     /// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#kepler). No gravity. The closed forms assume
     /// `r > 0`.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct Kepler {
         /// Mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
@@ -194,13 +190,7 @@ fn solve_kepler_equation(e: f64, mean: f64) -> f64 {
 }
 
 impl Mechanism for Kepler {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
+    fields!(coordinates, bodies);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
@@ -221,10 +211,6 @@ impl SceneType for Kepler {
     const REFERENCE: &'static str =
         "docs/scenes.md#kepler; the lecture (docs/scenes.md#the-lecture), example: central force";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 1.2`: an ellipse with period ≈ 14.99 at the defaults.
     fn default_state(&self) -> State {

@@ -158,9 +158,33 @@ pub trait SceneType: Clone + Send + Sync + Sized + 'static {
     fn visit<V: MechanismVisitor>(self, visitor: V) -> Option<V::Output>;
 }
 
-/// The engine-facing methods of a [`SceneType`] that is a [`Mechanism`](lagrange::Mechanism).
+/// [`SceneType::closed_form`] from the scene's own `closed_form_accelerations(q, q̇)`.
+macro_rules! closed_form {
+    () => {
+        fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+            qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+        }
+    };
+}
+
+/// The accessors of a [`Mechanism`](lagrange::Mechanism) or [`Lagrangian`](lagrange::Lagrangian)
+/// that return the scene's fields of the same names (`coordinates`, `bodies`, `gravity`).
+macro_rules! fields {
+    ($($field:ident),*) => { $($crate::scene::fields!(@$field);)* };
+    (@coordinates) => { fn coordinates(&self) -> &[lagrange::Coordinate] { &self.coordinates } };
+    (@bodies) => { fn bodies(&self) -> &[lagrange::Body] { &self.bodies } };
+    (@gravity) => { fn gravity(&self) -> f64 { self.gravity } };
+}
+
+/// The engine-facing methods of a [`SceneType`] that is a [`Mechanism`](lagrange::Mechanism), and
+/// its closed form from `closed_form_accelerations(q, q̇)` unless told `rheonomic` (the scene
+/// then writes [`SceneType::closed_form`] itself).
 macro_rules! body_scene {
     () => {
+        $crate::scene::closed_form!();
+        $crate::scene::body_scene!(rheonomic);
+    };
+    (rheonomic) => {
         fn generalized_coordinates(&self) -> &[lagrange::Coordinate] {
             lagrange::Mechanism::coordinates(self)
         }
@@ -175,9 +199,12 @@ macro_rules! body_scene {
     };
 }
 
-/// The engine-facing methods of a [`SceneType`] that is a raw [`Lagrangian`](lagrange::Lagrangian).
+/// The engine-facing methods of a [`SceneType`] that is a raw [`Lagrangian`](lagrange::Lagrangian),
+/// and its closed form from `closed_form_accelerations(q, q̇)`.
 macro_rules! raw_scene {
     () => {
+        $crate::scene::closed_form!();
+
         fn generalized_coordinates(&self) -> &[lagrange::Coordinate] {
             lagrange::Lagrangian::coordinates(self)
         }
@@ -192,7 +219,7 @@ macro_rules! raw_scene {
     };
 }
 
-pub(crate) use {body_scene, raw_scene};
+pub(crate) use {body_scene, closed_form, fields, raw_scene};
 
 impl<T: SceneType> ClosedForm for T {
     fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {

@@ -2,7 +2,7 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
@@ -10,10 +10,6 @@ scene_params! {
     /// A bob of mass `m` at `(r sinθ, −r cosθ)` on a massless spring (stiffness `k`, rest length
     /// `L0`) hung from the origin, `V_spring = ½ k (|x| − L0)²`; `q = (r, θ)`, `θ` from the downward
     /// vertical, counter-clockwise. The closed forms assume `r > 0`.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct SpringPendulum {
         /// Bob mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the bob"],
@@ -50,17 +46,7 @@ impl SpringPendulum {
 }
 
 impl Mechanism for SpringPendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
@@ -81,10 +67,6 @@ impl SceneType for SpringPendulum {
     const TITLE: &'static str = "Elastic (spring) pendulum";
     const REFERENCE: &'static str = "beyond the lecture; closed form derived in spring_pendulum.rs";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `r = 1.1`, `θ = 0.5`, at rest.
     fn default_state(&self) -> State {

@@ -2,7 +2,7 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
+use crate::scene::{body_scene, fields};
 use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
@@ -13,10 +13,6 @@ scene_params! {
     /// of mass `m` on its frictionless incline (angle `α`, length `L`, descending towards `+x`) at
     /// `(x + x' cosα, (L − x') sinα)`; `q = (x, x')`, `x'` measured down the slope from the top
     /// corner (docs/scenes.md#wedge). The wedge only translates.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct Wedge {
         /// Wedge mass `M` (kg).
         pub wedge_mass: f64 = ["M", "kg", 3.0, Domain::Positive, "mass of the wedge"],
@@ -68,17 +64,7 @@ impl Wedge {
 }
 
 impl Mechanism for Wedge {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_prime) = (q[0], q[1]);
@@ -99,10 +85,6 @@ impl SceneType for Wedge {
     const REFERENCE: &'static str =
         "docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture), example: block on a movable wedge";
     param_table!();
-
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
 
     /// `x = 0`, `x' = 0` (block at the top corner), at rest.
     fn default_state(&self) -> State {
