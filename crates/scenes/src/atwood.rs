@@ -118,28 +118,16 @@ mod tests {
     use super::*;
     use crate::scene_of;
     use crate::testing::{
-        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent,
     };
     use lagrange::{Buffered, Model, System};
 
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.0], [0.0]),
-            State::new(0.5, [-0.4], [1.2]),
-            State::new(1.0, [2.0], [-3.0]),
-            State::new(3.0, [7.5], [0.7]),
-            State::new(7.0, [-1.5], [-0.2]),
-        ]
-    }
-
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<Atwood>().default_params();
-        assert_engine_matches_closed_form(scene_of::<Atwood>(), &params, &states());
-        for (key, value) in [("I", 0.0), ("m2", 3.5), ("a", 0.2), ("g", 1.6)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<Atwood>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<Atwood, 1>(
+            &[(0.5, [-0.4], [1.2]), (1.0, [2.0], [-3.0]), (3.0, [7.5], [0.7]), (7.0, [-1.5], [-0.2])],
+            &[("I", 0.0), ("m2", 3.5), ("a", 0.2), ("g", 1.6)],
+        );
     }
 
     #[test]

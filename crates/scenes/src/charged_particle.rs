@@ -122,27 +122,17 @@ impl SceneType for ChargedParticle {
 mod tests {
     use super::*;
     use crate::scene_of;
-    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
+    use crate::testing::{
+        PLANAR_ROWS, assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent,
+    };
     use std::f64::consts::TAU;
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.0, 0.0], [0.0, 1.0]),
-            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
-            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
-            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
-            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
-        ]
-    }
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<ChargedParticle>().default_params();
-        assert_engine_matches_closed_form(scene_of::<ChargedParticle>(), &params, &states());
-        for (key, value) in [("B", -2.5), ("e", 0.3), ("m", 4.0)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<ChargedParticle>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<ChargedParticle, 2>(
+            &PLANAR_ROWS,
+            &[("B", -2.5), ("e", 0.3), ("m", 4.0)],
+        );
     }
 
     #[test]

@@ -141,28 +141,17 @@ mod tests {
     use super::*;
     use crate::scene_of;
     use crate::testing::{
-        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+        ENGINE_VS_CLOSED_FORM, PLANAR_ROWS, assert_close, assert_engine_matches_closed_form_along,
+        assert_exact_solution_consistent,
     };
     use lagrange::{Buffered, Model, System};
 
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [2.0, 1.0], [0.0, 0.0]),
-            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
-            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
-            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
-            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
-        ]
-    }
-
     #[test]
     fn engine_matches_closed_form_with_massless_and_massive_pulley() {
-        let mut params = scene_of::<DoubleAtwood>().default_params();
-        assert_engine_matches_closed_form(scene_of::<DoubleAtwood>(), &params, &states());
-        for (key, value) in [("m_p", 0.7), ("m1", 0.5), ("m3", 4.0), ("m_p", 0.0)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<DoubleAtwood>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<DoubleAtwood, 2>(
+            &PLANAR_ROWS,
+            &[("m_p", 0.7), ("m1", 0.5), ("m3", 4.0), ("m_p", 0.0)],
+        );
     }
 
     /// Cramer's rule on `M q̈ = F` reproduces docs/scenes.md#double_atwood's closed forms at `m_p = 0` (the

@@ -197,27 +197,19 @@ impl SceneType for DoublePendulum {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene_of;
-    use crate::testing::assert_engine_matches_closed_form;
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [0.5, 0.5], [0.0, 0.0]),
-            State::new(0.5, [-0.4, 1.3], [1.2, -0.5]),
-            State::new(1.0, [2.0, -2.9], [-3.0, 2.0]),
-            State::new(3.0, [3.0, 0.1], [0.7, 4.1]),
-            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
-        ]
-    }
+    use crate::testing::assert_engine_matches_closed_form_along;
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<DoublePendulum>().default_params();
-        assert_engine_matches_closed_form(scene_of::<DoublePendulum>(), &params, &states());
-        for (key, value) in [("m1", 0.3), ("l2", 1.7), ("m2", 2.5), ("l1", 0.6)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<DoublePendulum>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<DoublePendulum, 2>(
+            &[
+                (0.5, [-0.4, 1.3], [1.2, -0.5]),
+                (1.0, [2.0, -2.9], [-3.0, 2.0]),
+                (3.0, [3.0, 0.1], [0.7, 4.1]),
+                (7.0, [-1.5, 2.5], [-0.2, -1.1]),
+            ],
+            &[("m1", 0.3), ("l2", 1.7), ("m2", 2.5), ("l1", 0.6)],
+        );
     }
 
     /// Both frequencies solve `det(K − ω² M) = 0`, and equal masses and lengths give the

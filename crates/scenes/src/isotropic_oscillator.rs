@@ -164,25 +164,13 @@ impl SceneType for IsotropicOscillator {
 mod tests {
     use super::*;
     use crate::scene_of;
-    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.0, 0.0], [0.0, 0.5]),
-            State::new(0.5, [0.7, 1.1], [0.4, -2.0]),
-            State::new(1.0, [2.3, -3.0], [-0.6, 0.3]),
-            State::new(2.0, [0.4, 7.0], [1.5, 4.0]),
-            State::new(4.0, [5.0, 0.2], [0.1, 0.05]),
-        ]
-    }
+    use crate::testing::{
+        POLAR_ROWS, assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent,
+    };
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<IsotropicOscillator>().default_params();
-        assert_engine_matches_closed_form(scene_of::<IsotropicOscillator>(), &params, &states());
-        params.set("m", 0.4).unwrap();
-        params.set("k", 3.0).unwrap();
-        assert_engine_matches_closed_form(scene_of::<IsotropicOscillator>(), &params, &states());
+        assert_engine_matches_closed_form_along::<IsotropicOscillator, 2>(&POLAR_ROWS, &[("m", 0.4), ("k", 3.0)]);
     }
 
     #[test]

@@ -89,27 +89,19 @@ impl SceneType for SpringPendulum {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene_of;
-    use crate::testing::assert_engine_matches_closed_form;
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.1, 0.5], [0.0, 0.0]),
-            State::new(0.5, [0.7, -1.3], [0.4, -2.0]),
-            State::new(1.0, [2.3, 3.0], [-0.6, 0.3]),
-            State::new(2.0, [0.4, 7.0], [1.5, 4.0]),
-            State::new(4.0, [1.0, 0.2], [0.1, 0.05]),
-        ]
-    }
+    use crate::testing::assert_engine_matches_closed_form_along;
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<SpringPendulum>().default_params();
-        assert_engine_matches_closed_form(scene_of::<SpringPendulum>(), &params, &states());
-        for (key, value) in [("k", 3.0), ("L0", 0.6), ("m", 0.2), ("g", 0.0)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<SpringPendulum>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<SpringPendulum, 2>(
+            &[
+                (0.5, [0.7, -1.3], [0.4, -2.0]),
+                (1.0, [2.3, 3.0], [-0.6, 0.3]),
+                (2.0, [0.4, 7.0], [1.5, 4.0]),
+                (4.0, [1.0, 0.2], [0.1, 0.05]),
+            ],
+            &[("k", 3.0), ("L0", 0.6), ("m", 0.2), ("g", 0.0)],
+        );
     }
 
     /// Hanging at rest at the stretched length `L0 + m g/k` is an equilibrium.

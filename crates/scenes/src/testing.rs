@@ -1,7 +1,7 @@
 //! Checks shared by the scenes' unit tests, with every tolerance in one place and the reason
 //! for its size. Failures print expected, got and residual.
 
-use crate::{Params, Scene};
+use crate::{Params, Scene, SceneType, scene_of};
 use lagrange::State;
 use lagrange_validation::fixtures::max_abs_diff;
 pub(crate) use lagrange_validation::fixtures::{assert_close, max_abs};
@@ -39,6 +39,40 @@ pub(crate) fn assert_engine_matches_closed_form(scene: &dyn Scene, params: &Para
         let expected = expected.unwrap_or_else(|| panic!("{}: no closed form", scene.id()));
         let what = format!("{}: engine q̈ vs closed form at state {k} {state:?}", scene.id());
         assert_close(&what, &expected, &got, ENGINE_VS_CLOSED_FORM * max_abs(&expected));
+    }
+}
+
+/// Generic states `(t, q, q̇)` of the central forces (`r > 0`, both senses of rotation).
+pub(crate) const POLAR_ROWS: [(f64, [f64; 2], [f64; 2]); 4] = [
+    (0.5, [0.7, 1.1], [0.4, -2.0]),
+    (1.0, [2.3, -3.0], [-0.6, 0.3]),
+    (2.0, [0.4, 7.0], [1.5, 4.0]),
+    (4.0, [5.0, 0.2], [0.1, 0.05]),
+];
+
+/// Generic states `(t, q, q̇)` of two coordinates, with no symmetry and no special value (the
+/// pulleys, the wedge, the charge).
+pub(crate) const PLANAR_ROWS: [(f64, [f64; 2], [f64; 2]); 4] = [
+    (0.5, [-0.4, 0.3], [1.2, -0.5]),
+    (1.0, [2.0, 1.9], [-3.0, 2.0]),
+    (3.0, [4.5, -0.7], [0.7, 0.1]),
+    (7.0, [-1.5, 2.5], [-0.2, -1.1]),
+];
+
+/// [`assert_engine_matches_closed_form`] for the scene `T` at its default state and the states
+/// `rows` `(t, q, q̇)`: at the default parameters, then after each change of `changes` in turn
+/// (each keeping the ones before).
+pub(crate) fn assert_engine_matches_closed_form_along<T: SceneType, const N: usize>(
+    rows: &[(f64, [f64; N], [f64; N])],
+    changes: &[(&str, f64)],
+) {
+    let (scene, mut params) = (scene_of::<T>(), scene_of::<T>().default_params());
+    let mut states = vec![scene.default_state(&params).unwrap()];
+    states.extend(rows.iter().map(|&(t, q, qdot)| State::new(t, q, qdot)));
+    assert_engine_matches_closed_form(scene, &params, &states);
+    for &(key, value) in changes {
+        params.set(key, value).unwrap();
+        assert_engine_matches_closed_form(scene, &params, &states);
     }
 }
 

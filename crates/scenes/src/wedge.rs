@@ -114,28 +114,17 @@ mod tests {
     use super::*;
     use crate::scene_of;
     use crate::testing::{
-        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+        ENGINE_VS_CLOSED_FORM, PLANAR_ROWS, assert_close, assert_engine_matches_closed_form_along,
+        assert_exact_solution_consistent,
     };
     use lagrange::{Buffered, Model, System};
 
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [0.0, 0.0], [0.0, 0.0]),
-            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
-            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
-            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
-            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
-        ]
-    }
-
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<Wedge>().default_params();
-        assert_engine_matches_closed_form(scene_of::<Wedge>(), &params, &states());
-        for (key, value) in [("α", 1.2), ("M", 0.2), ("m", 5.0), ("α", 0.05)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<Wedge>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<Wedge, 2>(
+            &PLANAR_ROWS,
+            &[("α", 1.2), ("M", 0.2), ("m", 5.0), ("α", 0.05)],
+        );
     }
 
     #[test]
