@@ -2,9 +2,9 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
-use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
-use crate::{Conserved, Domain, SceneType};
+use crate::scene::fields;
+use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
+use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
 
@@ -48,22 +48,14 @@ impl Atwood {
         (self.mass_1 - self.mass_2) * self.gravity / (self.mass_1 + self.mass_2 + self.pulley_inertia / (a * a))
     }
 
-    /// `[ẍ]`, the constant acceleration (independent of the state).
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 1 entry.
-    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 1] {
-        let _: ([f64; 1], [f64; 1]) = (fixed(q, "q"), fixed(qdot, "q̇"));
-        [self.acceleration()]
-    }
-
     /// The rope tensions `(T1, T2) = (m1 (g − ẍ), m2 (g + ẍ))` (N) on `m1` and `m2`
     /// (docs/scenes.md#atwood; `(T1 − T2) a = I ẍ / a`). Constant: the state does not enter.
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 1 entry.
     pub fn tensions(&self, q: &[f64], qdot: &[f64]) -> (f64, f64) {
-        let [acceleration] = self.closed_form_accelerations(q, qdot);
+        let _: ([f64; 1], [f64; 1]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        let acceleration = self.acceleration();
         (self.mass_1 * (self.gravity - acceleration), self.mass_2 * (self.gravity + acceleration))
     }
 }
@@ -84,6 +76,19 @@ impl Mechanism for Atwood {
     }
 }
 
+impl ConstantForce<1> for Atwood {
+    fn qddot(&self) -> [f64; 1] {
+        [self.acceleration()]
+    }
+
+    /// `M = m1 + m2 + I/a²`, `F = (m1 − m2) g`, `V₀ = −m2 g (l − πa)` (docs/scenes.md#atwood).
+    fn constant_terms(&self) -> ([[f64; 1]; 1], [f64; 1], f64) {
+        let (a, g) = (self.pulley_radius, self.gravity);
+        let mass = self.mass_1 + self.mass_2 + self.pulley_inertia / (a * a);
+        ([[mass]], [(self.mass_1 - self.mass_2) * g], -self.mass_2 * g * (self.rope_length - PI * a))
+    }
+}
+
 impl SceneType for Atwood {
     const ID: &'static str = "atwood";
     const TITLE: &'static str = "Atwood machine with a massive pulley";
@@ -96,21 +101,7 @@ impl SceneType for Atwood {
         State::new(0.0, [1.0], [0.0])
     }
 
-    /// Uniform acceleration: `x = x₀ + ẋ₀ τ + ½ ẍ τ²`.
-    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
-        Some(uniformly_accelerated(initial, &[self.acceleration()], t))
-    }
-
-    /// `E` and `p_x − F t`, with `M = m1 + m2 + I/a²`, `F = (m1 − m2) g` and
-    /// `V₀ = −m2 g (l − πa)` (docs/scenes.md#atwood).
-    fn conserved(&self) -> Vec<Conserved> {
-        let (a, g) = (self.pulley_radius, self.gravity);
-        let mass = self.mass_1 + self.mass_2 + self.pulley_inertia / (a * a);
-        let potential_at_zero = -self.mass_2 * g * (self.rope_length - PI * a);
-        constant_force_invariants(self, (vec![mass], vec![(self.mass_1 - self.mass_2) * g]), potential_at_zero, &[])
-    }
-
-    body_scene!();
+    constant_force_scene!();
 }
 
 #[cfg(test)]

@@ -2,9 +2,9 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
-use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
-use crate::{Conserved, Domain, SceneType};
+use crate::scene::fields;
+use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
+use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -69,22 +69,14 @@ impl DoubleAtwood {
         [(f1 * d - b * f2) / determinant, (a * f2 - c * f1) / determinant]
     }
 
-    /// `[ẍ, ẍ']`, the constant accelerations (independent of the state).
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 2 entries.
-    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
-        let _: ([f64; 2], [f64; 2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
-        self.acceleration()
-    }
-
     /// The rope tensions `(upper, lower) = (m1 (g − ẍ₁), m2 (g − ẍ₂))` (N), with the downward
     /// accelerations `ẍ₁ = ẍ`, `ẍ₂ = −ẍ + ẍ'` (docs/scenes.md#double_atwood, "Absolute accelerations").
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
     pub fn tensions(&self, q: &[f64], qdot: &[f64]) -> (f64, f64) {
-        let [x_ddot, x_prime_ddot] = self.closed_form_accelerations(q, qdot);
+        let _: ([f64; 2], [f64; 2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        let [x_ddot, x_prime_ddot] = self.acceleration();
         let g = self.gravity;
         (self.mass_1 * (g - x_ddot), self.mass_2 * (g - (x_prime_ddot - x_ddot)))
     }
@@ -98,13 +90,25 @@ impl Mechanism for DoubleAtwood {
         // Depths below the upper pulley: m1, the movable pulley, and the masses below it.
         let pulley_depth = -x + self.rope_length;
         let depths = [x, pulley_depth + x_prime, pulley_depth - x_prime + self.lower_rope_length, pulley_depth];
-        for (pose, depth) in world_from_body.iter_mut().zip(depths) {
-            *pose = Pose::point(S::zero(), -depth);
-        }
+        hang_at_depths(world_from_body, depths);
     }
 
     fn constant_mass_matrix(&self) -> bool {
         true
+    }
+}
+
+impl ConstantForce<2> for DoubleAtwood {
+    fn qddot(&self) -> [f64; 2] {
+        self.acceleration()
+    }
+
+    /// [`mass_matrix`](Self::mass_matrix), [`applied_force`](Self::applied_force) and
+    /// `V₀ = −g ((m2 + m3 + m_p) l + m3 l')`.
+    fn constant_terms(&self) -> ([[f64; 2]; 2], [f64; 2], f64) {
+        let (m2, m3, mp) = (self.mass_2, self.mass_3, self.lower_pulley_mass);
+        let potential_at_zero = -self.gravity * ((m2 + m3 + mp) * self.rope_length + m3 * self.lower_rope_length);
+        (self.mass_matrix(), self.applied_force(), potential_at_zero)
     }
 }
 
@@ -119,21 +123,7 @@ impl SceneType for DoubleAtwood {
         State::new(0.0, [2.0, 1.0], [0.0, 0.0])
     }
 
-    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
-        Some(uniformly_accelerated(initial, &self.acceleration(), t))
-    }
-
-    /// `E` and `p − F t` from [`mass_matrix`](DoubleAtwood::mass_matrix) and
-    /// [`applied_force`](DoubleAtwood::applied_force), with `V₀ = −g ((m2 + m3 + m_p) l + m3 l')`.
-    fn conserved(&self) -> Vec<Conserved> {
-        let (m2, m3, mp) = (self.mass_2, self.mass_3, self.lower_pulley_mass);
-        let potential_at_zero = -self.gravity * ((m2 + m3 + mp) * self.rope_length + m3 * self.lower_rope_length);
-        let (mass, force) = (self.mass_matrix().concat(), self.applied_force().to_vec());
-        constant_force_invariants(self, (mass, force), potential_at_zero, &[])
-    }
-
-    body_scene!();
+    constant_force_scene!();
 }
 
 #[cfg(test)]

@@ -1,11 +1,10 @@
 //! Double-double Atwood machine: two movable pulleys, each with two masses (docs/scenes.md#double_double_atwood; the
 //! lecture's homework remark).
 
-use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
-use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
-use crate::{Conserved, Domain, SceneType};
+use crate::scene::fields;
+use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
+use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -107,15 +106,6 @@ impl DoubleDoubleAtwood {
         };
         [with_column(0), with_column(1), with_column(2)]
     }
-
-    /// `[ẍ, ẍ', ẍ'']`, the constant accelerations (independent of the state).
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 3 entries.
-    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 3] {
-        let _: ([f64; 3], [f64; 3]) = (fixed(q, "q"), fixed(qdot, "q̇"));
-        self.acceleration()
-    }
 }
 
 /// The determinant of a 3 × 3 matrix, expanded along the first row.
@@ -140,13 +130,26 @@ impl Mechanism for DoubleDoubleAtwood {
             depth_a + x_a,
             depth_a - x_a + self.rope_length_a,
         ];
-        for (pose, depth) in world_from_body.iter_mut().zip(depths) {
-            *pose = Pose::point(S::zero(), -depth);
-        }
+        hang_at_depths(world_from_body, depths);
     }
 
     fn constant_mass_matrix(&self) -> bool {
         true
+    }
+}
+
+impl ConstantForce<3> for DoubleDoubleAtwood {
+    fn qddot(&self) -> [f64; 3] {
+        self.acceleration()
+    }
+
+    /// [`mass_matrix`](Self::mass_matrix), [`applied_force`](Self::applied_force) and
+    /// `V₀ = −g ((m_B + m2 + m3) l + m3 l' + m5 l'')`.
+    fn constant_terms(&self) -> ([[f64; 3]; 3], [f64; 3], f64) {
+        let (m2, m3, m5) = (self.mass_2, self.mass_3, self.mass_5);
+        let lengths = m3 * self.rope_length_b + m5 * self.rope_length_a;
+        let potential_at_zero = -self.gravity * ((self.pulley_b_mass + m2 + m3) * self.rope_length + lengths);
+        (self.mass_matrix(), self.applied_force(), potential_at_zero)
     }
 }
 
@@ -161,23 +164,7 @@ impl SceneType for DoubleDoubleAtwood {
         State::new(0.0, [2.0, 1.0, 1.0], [0.0, 0.0, 0.0])
     }
 
-    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
-        Some(uniformly_accelerated(initial, &self.acceleration(), t))
-    }
-
-    /// `E` and `p − F t` from [`mass_matrix`](DoubleDoubleAtwood::mass_matrix) and
-    /// [`applied_force`](DoubleDoubleAtwood::applied_force), with
-    /// `V₀ = −g ((m_B + m2 + m3) l + m3 l' + m5 l'')`.
-    fn conserved(&self) -> Vec<Conserved> {
-        let (m2, m3, m5) = (self.mass_2, self.mass_3, self.mass_5);
-        let lengths = m3 * self.rope_length_b + m5 * self.rope_length_a;
-        let potential_at_zero = -self.gravity * ((self.pulley_b_mass + m2 + m3) * self.rope_length + lengths);
-        let (mass, force) = (self.mass_matrix().concat(), self.applied_force().to_vec());
-        constant_force_invariants(self, (mass, force), potential_at_zero, &[])
-    }
-
-    body_scene!();
+    constant_force_scene!();
 }
 
 #[cfg(test)]

@@ -88,7 +88,7 @@ impl SceneType for DrivenPendulum {
         vec![Conserved::energy(self, energy)]
     }
 
-    body_scene!(rheonomic);
+    body_scene!(engine);
 }
 
 #[cfg(test)]

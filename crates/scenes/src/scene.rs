@@ -177,14 +177,14 @@ macro_rules! fields {
 }
 
 /// The engine-facing methods of a [`SceneType`] that is a [`Mechanism`](lagrange::Mechanism), and
-/// its closed form from `closed_form_accelerations(q, q̇)` unless told `rheonomic` (the scene
-/// then writes [`SceneType::closed_form`] itself).
+/// its closed form from `closed_form_accelerations(q, q̇)` unless told `engine` (the scene then
+/// writes [`SceneType::closed_form`] itself).
 macro_rules! body_scene {
     () => {
         $crate::scene::closed_form!();
-        $crate::scene::body_scene!(rheonomic);
+        $crate::scene::body_scene!(engine);
     };
-    (rheonomic) => {
+    (engine) => {
         fn generalized_coordinates(&self) -> &[lagrange::Coordinate] {
             lagrange::Mechanism::coordinates(self)
         }

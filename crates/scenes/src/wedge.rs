@@ -1,10 +1,9 @@
 //! Block sliding on a movable frictionless wedge (docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture)).
 
-use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
-use crate::uniform_acceleration::{constant_force_invariants, uniformly_accelerated};
-use crate::{Conserved, Domain, SceneType};
+use crate::scene::fields;
+use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
+use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
@@ -45,15 +44,6 @@ impl Wedge {
         [-block * g * sin * cos / denominator, (wedge + block) * g * sin / denominator]
     }
 
-    /// `[ẍ, ẍ']`, the constant accelerations (independent of the state).
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 2 entries.
-    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
-        let _: ([f64; 2], [f64; 2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
-        self.acceleration()
-    }
-
     /// The normal force of the incline on the block, `N = M m g cosα / (M + m sin²α)` (N),
     /// along the incline's outward normal `(sinα, cosα)` (docs/scenes.md#wedge).
     pub fn normal_force(&self) -> f64 {
@@ -79,6 +69,23 @@ impl Mechanism for Wedge {
     }
 }
 
+impl ConstantForce<2> for Wedge {
+    /// `x` is cyclic: the horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` is conserved.
+    const CYCLIC: &'static [usize] = &[0];
+
+    fn qddot(&self) -> [f64; 2] {
+        self.acceleration()
+    }
+
+    /// `M = [[M + m, m cosα], [m cosα, m]]`, `F = (0, m g sinα)`, `V₀ = m g L sinα`
+    /// (docs/scenes.md#wedge).
+    fn constant_terms(&self) -> ([[f64; 2]; 2], [f64; 2], f64) {
+        let (block, (sin, cos)) = (self.block_mass, self.angle.sin_cos());
+        let weight = block * self.gravity * sin;
+        ([[self.wedge_mass + block, block * cos], [block * cos, block]], [0.0, weight], weight * self.incline_length)
+    }
+}
+
 impl SceneType for Wedge {
     const ID: &'static str = "wedge";
     const TITLE: &'static str = "Block on a movable frictionless wedge";
@@ -91,22 +98,7 @@ impl SceneType for Wedge {
         State::new(0.0, [0.0, 0.0], [0.0, 0.0])
     }
 
-    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
-        Some(uniformly_accelerated(initial, &self.acceleration(), t))
-    }
-
-    /// `E`, the horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` (`x` is cyclic) and
-    /// `p_x' − F_x' t`, from `M = [[M + m, m cosα], [m cosα, m]]`, `F = (0, m g sinα)` and
-    /// `V₀ = m g L sinα` (docs/scenes.md#wedge).
-    fn conserved(&self) -> Vec<Conserved> {
-        let (block, (sin, cos)) = (self.block_mass, self.angle.sin_cos());
-        let mass = vec![self.wedge_mass + block, block * cos, block * cos, block];
-        let weight = block * self.gravity * sin;
-        constant_force_invariants(self, (mass, vec![0.0, weight]), weight * self.incline_length, &[0])
-    }
-
-    body_scene!();
+    constant_force_scene!();
 }
 
 #[cfg(test)]
