@@ -172,7 +172,6 @@ mod tests {
     use super::*;
     use crate::scene_of;
     use crate::testing::assert_engine_matches_closed_form;
-    use lagrange::Model;
 
     /// Five fixed generic states of `n` links (angles and rates from a fixed formula).
     fn states(n: usize) -> Vec<State> {
@@ -227,18 +226,9 @@ mod tests {
     fn tree_path_matches_the_generic_path_up_to_64_links() {
         for n in [1, 2, 4, 8, 16, 32, 64] {
             let chain = Chain::new(n, 1.3, 0.7, 9.81).unwrap();
-            let tree = Model::new(chain.clone()).unwrap();
-            let generic = Model::new_generic(chain).unwrap();
-            assert!(tree.uses_tree_path() && !generic.uses_tree_path(), "N = {n}");
-            let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
             let tolerance = crate::testing::ENGINE_VS_CLOSED_FORM.max(10.0 * 6.0 * (n * n) as f64 * f64::EPSILON);
-            for state in states(n) {
-                let fast = lagrange::accelerations(&tree, &mut wt, state.t, &state.q, &state.qdot).unwrap().to_vec();
-                let reference =
-                    lagrange::accelerations(&generic, &mut wg, state.t, &state.q, &state.qdot).unwrap().to_vec();
-                let what = format!("N = {n}: tree path vs generic path");
-                crate::testing::assert_close(&what, &reference, &fast, tolerance * crate::testing::max_abs(&reference));
-            }
+            let worst = crate::testing::tree_versus_generic(chain, &states(n)).unwrap();
+            assert!(worst <= tolerance, "N = {n}: tree path vs generic path, relative difference {worst:e}");
         }
     }
 

@@ -2,7 +2,7 @@
 //! for its size. Failures print expected, got and residual.
 
 use crate::{Params, Scene, SceneType, scene_of};
-use lagrange::State;
+use lagrange::{Mechanism, Model, State};
 use lagrange_validation::fixtures::max_abs_diff;
 pub(crate) use lagrange_validation::fixtures::{assert_close, max_abs};
 
@@ -74,6 +74,23 @@ pub(crate) fn assert_engine_matches_closed_form_along<T: SceneType, const N: usi
         params.set(key, value).unwrap();
         assert_engine_matches_closed_form(scene, &params, &states);
     }
+}
+
+/// The largest difference between the articulated-body algorithm on the mechanism's declared
+/// tree and the generic assembly from its poses (`Model::new_generic`) over `states`, relative
+/// to the largest `|q̈_i|` of the generic path (NaN kept); `None` without a declared tree.
+pub(crate) fn tree_versus_generic<M: Mechanism + Clone>(mechanism: M, states: &[State]) -> Option<f64> {
+    mechanism.tree()?;
+    let tree = Model::new(mechanism.clone()).expect("the declared tree matches the poses");
+    let generic = Model::new_generic(mechanism).expect("valid");
+    assert!(tree.uses_tree_path() && !generic.uses_tree_path());
+    let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
+    let relative = states.iter().map(|s| {
+        let a = lagrange::accelerations(&tree, &mut wt, s.t, &s.q, &s.qdot).expect("valid").to_vec();
+        let b = lagrange::accelerations(&generic, &mut wg, s.t, &s.q, &s.qdot).expect("valid").to_vec();
+        max_abs_diff(&a, &b) / max_abs(&b)
+    });
+    Some(max_abs(&relative.collect::<Vec<_>>()))
 }
 
 /// `(q, q̇)` of the scene's exact solution at `t`, which must exist.
