@@ -42,8 +42,10 @@ pub struct Conserved {
 }
 
 impl Conserved {
-    /// The quantity `value(scene, t, q, q̇)` of `scene`.
-    pub(crate) fn new<T: SceneType>(
+    /// The quantity `value(scene, t, q, q̇)` of `scene` (a copy of which it keeps), named
+    /// `symbol`, conserved because `why`; the closed form must hold for the scene's
+    /// parameters (a scene lists only what it conserves with them).
+    pub fn new<T: SceneType>(
         scene: &T,
         symbol: impl Into<String>,
         why: &'static str,
@@ -56,10 +58,7 @@ impl Conserved {
 
     /// The energy `E = T + V` of a scene whose `L` does not depend on `t` and on which no
     /// generalized force acts.
-    pub(crate) fn energy<T: SceneType>(
-        scene: &T,
-        value: impl Fn(&T, &[f64], &[f64]) -> f64 + Send + Sync + 'static,
-    ) -> Self {
+    pub fn energy<T: SceneType>(scene: &T, value: impl Fn(&T, &[f64], &[f64]) -> f64 + Send + Sync + 'static) -> Self {
         Self::new(scene, "E", "h = T + V: L does not depend on t", Invariant::Energy, move |s, _, q, qdot| {
             value(s, q, qdot)
         })
