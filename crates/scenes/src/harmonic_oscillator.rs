@@ -138,17 +138,7 @@ impl SceneType for HarmonicOscillator {
 mod tests {
     use super::*;
     use crate::scene_of;
-    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [0.1], [0.0]),
-            State::new(0.5, [-0.4], [1.2]),
-            State::new(1.0, [2.0], [-3.0]),
-            State::new(3.0, [0.0], [0.7]),
-            State::new(7.0, [-1.5], [-0.2]),
-        ]
-    }
+    use crate::testing::{assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent};
 
     /// Damping `c` for each regime at `m = 1`, `k = 10` (critical: `c = 2√(km)`).
     fn damping_cases() -> [f64; 4] {
@@ -157,10 +147,12 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form_with_and_without_damping() {
-        for c in damping_cases() {
+        let rows = [(0.5, [-0.4], [1.2]), (1.0, [2.0], [-3.0]), (3.0, [0.0], [0.7]), (7.0, [-1.5], [-0.2])];
+        let changes = damping_cases().map(|c| ("c", c));
+        assert_engine_matches_closed_form_along::<HarmonicOscillator, 1>(&rows, &changes);
+        for (key, c) in changes {
             let mut params = scene_of::<HarmonicOscillator>().default_params();
-            params.set("c", c).unwrap();
-            assert_engine_matches_closed_form(scene_of::<HarmonicOscillator>(), &params, &states());
+            params.set(key, c).unwrap();
             let system = scene_of::<HarmonicOscillator>().build(&params).unwrap();
             assert_eq!(system.conserves_energy(), c == 0.0, "c = {c}");
         }
