@@ -2,8 +2,8 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
-use crate::uniform_acceleration::uniformly_accelerated;
+use crate::scene::fields;
+use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
@@ -12,10 +12,6 @@ scene_params! {
     /// Masses `m1` at `(−a, −x)` and `m2` at `(a, −(l − πa − x))` on a rope over a pulley of radius
     /// `a` and inertia `I` at the origin, turning by `x/a` (no slip); `q = (x)`, the depth of `m1`
     /// below the axle, measured downward (docs/scenes.md#atwood).
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct Atwood {
         /// Mass `m₁` (kg) on the left, at depth `x`.
         pub mass_1: f64 = ["m1", "kg", 2.0, Domain::Positive, "mass on the left end of the rope"],
@@ -52,38 +48,20 @@ impl Atwood {
         (self.mass_1 - self.mass_2) * self.gravity / (self.mass_1 + self.mass_2 + self.pulley_inertia / (a * a))
     }
 
-    /// `[ẍ]`, the constant acceleration (independent of the state).
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 1 entry.
-    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 1] {
-        let _: ([f64; 1], [f64; 1]) = (fixed(q, "q"), fixed(qdot, "q̇"));
-        [self.acceleration()]
-    }
-
     /// The rope tensions `(T1, T2) = (m1 (g − ẍ), m2 (g + ẍ))` (N) on `m1` and `m2`
     /// (docs/scenes.md#atwood; `(T1 − T2) a = I ẍ / a`). Constant: the state does not enter.
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 1 entry.
     pub fn tensions(&self, q: &[f64], qdot: &[f64]) -> (f64, f64) {
-        let [acceleration] = self.closed_form_accelerations(q, qdot);
+        let _: ([f64; 1], [f64; 1]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        let acceleration = self.acceleration();
         (self.mass_1 * (self.gravity - acceleration), self.mass_2 * (self.gravity + acceleration))
     }
 }
 
 impl Mechanism for Atwood {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, a) = (q[0], self.pulley_radius);
@@ -98,6 +76,19 @@ impl Mechanism for Atwood {
     }
 }
 
+impl ConstantForce<1> for Atwood {
+    fn qddot(&self) -> [f64; 1] {
+        [self.acceleration()]
+    }
+
+    /// `M = m1 + m2 + I/a²`, `F = (m1 − m2) g`, `V₀ = −m2 g (l − πa)` (docs/scenes.md#atwood).
+    fn constant_terms(&self) -> ([[f64; 1]; 1], [f64; 1], f64) {
+        let (a, g) = (self.pulley_radius, self.gravity);
+        let mass = self.mass_1 + self.mass_2 + self.pulley_inertia / (a * a);
+        ([[mass]], [(self.mass_1 - self.mass_2) * g], -self.mass_2 * g * (self.rope_length - PI * a))
+    }
+}
+
 impl SceneType for Atwood {
     const ID: &'static str = "atwood";
     const TITLE: &'static str = "Atwood machine with a massive pulley";
@@ -105,21 +96,12 @@ impl SceneType for Atwood {
         "docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture), example: Atwood machine";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `x = 1`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [1.0], [0.0])
     }
 
-    /// Uniform acceleration: `x = x₀ + ẋ₀ τ + ½ ẍ τ²`.
-    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
-        Some(uniformly_accelerated(initial, &[self.acceleration()], t))
-    }
-
-    body_scene!();
+    constant_force_scene!();
 }
 
 #[cfg(test)]
@@ -127,28 +109,16 @@ mod tests {
     use super::*;
     use crate::scene_of;
     use crate::testing::{
-        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent,
     };
     use lagrange::{Buffered, Model, System};
 
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.0], [0.0]),
-            State::new(0.5, [-0.4], [1.2]),
-            State::new(1.0, [2.0], [-3.0]),
-            State::new(3.0, [7.5], [0.7]),
-            State::new(7.0, [-1.5], [-0.2]),
-        ]
-    }
-
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<Atwood>().default_params();
-        assert_engine_matches_closed_form(scene_of::<Atwood>(), &params, &states());
-        for (key, value) in [("I", 0.0), ("m2", 3.5), ("a", 0.2), ("g", 1.6)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<Atwood>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<Atwood, 1>(
+            &[(0.5, [-0.4], [1.2]), (1.0, [2.0], [-3.0]), (3.0, [7.5], [0.7]), (7.0, [-1.5], [-0.2])],
+            &[("I", 0.0), ("m2", 3.5), ("a", 0.2), ("g", 1.6)],
+        );
     }
 
     #[test]

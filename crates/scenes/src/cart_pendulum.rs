@@ -3,8 +3,8 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::scene::{body_scene, fields};
+use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -21,11 +21,6 @@ scene_params! {
     /// absolute angle `θ` ([`AngleReference::World`](lagrange::tree::AngleReference); the cart never
     /// turns, so it is also the angle relative to the cart), `(0, r)` in the bob's frame; so
     /// [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params), which validate the
-    /// parameters and build the body list; the fields are public for reading (changing one
-    /// afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct CartPendulum {
         /// Cart mass `M` (kg).
         pub cart_mass: f64 = ["M", "kg", 2.0, Domain::Positive, "mass of the cart"],
@@ -141,17 +136,7 @@ impl CartPendulum {
 }
 
 impl Mechanism for CartPendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (cart_x, theta) = (q[0], q[1]);
@@ -173,13 +158,22 @@ impl SceneType for CartPendulum {
     const REFERENCE: &'static str = "docs/scenes.md#cart_pendulum; the lecture (docs/scenes.md#the-lecture), example: pendulum attached to a movable support";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `X = 0`, `θ = 0.5`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [0.0, 0.5], [0.0, 0.0])
+    }
+
+    /// `E = ½ (M + m) Ẋ² + m r Ẋ θ̇ cosθ + ½ (m r² + I_b) θ̇² − m g r cosθ` and
+    /// [`p_X`](CartPendulum::horizontal_momentum) (docs/scenes.md#cart_pendulum).
+    fn conserved(&self) -> Vec<Conserved> {
+        let energy = Conserved::energy(self, |s, q, qdot| {
+            let ([_, theta], [v, w]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+            let (cart, bob, r, cos) = (s.cart_mass, s.bob_mass, s.rod_length, theta.cos());
+            let rotation = bob * r * r + s.bob_inertia;
+            0.5 * (cart + bob) * v * v + bob * r * v * w * cos + 0.5 * rotation * w * w - bob * s.gravity * r * cos
+        });
+        let momentum = |s: &Self, _, q: &[f64], qdot: &[f64]| s.horizontal_momentum(q, qdot);
+        vec![energy, Conserved::new(self, "p_X", "X is cyclic", Invariant::CyclicMomentum(0), momentum)]
     }
 
     body_scene!();

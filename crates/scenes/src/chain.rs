@@ -1,8 +1,8 @@
 //! A hanging chain of `N` uniform rigid links (beyond the lecture).
 
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::scene::{body_scene, fields};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use nalgebra::{DMatrix, DVector};
@@ -19,10 +19,6 @@ scene_params! {
     /// above and `(0, l/2)` in its own centre-of-mass frame. So [`Model::new`](lagrange::Model::new) checks the tree against
     /// the poses above and computes `q̈` with the articulated-body algorithm, `O(N)`;
     /// [`Model::new_generic`](lagrange::Model::new_generic) assembles `M` from the poses instead.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct Chain {
         /// Number of links `N` (1 to 256).
         pub links: usize = ["N", "", 4.0, Domain::Integer { min: 1, max: 256 }, "number of links"],
@@ -75,6 +71,16 @@ impl Chain {
         if i == j { below - 0.75 } else { below - 0.5 }
     }
 
+    /// The mass matrix `M_ij = m l² (S_ij cos(θ_i − θ_j) + δ_ij/12)` (see
+    /// [`closed_form_accelerations`](Self::closed_form_accelerations)).
+    fn mass_matrix(&self, q: &[f64]) -> DMatrix<f64> {
+        let scale = self.link_mass * self.link_length * self.link_length;
+        DMatrix::from_fn(self.links, self.links, |i, j| {
+            let diagonal = if i == j { 1.0 / 12.0 } else { 0.0 };
+            scale * (self.overlap(i, j) * (q[i] - q[j]).cos() + diagonal)
+        })
+    }
+
     /// `q̈` from the hand-derived equations, solved by Cholesky factorization (nalgebra).
     ///
     /// From `T = Σ_k ½ m |ċ_k|² + ½ (m l²/12) θ̇_k²` with `ċ_k = l Σ_i a_ki θ̇_i (cosθ_i, sinθ_i)`
@@ -94,10 +100,7 @@ impl Chain {
         let (m, l, g) = (self.link_mass, self.link_length, self.gravity);
         let scale = m * l * l;
         // Mass matrix and generalized forces.
-        let mass_matrix = DMatrix::from_fn(n, n, |i, j| {
-            let diagonal = if i == j { 1.0 / 12.0 } else { 0.0 };
-            scale * (self.overlap(i, j) * (q[i] - q[j]).cos() + diagonal)
-        });
+        let mass_matrix = self.mass_matrix(q);
         let force = DVector::from_fn(n, |i, _| {
             let centrifugal: f64 = (0..n).map(|j| self.overlap(i, j) * (q[i] - q[j]).sin() * qdot[j] * qdot[j]).sum();
             let weight_below = (n - i) as f64 - 0.5;
@@ -120,10 +123,7 @@ impl Mechanism for Chain {
         self.tree.bodies()
     }
 
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
-
+    fields!(gravity);
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (length, half) = (self.link_length, 0.5 * self.link_length);
         let (mut pivot_x, mut pivot_y) = (S::zero(), S::zero());
@@ -147,13 +147,21 @@ impl SceneType for Chain {
     const REFERENCE: &'static str = "beyond the lecture; closed form derived in chain.rs";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// Every `θ_i = 0.5`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, vec![0.5; self.links], vec![0.0; self.links])
+    }
+
+    /// The energy `½ q̇ᵀ M q̇ − m g l Σ_i (N − i − ½) cosθ_i` (`M`, `V` as in
+    /// [`Chain::closed_form_accelerations`]).
+    fn conserved(&self) -> Vec<Conserved> {
+        vec![Conserved::energy(self, |s, q, qdot| {
+            let qdot = DVector::from_column_slice(qdot);
+            let weight = s.link_mass * s.gravity * s.link_length;
+            let potential: f64 =
+                q.iter().enumerate().map(|(i, theta)| ((s.links - i) as f64 - 0.5) * theta.cos()).sum();
+            0.5 * qdot.dot(&(s.mass_matrix(q) * &qdot)) - weight * potential
+        })]
     }
 
     body_scene!();
@@ -164,7 +172,6 @@ mod tests {
     use super::*;
     use crate::scene_of;
     use crate::testing::assert_engine_matches_closed_form;
-    use lagrange::Model;
 
     /// Five fixed generic states of `n` links (angles and rates from a fixed formula).
     fn states(n: usize) -> Vec<State> {
@@ -219,18 +226,9 @@ mod tests {
     fn tree_path_matches_the_generic_path_up_to_64_links() {
         for n in [1, 2, 4, 8, 16, 32, 64] {
             let chain = Chain::new(n, 1.3, 0.7, 9.81).unwrap();
-            let tree = Model::new(chain.clone()).unwrap();
-            let generic = Model::new_generic(chain).unwrap();
-            assert!(tree.uses_tree_path() && !generic.uses_tree_path(), "N = {n}");
-            let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
             let tolerance = crate::testing::ENGINE_VS_CLOSED_FORM.max(10.0 * 6.0 * (n * n) as f64 * f64::EPSILON);
-            for state in states(n) {
-                let fast = lagrange::accelerations(&tree, &mut wt, state.t, &state.q, &state.qdot).unwrap().to_vec();
-                let reference =
-                    lagrange::accelerations(&generic, &mut wg, state.t, &state.q, &state.qdot).unwrap().to_vec();
-                let what = format!("N = {n}: tree path vs generic path");
-                crate::testing::assert_close(&what, &reference, &fast, tolerance * crate::testing::max_abs(&reference));
-            }
+            let worst = crate::testing::tree_versus_generic(chain, &states(n)).unwrap();
+            assert!(worst <= tolerance, "N = {n}: tree path vs generic path, relative difference {worst:e}");
         }
     }
 

@@ -3,8 +3,8 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::raw_scene;
-use crate::{Domain, SceneType};
+use crate::scene::{fields, raw_scene};
+use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Coordinate, Lagrangian, Scalar, State};
 
 scene_params! {
@@ -13,7 +13,6 @@ scene_params! {
     /// `L = ½ m (ẋ² + ẏ²) + (e B / 2)(x ẏ − y ẋ)`; `q = (x, y)`. A velocity-dependent potential, so
     /// it is given as a raw [`Lagrangian`] rather than as bodies (Goldstein, *Classical Mechanics*,
     /// §1.5, `L = T − qφ + q A·v`).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct ChargedParticle {
         /// Mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
@@ -73,9 +72,7 @@ impl ChargedParticle {
 }
 
 impl Lagrangian for ChargedParticle {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
+    fields!(coordinates);
 
     fn lagrangian<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S]) -> S {
         let (x, y, vx, vy) = (q[0], q[1], qdot[0], qdot[1]);
@@ -91,10 +88,6 @@ impl SceneType for ChargedParticle {
         "beyond the lecture (velocity-dependent potential, raw Lagrangian); Goldstein, Classical Mechanics, §1.5";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `x = 1`, `y = 0`, `ẋ = 0`, `ẏ = 1`.
     fn default_state(&self) -> State {
         State::new(0.0, [1.0, 0.0], [0.0, 1.0])
@@ -106,6 +99,22 @@ impl SceneType for ChargedParticle {
         Some(State::new(t, q, qdot))
     }
 
+    /// The energy `E = h = ½ m |v|²`; the canonical angular momentum
+    /// `p_φ = m (x ẏ − y ẋ) + (e B/2)(x² + y²)` (`L` is invariant under rotations about the
+    /// origin); and `K = (m ẋ − e B y, m ẏ + e B x)`, `e B` times the guiding centre turned by
+    /// −90° (a translation changes `L` by a total time derivative).
+    fn conserved(&self) -> Vec<Conserved> {
+        let (why, other) = ("translations change L by a total derivative", Invariant::Other);
+        vec![
+            Conserved::energy(self, |s, _, v| 0.5 * s.mass * (v[0] * v[0] + v[1] * v[1])),
+            Conserved::new(self, "p_φ", "L is invariant under rotations", other, |s, _, q, v| {
+                s.mass * (q[0] * v[1] - q[1] * v[0]) + 0.5 * s.charge * s.field * (q[0] * q[0] + q[1] * q[1])
+            }),
+            Conserved::new(self, "K_x", why, other, |s, _, q, v| s.mass * v[0] - s.charge * s.field * q[1]),
+            Conserved::new(self, "K_y", why, other, |s, _, q, v| s.mass * v[1] + s.charge * s.field * q[0]),
+        ]
+    }
+
     raw_scene!();
 }
 
@@ -113,27 +122,17 @@ impl SceneType for ChargedParticle {
 mod tests {
     use super::*;
     use crate::scene_of;
-    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
+    use crate::testing::{
+        PLANAR_ROWS, assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent,
+    };
     use std::f64::consts::TAU;
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.0, 0.0], [0.0, 1.0]),
-            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
-            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
-            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
-            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
-        ]
-    }
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<ChargedParticle>().default_params();
-        assert_engine_matches_closed_form(scene_of::<ChargedParticle>(), &params, &states());
-        for (key, value) in [("B", -2.5), ("e", 0.3), ("m", 4.0)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<ChargedParticle>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<ChargedParticle, 2>(
+            &PLANAR_ROWS,
+            &[("B", -2.5), ("e", 0.3), ("m", 4.0)],
+        );
     }
 
     #[test]

@@ -2,8 +2,8 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
-use crate::uniform_acceleration::uniformly_accelerated;
+use crate::scene::fields;
+use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
 use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
@@ -13,10 +13,6 @@ scene_params! {
     /// depths measured downward from the upper pulley: `x₁ = x`, movable pulley at `x_p = l − x`,
     /// `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`; body `i` at `(0, −x_i)`; `q = (x, x')`
     /// (docs/scenes.md#double_atwood). The movable pulley is a point body of mass `m_p` (0 in the lecture).
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct DoubleAtwood {
         /// Mass `m₁` (kg) on the upper rope.
         pub mass_1: f64 = ["m1", "kg", 3.0, Domain::Positive, "mass on the upper rope"],
@@ -73,52 +69,46 @@ impl DoubleAtwood {
         [(f1 * d - b * f2) / determinant, (a * f2 - c * f1) / determinant]
     }
 
-    /// `[ẍ, ẍ']`, the constant accelerations (independent of the state).
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 2 entries.
-    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
-        let _: ([f64; 2], [f64; 2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
-        self.acceleration()
-    }
-
     /// The rope tensions `(upper, lower) = (m1 (g − ẍ₁), m2 (g − ẍ₂))` (N), with the downward
     /// accelerations `ẍ₁ = ẍ`, `ẍ₂ = −ẍ + ẍ'` (docs/scenes.md#double_atwood, "Absolute accelerations").
     ///
     /// # Panics
     /// If `q` or `qdot` does not have 2 entries.
     pub fn tensions(&self, q: &[f64], qdot: &[f64]) -> (f64, f64) {
-        let [x_ddot, x_prime_ddot] = self.closed_form_accelerations(q, qdot);
+        let _: ([f64; 2], [f64; 2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        let [x_ddot, x_prime_ddot] = self.acceleration();
         let g = self.gravity;
         (self.mass_1 * (g - x_ddot), self.mass_2 * (g - (x_prime_ddot - x_ddot)))
     }
 }
 
 impl Mechanism for DoubleAtwood {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_prime) = (q[0], q[1]);
         // Depths below the upper pulley: m1, the movable pulley, and the masses below it.
         let pulley_depth = -x + self.rope_length;
         let depths = [x, pulley_depth + x_prime, pulley_depth - x_prime + self.lower_rope_length, pulley_depth];
-        for (pose, depth) in world_from_body.iter_mut().zip(depths) {
-            *pose = Pose::point(S::zero(), -depth);
-        }
+        hang_at_depths(world_from_body, depths);
     }
 
     fn constant_mass_matrix(&self) -> bool {
         true
+    }
+}
+
+impl ConstantForce<2> for DoubleAtwood {
+    fn qddot(&self) -> [f64; 2] {
+        self.acceleration()
+    }
+
+    /// [`mass_matrix`](Self::mass_matrix), [`applied_force`](Self::applied_force) and
+    /// `V₀ = −g ((m2 + m3 + m_p) l + m3 l')`.
+    fn constant_terms(&self) -> ([[f64; 2]; 2], [f64; 2], f64) {
+        let (m2, m3, mp) = (self.mass_2, self.mass_3, self.lower_pulley_mass);
+        let potential_at_zero = -self.gravity * ((m2 + m3 + mp) * self.rope_length + m3 * self.lower_rope_length);
+        (self.mass_matrix(), self.applied_force(), potential_at_zero)
     }
 }
 
@@ -128,21 +118,12 @@ impl SceneType for DoubleAtwood {
     const REFERENCE: &'static str = "docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture), example: double Atwood machine (massive pulley beyond the lecture)";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `x = 2`, `x' = 1`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [2.0, 1.0], [0.0, 0.0])
     }
 
-    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
-        Some(uniformly_accelerated(initial, &self.acceleration(), t))
-    }
-
-    body_scene!();
+    constant_force_scene!();
 }
 
 #[cfg(test)]
@@ -150,28 +131,17 @@ mod tests {
     use super::*;
     use crate::scene_of;
     use crate::testing::{
-        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+        ENGINE_VS_CLOSED_FORM, PLANAR_ROWS, assert_close, assert_engine_matches_closed_form_along,
+        assert_exact_solution_consistent,
     };
     use lagrange::{Buffered, Model, System};
 
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [2.0, 1.0], [0.0, 0.0]),
-            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
-            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
-            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
-            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
-        ]
-    }
-
     #[test]
     fn engine_matches_closed_form_with_massless_and_massive_pulley() {
-        let mut params = scene_of::<DoubleAtwood>().default_params();
-        assert_engine_matches_closed_form(scene_of::<DoubleAtwood>(), &params, &states());
-        for (key, value) in [("m_p", 0.7), ("m1", 0.5), ("m3", 4.0), ("m_p", 0.0)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<DoubleAtwood>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<DoubleAtwood, 2>(
+            &PLANAR_ROWS,
+            &[("m_p", 0.7), ("m1", 0.5), ("m3", 4.0), ("m_p", 0.0)],
+        );
     }
 
     /// Cramer's rule on `M q̈ = F` reproduces docs/scenes.md#double_atwood's closed forms at `m_p = 0` (the

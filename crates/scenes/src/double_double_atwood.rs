@@ -1,10 +1,9 @@
 //! Double-double Atwood machine: two movable pulleys, each with two masses (docs/scenes.md#double_double_atwood; the
 //! lecture's homework remark).
 
-use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
-use crate::uniform_acceleration::uniformly_accelerated;
+use crate::scene::fields;
+use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
 use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -15,10 +14,6 @@ scene_params! {
     /// `x_A = x`, `x_B = l − x`, `x₂ = (l − x) + x'`, `x₃ = (l − x) + (l' − x')`, `x₄ = x + x''`,
     /// `x₅ = x + (l'' − x'')`; body `i` at `(0, −x_i)`; `q = (x, x', x'')` (docs/scenes.md#double_double_atwood). The
     /// pulleys are point bodies of masses `m_A`, `m_B` (0 in docs/scenes.md).
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct DoubleDoubleAtwood {
         /// Mass `m₂` (kg), at `x'` below pulley B.
         pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on pulley B's rope, side x'"],
@@ -111,15 +106,6 @@ impl DoubleDoubleAtwood {
         };
         [with_column(0), with_column(1), with_column(2)]
     }
-
-    /// `[ẍ, ẍ', ẍ'']`, the constant accelerations (independent of the state).
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 3 entries.
-    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 3] {
-        let _: ([f64; 3], [f64; 3]) = (fixed(q, "q"), fixed(qdot, "q̇"));
-        self.acceleration()
-    }
 }
 
 /// The determinant of a 3 × 3 matrix, expanded along the first row.
@@ -129,17 +115,7 @@ fn det3(m: [[f64; 3]; 3]) -> f64 {
 }
 
 impl Mechanism for DoubleDoubleAtwood {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_b, x_a) = (q[0], q[1], q[2]);
@@ -154,13 +130,26 @@ impl Mechanism for DoubleDoubleAtwood {
             depth_a + x_a,
             depth_a - x_a + self.rope_length_a,
         ];
-        for (pose, depth) in world_from_body.iter_mut().zip(depths) {
-            *pose = Pose::point(S::zero(), -depth);
-        }
+        hang_at_depths(world_from_body, depths);
     }
 
     fn constant_mass_matrix(&self) -> bool {
         true
+    }
+}
+
+impl ConstantForce<3> for DoubleDoubleAtwood {
+    fn qddot(&self) -> [f64; 3] {
+        self.acceleration()
+    }
+
+    /// [`mass_matrix`](Self::mass_matrix), [`applied_force`](Self::applied_force) and
+    /// `V₀ = −g ((m_B + m2 + m3) l + m3 l' + m5 l'')`.
+    fn constant_terms(&self) -> ([[f64; 3]; 3], [f64; 3], f64) {
+        let (m2, m3, m5) = (self.mass_2, self.mass_3, self.mass_5);
+        let lengths = m3 * self.rope_length_b + m5 * self.rope_length_a;
+        let potential_at_zero = -self.gravity * ((self.pulley_b_mass + m2 + m3) * self.rope_length + lengths);
+        (self.mass_matrix(), self.applied_force(), potential_at_zero)
     }
 }
 
@@ -170,21 +159,12 @@ impl SceneType for DoubleDoubleAtwood {
     const REFERENCE: &'static str = "docs/scenes.md#double_double_atwood; the lecture (docs/scenes.md#the-lecture), homework remark (massive pulleys beyond the lecture)";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `x = 2`, `x' = 1`, `x'' = 1`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [2.0, 1.0, 1.0], [0.0, 0.0, 0.0])
     }
 
-    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
-        Some(uniformly_accelerated(initial, &self.acceleration(), t))
-    }
-
-    body_scene!();
+    constant_force_scene!();
 }
 
 #[cfg(test)]
@@ -193,19 +173,9 @@ mod tests {
     use crate::Params;
     use crate::scene_of;
     use crate::testing::{
-        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent,
     };
     use lagrange::Model;
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [2.0, 1.0, 1.0], [0.0, 0.0, 0.0]),
-            State::new(0.5, [-0.4, 0.3, 1.5], [1.2, -0.5, 0.2]),
-            State::new(1.0, [2.0, 1.9, -0.3], [-3.0, 2.0, 0.9]),
-            State::new(3.0, [4.5, -0.7, 0.8], [0.7, 0.1, -1.4]),
-            State::new(7.0, [-1.5, 2.5, 2.2], [-0.2, -1.1, 0.05]),
-        ]
-    }
 
     fn with_pulley_masses(m_a: f64, m_b: f64) -> Params {
         let mut params = scene_of::<DoubleDoubleAtwood>().default_params();
@@ -216,13 +186,15 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form_with_massless_and_massive_pulleys() {
-        for (m_a, m_b) in [(0.0, 0.0), (0.6, 0.0), (0.0, 0.9), (0.3, 1.2)] {
-            assert_engine_matches_closed_form(
-                scene_of::<DoubleDoubleAtwood>(),
-                &with_pulley_masses(m_a, m_b),
-                &states(),
-            );
-        }
+        // (m_A, m_B) = (0, 0), (0.6, 0), (0, 0.9), (0.3, 1.2), on the way through (0, 0) and (0.3, 0.9).
+        let rows = [
+            (0.5, [-0.4, 0.3, 1.5], [1.2, -0.5, 0.2]),
+            (1.0, [2.0, 1.9, -0.3], [-3.0, 2.0, 0.9]),
+            (3.0, [4.5, -0.7, 0.8], [0.7, 0.1, -1.4]),
+            (7.0, [-1.5, 2.5, 2.2], [-0.2, -1.1, 0.05]),
+        ];
+        let changes = [("m_A", 0.6), ("m_A", 0.0), ("m_B", 0.9), ("m_A", 0.3), ("m_B", 1.2)];
+        assert_engine_matches_closed_form_along::<DoubleDoubleAtwood, 3>(&rows, &changes);
     }
 
     /// The hand-derived `M` and `F` with pulley masses are the engine's: `M` entry by entry,

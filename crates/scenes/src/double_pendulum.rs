@@ -2,8 +2,8 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::scene::{body_scene, fields};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -23,10 +23,6 @@ scene_params! {
     /// origin, bob 2 from bob 1's centre, each by a revolute joint with the absolute angle `θ_i`
     /// ([`AngleReference::World`](lagrange::tree::AngleReference)) at `(0, l_i)` in the bob's frame;
     /// so [`Model::new`](lagrange::Model::new) computes `q̈` with the articulated-body algorithm.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct DoublePendulum {
         /// Upper bob mass `m₁` (kg).
         pub mass_1: f64 = ["m1", "kg", 1.0, Domain::Positive, "mass of the upper bob"],
@@ -155,17 +151,7 @@ impl DoublePendulum {
 }
 
 impl Mechanism for DoublePendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (theta_1, theta_2) = (q[0], q[1]);
@@ -189,13 +175,20 @@ impl SceneType for DoublePendulum {
         "beyond the lecture; closed forms derived in double_pendulum.rs (cf. Taylor, Classical Mechanics, §11.4)";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `θ₁ = θ₂ = 0.5`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [0.5, 0.5], [0.0, 0.0])
+    }
+
+    /// The energy `T + V` (`T`, `V` above, with the bobs' rotation `½ I_i θ̇_i²`).
+    fn conserved(&self) -> Vec<Conserved> {
+        vec![Conserved::energy(self, |s, q, qdot| {
+            let ([theta_1, theta_2], [w1, w2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+            let (m1, m2, l1, l2, g) = (s.mass_1, s.mass_2, s.length_1, s.length_2, s.gravity);
+            let rotations = ((m1 + m2) * l1 * l1 + s.inertia_1) * w1 * w1 + (m2 * l2 * l2 + s.inertia_2) * w2 * w2;
+            let kinetic = 0.5 * rotations + m2 * l1 * l2 * w1 * w2 * (theta_1 - theta_2).cos();
+            kinetic - (m1 + m2) * g * l1 * theta_1.cos() - m2 * g * l2 * theta_2.cos()
+        })]
     }
 
     body_scene!();
@@ -204,27 +197,19 @@ impl SceneType for DoublePendulum {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene_of;
-    use crate::testing::assert_engine_matches_closed_form;
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [0.5, 0.5], [0.0, 0.0]),
-            State::new(0.5, [-0.4, 1.3], [1.2, -0.5]),
-            State::new(1.0, [2.0, -2.9], [-3.0, 2.0]),
-            State::new(3.0, [3.0, 0.1], [0.7, 4.1]),
-            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
-        ]
-    }
+    use crate::testing::assert_engine_matches_closed_form_along;
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<DoublePendulum>().default_params();
-        assert_engine_matches_closed_form(scene_of::<DoublePendulum>(), &params, &states());
-        for (key, value) in [("m1", 0.3), ("l2", 1.7), ("m2", 2.5), ("l1", 0.6)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<DoublePendulum>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<DoublePendulum, 2>(
+            &[
+                (0.5, [-0.4, 1.3], [1.2, -0.5]),
+                (1.0, [2.0, -2.9], [-3.0, 2.0]),
+                (3.0, [3.0, 0.1], [0.7, 4.1]),
+                (7.0, [-1.5, 2.5], [-0.2, -1.1]),
+            ],
+            &[("m1", 0.3), ("l2", 1.7), ("m2", 2.5), ("l1", 0.6)],
+        );
     }
 
     /// Both frequencies solve `det(K − ω² M) = 0`, and equal masses and lengths give the

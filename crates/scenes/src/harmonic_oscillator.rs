@@ -2,18 +2,14 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::scene::{body_scene, fields};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A mass `m` at `(x, 0)` on a spring of stiffness `k`, `V = ½ k x²`, with an optional
     /// damping force `−c ẋ` (a generalized force); `q = (x)`, the displacement from the spring's
     /// rest position (docs/scenes.md#harmonic_oscillator). No gravity.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct HarmonicOscillator {
         /// Mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass on the spring"],
@@ -86,13 +82,7 @@ impl HarmonicOscillator {
 }
 
 impl Mechanism for HarmonicOscillator {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
+    fields!(coordinates, bodies);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         world_from_body[0] = Pose::point(q[0], S::zero());
@@ -124,10 +114,6 @@ impl SceneType for HarmonicOscillator {
     const REFERENCE: &'static str = "docs/scenes.md#harmonic_oscillator; the lecture (docs/scenes.md#the-lecture), example: harmonic oscillator (damping beyond the lecture)";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `x = 0.1`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [0.1], [0.0])
@@ -139,6 +125,12 @@ impl SceneType for HarmonicOscillator {
         Some(State::new(t, [x], [v]))
     }
 
+    /// Undamped: `E = ½ m ẋ² + ½ k x²`; damped: none (`dE/dt = −c ẋ²`).
+    fn conserved(&self) -> Vec<Conserved> {
+        let energy = |s: &Self, q: &[f64], qdot: &[f64]| 0.5 * (s.mass * qdot[0] * qdot[0] + s.stiffness * q[0] * q[0]);
+        if self.damping == 0.0 { vec![Conserved::energy(self, energy)] } else { Vec::new() }
+    }
+
     body_scene!();
 }
 
@@ -146,17 +138,7 @@ impl SceneType for HarmonicOscillator {
 mod tests {
     use super::*;
     use crate::scene_of;
-    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [0.1], [0.0]),
-            State::new(0.5, [-0.4], [1.2]),
-            State::new(1.0, [2.0], [-3.0]),
-            State::new(3.0, [0.0], [0.7]),
-            State::new(7.0, [-1.5], [-0.2]),
-        ]
-    }
+    use crate::testing::{assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent};
 
     /// Damping `c` for each regime at `m = 1`, `k = 10` (critical: `c = 2√(km)`).
     fn damping_cases() -> [f64; 4] {
@@ -165,10 +147,12 @@ mod tests {
 
     #[test]
     fn engine_matches_closed_form_with_and_without_damping() {
-        for c in damping_cases() {
+        let rows = [(0.5, [-0.4], [1.2]), (1.0, [2.0], [-3.0]), (3.0, [0.0], [0.7]), (7.0, [-1.5], [-0.2])];
+        let changes = damping_cases().map(|c| ("c", c));
+        assert_engine_matches_closed_form_along::<HarmonicOscillator, 1>(&rows, &changes);
+        for (key, c) in changes {
             let mut params = scene_of::<HarmonicOscillator>().default_params();
-            params.set("c", c).unwrap();
-            assert_engine_matches_closed_form(scene_of::<HarmonicOscillator>(), &params, &states());
+            params.set(key, c).unwrap();
             let system = scene_of::<HarmonicOscillator>().build(&params).unwrap();
             assert_eq!(system.conserves_energy(), c == 0.0, "c = {c}");
         }

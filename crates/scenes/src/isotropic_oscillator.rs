@@ -3,18 +3,14 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::scene::{body_scene, fields};
+use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 scene_params! {
     /// A particle of mass `m` at `(r cosθ, r sinθ)` bound to the origin by `V = ½ k r²`;
     /// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#isotropic_oscillator). No gravity.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct IsotropicOscillator {
         /// Mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
@@ -67,9 +63,7 @@ impl IsotropicOscillator {
             return ([r, theta0], [r_dot, 0.0]);
         }
         // Cartesian initial state (with the signed r₀).
-        let (sin0, cos0) = theta0.sin_cos();
-        let position0 = [r0 * cos0, r0 * sin0];
-        let velocity0 = [r_dot0 * cos0 - r0 * theta_dot0 * sin0, r_dot0 * sin0 + r0 * theta_dot0 * cos0];
+        let (position0, velocity0) = cartesian(q, qdot);
         // Whole half periods, then the remainder τ_r ∈ [0, π/ω).
         let half_periods = (omega * tau / PI).floor();
         let remainder = tau - half_periods * PI / omega;
@@ -97,14 +91,15 @@ impl IsotropicOscillator {
     }
 }
 
-impl Mechanism for IsotropicOscillator {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
+/// The Cartesian position and velocity of the polar state `(r, θ, ṙ, θ̇)`.
+fn cartesian(q: &[f64], qdot: &[f64]) -> ([f64; 2], [f64; 2]) {
+    let ([r, theta], [r_dot, theta_dot]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+    let (sin, cos) = theta.sin_cos();
+    ([r * cos, r * sin], [r_dot * cos - r * theta_dot * sin, r_dot * sin + r * theta_dot * cos])
+}
 
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
+impl Mechanism for IsotropicOscillator {
+    fields!(coordinates, bodies);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
@@ -126,10 +121,6 @@ impl SceneType for IsotropicOscillator {
         "docs/scenes.md#isotropic_oscillator; the lecture (docs/scenes.md#the-lecture), example: central force";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 0.5`.
     fn default_state(&self) -> State {
         State::new(0.0, [1.0, 0.0], [0.0, 0.5])
@@ -141,6 +132,31 @@ impl SceneType for IsotropicOscillator {
         Some(State::new(t, q, qdot))
     }
 
+    /// `E = ½ m (ṙ² + r² θ̇²) + ½ k r²`, `ℓ = m r² θ̇`, and the Fradkin tensor
+    /// `A_ij = p_i p_j / m + k x_i x_j` (docs/scenes.md#isotropic_oscillator) by its components
+    /// `E_x = A_xx / 2`, the energy of the x motion, and `A_xy`.
+    fn conserved(&self) -> Vec<Conserved> {
+        let (why, other) = ("Fradkin tensor: V ∝ r²", Invariant::Other);
+        let energy = |s: &Self, q: &[f64], v: &[f64]| {
+            0.5 * (s.mass * (v[0] * v[0] + q[0] * q[0] * v[1] * v[1]) + s.stiffness * q[0] * q[0])
+        };
+        let angular_momentum = |s: &Self, _, q: &[f64], v: &[f64]| s.mass * q[0] * q[0] * v[1];
+        let energy_x = |s: &Self, _, q: &[f64], qdot: &[f64]| {
+            let ([x, _], [vx, _]) = cartesian(q, qdot);
+            0.5 * (s.mass * vx * vx + s.stiffness * x * x)
+        };
+        let fradkin_xy = |s: &Self, _, q: &[f64], qdot: &[f64]| {
+            let ([x, y], [vx, vy]) = cartesian(q, qdot);
+            s.mass * vx * vy + s.stiffness * x * y
+        };
+        vec![
+            Conserved::energy(self, energy),
+            Conserved::new(self, "ℓ", "θ is cyclic", Invariant::CyclicMomentum(1), angular_momentum),
+            Conserved::new(self, "E_x", why, other, energy_x),
+            Conserved::new(self, "A_xy", why, other, fradkin_xy),
+        ]
+    }
+
     body_scene!();
 }
 
@@ -148,25 +164,13 @@ impl SceneType for IsotropicOscillator {
 mod tests {
     use super::*;
     use crate::scene_of;
-    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.0, 0.0], [0.0, 0.5]),
-            State::new(0.5, [0.7, 1.1], [0.4, -2.0]),
-            State::new(1.0, [2.3, -3.0], [-0.6, 0.3]),
-            State::new(2.0, [0.4, 7.0], [1.5, 4.0]),
-            State::new(4.0, [5.0, 0.2], [0.1, 0.05]),
-        ]
-    }
+    use crate::testing::{
+        POLAR_ROWS, assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent,
+    };
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<IsotropicOscillator>().default_params();
-        assert_engine_matches_closed_form(scene_of::<IsotropicOscillator>(), &params, &states());
-        params.set("m", 0.4).unwrap();
-        params.set("k", 3.0).unwrap();
-        assert_engine_matches_closed_form(scene_of::<IsotropicOscillator>(), &params, &states());
+        assert_engine_matches_closed_form_along::<IsotropicOscillator, 2>(&POLAR_ROWS, &[("m", 0.4), ("k", 3.0)]);
     }
 
     #[test]

@@ -2,8 +2,8 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::scene::{body_scene, fields};
+use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{PI, TAU};
 
@@ -11,10 +11,6 @@ scene_params! {
     /// A particle of mass `m` at `(r cosθ, r sinθ)` attracted to the origin by `V = −k/r`;
     /// `q = (r, θ)`, plane polar coordinates (docs/scenes.md#kepler). No gravity. The closed forms assume
     /// `r > 0`.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct Kepler {
         /// Mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the particle"],
@@ -76,6 +72,20 @@ impl Kepler {
         let [r, _] = fixed(q, "q");
         let [r_dot, theta_dot] = fixed(qdot, "q̇");
         0.5 * self.mass * (r_dot * r_dot + r * r * theta_dot * theta_dot) - self.strength / r
+    }
+
+    /// The Runge–Lenz vector `A = p × L − m k r̂ = (ℓ²/r − m k) r̂ − m ṙ ℓ θ̂` in Cartesian
+    /// components (docs/scenes.md#kepler): conserved for `V ∝ 1/r` only, it points to the
+    /// periapsis with length `m k e`.
+    ///
+    /// # Panics
+    /// If `q` or `qdot` does not have 2 entries.
+    pub fn runge_lenz(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
+        let ([r, theta], [r_dot, _]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+        let l = self.angular_momentum(q, qdot);
+        let (radial, transverse) = (l * l / r - self.mass * self.strength, -self.mass * r_dot * l);
+        let (sin, cos) = theta.sin_cos();
+        [radial * cos - transverse * sin, radial * sin + transverse * cos]
     }
 
     /// Time to fall from rest at `r₀ > 0` to the centre (`ℓ = 0`, the degenerate ellipse of
@@ -180,13 +190,7 @@ fn solve_kepler_equation(e: f64, mean: f64) -> f64 {
 }
 
 impl Mechanism for Kepler {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
+    fields!(coordinates, bodies);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
@@ -208,10 +212,6 @@ impl SceneType for Kepler {
         "docs/scenes.md#kepler; the lecture (docs/scenes.md#the-lecture), example: central force";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `r = 1`, `θ = 0`, `ṙ = 0`, `θ̇ = 1.2`: an ellipse with period ≈ 14.99 at the defaults.
     fn default_state(&self) -> State {
         State::new(0.0, [1.0, 0.0], [0.0, 1.2])
@@ -223,6 +223,20 @@ impl SceneType for Kepler {
         motion.map(|(q, qdot)| State::new(t, q, qdot))
     }
 
+    /// [`E`](Kepler::energy), [`ℓ`](Kepler::angular_momentum) and the
+    /// [Runge–Lenz vector](Kepler::runge_lenz).
+    fn conserved(&self) -> Vec<Conserved> {
+        let (why, other) = ("Runge–Lenz vector: V ∝ 1/r", Invariant::Other);
+        vec![
+            Conserved::energy(self, Self::energy),
+            Conserved::new(self, "ℓ", "θ is cyclic", Invariant::CyclicMomentum(1), |s, _, q, v| {
+                s.angular_momentum(q, v)
+            }),
+            Conserved::new(self, "A_x", why, other, |s, _, q, qdot| s.runge_lenz(q, qdot)[0]),
+            Conserved::new(self, "A_y", why, other, |s, _, q, qdot| s.runge_lenz(q, qdot)[1]),
+        ]
+    }
+
     body_scene!();
 }
 
@@ -230,25 +244,13 @@ impl SceneType for Kepler {
 mod tests {
     use super::*;
     use crate::scene_of;
-    use crate::testing::{assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent};
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.0, 0.0], [0.0, 1.2]),
-            State::new(0.5, [0.7, 1.1], [0.4, -2.0]),
-            State::new(1.0, [2.3, -3.0], [-0.6, 0.3]),
-            State::new(2.0, [0.4, 7.0], [1.5, 4.0]),
-            State::new(4.0, [5.0, 0.2], [0.1, 0.05]),
-        ]
-    }
+    use crate::testing::{
+        POLAR_ROWS, assert_close, assert_engine_matches_closed_form_along, assert_exact_solution_consistent,
+    };
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<Kepler>().default_params();
-        assert_engine_matches_closed_form(scene_of::<Kepler>(), &params, &states());
-        params.set("m", 2.5).unwrap();
-        params.set("k", 0.3).unwrap();
-        assert_engine_matches_closed_form(scene_of::<Kepler>(), &params, &states());
+        assert_engine_matches_closed_form_along::<Kepler, 2>(&POLAR_ROWS, &[("m", 2.5), ("k", 0.3)]);
     }
 
     #[test]
@@ -263,6 +265,8 @@ mod tests {
         assert!((orbit.period.unwrap() - 14.99).abs() < 0.01);
         // Periapsis at r = 1 = p/(1 + e): p = 1.44, e = 0.44.
         assert_close("p, e", &[1.44, 0.44], &[orbit.semi_latus_rectum, orbit.eccentricity], 1e-15);
+        // The Runge–Lenz vector points to the periapsis (θ = 0) with length m k e.
+        assert_close("A", &[0.44, 0.0], &scene.runge_lenz(&[1.0, 0.0], &[0.0, 1.2]), 1e-15);
     }
 
     #[test]

@@ -10,11 +10,12 @@
 //! Each scene is one type (e.g. [`CartPendulum`]) with public fields named after the physics, a
 //! validating constructor `new`, its parameter table `PARAMS` and extra closed forms, implementing
 //! [`lagrange::Mechanism`] (or [`lagrange::Lagrangian`]) and [`SceneType`]: id, title,
-//! parameters, `from_params`, default state, closed-form accelerations ([`ClosedForm`]) and exact
-//! solution. The scene types are listed once, in [`for_each_scene!`]; from that list come the
-//! object-safe [`Scene`]s for code that picks scenes by id at run time ([`all`], [`find`],
-//! [`ids`], [`scene_of`]) with [`Params`] set by parameter name or lecture symbol, and
-//! [`visit_mechanism`], which runs a [`MechanismVisitor`] on a scene's concrete mechanism type.
+//! parameters, `from_params`, default state, closed-form accelerations ([`ClosedForm`]), exact
+//! solution and constants of the motion ([`Conserved`]). The scene types are listed once, in
+//! [`for_each_scene!`]; from that list come the object-safe [`Scene`]s for code that picks
+//! scenes by id at run time ([`all`], [`find`], [`ids`], [`scene_of`]) with [`Params`] set by
+//! parameter name or lecture symbol, and [`visit_mechanism`], which runs a
+//! [`MechanismVisitor`] on a scene's concrete mechanism type.
 //! A new scene is its file here and one line in that list.
 //!
 //! # Scenes
@@ -93,6 +94,7 @@ macro_rules! for_each_scene {
 }
 
 mod checks;
+mod conserved;
 mod params;
 mod scene;
 #[cfg(test)]
@@ -118,6 +120,7 @@ pub use atwood::Atwood;
 pub use cart_pendulum::CartPendulum;
 pub use chain::Chain;
 pub use charged_particle::ChargedParticle;
+pub use conserved::{Conserved, Invariant};
 pub use double_atwood::DoubleAtwood;
 pub use double_double_atwood::DoubleDoubleAtwood;
 pub use double_pendulum::DoublePendulum;

@@ -167,8 +167,8 @@ pub(crate) const fn same_name(a: &str, b: &str) -> bool {
 /// A scene's parameter list, written once: from one row per parameter,
 /// `pub field: type = [symbol, unit, default, domain, "description"]` (or `= [SHARED]` for a
 /// shared specification such as [`GRAVITY`]), it generates the `PARAMS` table (the field's
-/// name is the parameter's name), the struct with the documented public fields and the private
-/// derived fields, the validating constructor taking the parameters in the table's order, and
+/// name is the parameter's name), the struct (`Clone`, `Debug`, `PartialEq`) with the documented
+/// public fields and the private derived fields, the validating constructor taking the parameters in the table's order, and
 /// `from_table`, the scene from a [`Params`] set (used by [`param_table!`]). The derived fields
 /// are computed in order from the parameters (and the derived fields before them), so an
 /// expression may use `?`.
@@ -181,7 +181,7 @@ macro_rules! scene_params {
         $crate::ParamSpec::new(stringify!($field), $symbol, $unit, $default, $domain, $description)
     };
     (
-        $(#[$meta:meta])*
+        $(#[doc = $struct_doc:literal])*
         pub struct $scene:ident {
             $(
                 $(#[doc = $doc:literal])*
@@ -197,7 +197,11 @@ macro_rules! scene_params {
         #[doc = concat!("The parameters of [`", stringify!($scene), "`], in order (its public fields).")]
         pub const PARAMS: &[$crate::ParamSpec] = &[$($crate::params::scene_params!(@spec $field; $($spec)*)),*];
 
-        $(#[$meta])*
+        $(#[doc = $struct_doc])*
+        ///
+        /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields
+        /// are public for reading (changing one afterwards does not update what the engine sees).
+        #[derive(Clone, Debug, PartialEq)]
         pub struct $scene {
             $( $(#[doc = $doc])* pub $field: $type, )*
             $( $derived: $derived_type, )*

@@ -3,7 +3,7 @@
 //! time; the registry of all scenes, generated from the one list in [`for_each_scene!`](crate::for_each_scene).
 
 use crate::checks::{check_dimensions, check_state};
-use crate::{ClosedForm, MechanismVisitor, ParamSpec, Params};
+use crate::{ClosedForm, Conserved, MechanismVisitor, ParamSpec, Params};
 use lagrange::{Coordinate, Error, State, System};
 use std::marker::PhantomData;
 
@@ -76,11 +76,18 @@ pub trait Scene: Send + Sync {
     /// [`Error::InvalidParameter`] for invalid parameters, [`Error::DimensionMismatch`] for a
     /// state of the wrong size.
     fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error>;
+
+    /// The scene's constants of the motion for these parameters, in closed form, each with
+    /// why it is conserved (empty for a driven or damped scene); see [`SceneType::conserved`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid parameters.
+    fn conserved_quantities(&self, params: &Params) -> Result<Vec<Conserved>, Error>;
 }
 
 /// A scene as one type: its identity, its parameter table and constructor from parameters, its
-/// default state, its closed-form accelerations and exact solution, and how the engine runs
-/// it. Implemented by every typed scene ([`CartPendulum`](crate::CartPendulum), …); the
+/// default state, its closed-form accelerations, exact solution and constants of the motion,
+/// and how the engine runs it. Implemented by every typed scene ([`CartPendulum`](crate::CartPendulum), …); the
 /// object-safe [`Scene`] is derived from it ([`scene_of`]), and the registry lists the types
 /// once ([`for_each_scene!`]).
 ///
@@ -127,6 +134,16 @@ pub trait SceneType: Clone + Send + Sync + Sized + 'static {
         None
     }
 
+    /// The constants of the motion, in closed form as functions of `(t, q, q̇)` (whose
+    /// dimensions [`Conserved::value`] checks): the energy where [`Invariant::Energy`] holds,
+    /// the momentum of every cyclic coordinate, and the hidden ones; none by default (a driven
+    /// or damped scene).
+    ///
+    /// [`Invariant::Energy`]: crate::Invariant::Energy
+    fn conserved(&self) -> Vec<Conserved> {
+        Vec::new()
+    }
+
     /// The generalized coordinates.
     fn generalized_coordinates(&self) -> &[Coordinate];
 
@@ -141,9 +158,33 @@ pub trait SceneType: Clone + Send + Sync + Sized + 'static {
     fn visit<V: MechanismVisitor>(self, visitor: V) -> Option<V::Output>;
 }
 
-/// The engine-facing methods of a [`SceneType`] that is a [`Mechanism`](lagrange::Mechanism).
+/// [`SceneType::closed_form`] from the scene's own `closed_form_accelerations(q, q̇)`.
+macro_rules! closed_form {
+    () => {
+        fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
+            qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
+        }
+    };
+}
+
+/// The accessors of a [`Mechanism`](lagrange::Mechanism) or [`Lagrangian`](lagrange::Lagrangian)
+/// that return the scene's fields of the same names (`coordinates`, `bodies`, `gravity`).
+macro_rules! fields {
+    ($($field:ident),*) => { $($crate::scene::fields!(@$field);)* };
+    (@coordinates) => { fn coordinates(&self) -> &[lagrange::Coordinate] { &self.coordinates } };
+    (@bodies) => { fn bodies(&self) -> &[lagrange::Body] { &self.bodies } };
+    (@gravity) => { fn gravity(&self) -> f64 { self.gravity } };
+}
+
+/// The engine-facing methods of a [`SceneType`] that is a [`Mechanism`](lagrange::Mechanism), and
+/// its closed form from `closed_form_accelerations(q, q̇)` unless told `engine` (the scene then
+/// writes [`SceneType::closed_form`] itself).
 macro_rules! body_scene {
     () => {
+        $crate::scene::closed_form!();
+        $crate::scene::body_scene!(engine);
+    };
+    (engine) => {
         fn generalized_coordinates(&self) -> &[lagrange::Coordinate] {
             lagrange::Mechanism::coordinates(self)
         }
@@ -158,9 +199,12 @@ macro_rules! body_scene {
     };
 }
 
-/// The engine-facing methods of a [`SceneType`] that is a raw [`Lagrangian`](lagrange::Lagrangian).
+/// The engine-facing methods of a [`SceneType`] that is a raw [`Lagrangian`](lagrange::Lagrangian),
+/// and its closed form from `closed_form_accelerations(q, q̇)`.
 macro_rules! raw_scene {
     () => {
+        $crate::scene::closed_form!();
+
         fn generalized_coordinates(&self) -> &[lagrange::Coordinate] {
             lagrange::Lagrangian::coordinates(self)
         }
@@ -175,7 +219,7 @@ macro_rules! raw_scene {
     };
 }
 
-pub(crate) use {body_scene, raw_scene};
+pub(crate) use {body_scene, closed_form, fields, raw_scene};
 
 impl<T: SceneType> ClosedForm for T {
     fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
@@ -244,6 +288,10 @@ impl<T: SceneType> Scene for Registered<T> {
         let scene = T::from_params(params)?;
         check_state(scene.generalized_coordinates().len(), initial)?;
         Ok(scene.exact_solution(initial, t))
+    }
+
+    fn conserved_quantities(&self, params: &Params) -> Result<Vec<Conserved>, Error> {
+        Ok(T::from_params(params)?.conserved())
     }
 }
 

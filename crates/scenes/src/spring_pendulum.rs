@@ -2,18 +2,14 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
-use crate::{Domain, SceneType};
+use crate::scene::{body_scene, fields};
+use crate::{Conserved, Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A bob of mass `m` at `(r sinθ, −r cosθ)` on a massless spring (stiffness `k`, rest length
     /// `L0`) hung from the origin, `V_spring = ½ k (|x| − L0)²`; `q = (r, θ)`, `θ` from the downward
     /// vertical, counter-clockwise. The closed forms assume `r > 0`.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct SpringPendulum {
         /// Bob mass `m` (kg).
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the bob"],
@@ -50,17 +46,7 @@ impl SpringPendulum {
 }
 
 impl Mechanism for SpringPendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);
@@ -82,13 +68,19 @@ impl SceneType for SpringPendulum {
     const REFERENCE: &'static str = "beyond the lecture; closed form derived in spring_pendulum.rs";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `r = 1.1`, `θ = 0.5`, at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [1.1, 0.5], [0.0, 0.0])
+    }
+
+    /// The energy `E = ½ m (ṙ² + r² θ̇²) − m g r cosθ + ½ k (r − L0)²`.
+    fn conserved(&self) -> Vec<Conserved> {
+        vec![Conserved::energy(self, |s, q, qdot| {
+            let ([r, theta], [r_dot, theta_dot]) = (fixed(q, "q"), fixed(qdot, "q̇"));
+            let stretch = r - s.rest_length;
+            let kinetic = 0.5 * s.mass * (r_dot * r_dot + r * r * theta_dot * theta_dot);
+            kinetic - s.mass * s.gravity * r * theta.cos() + 0.5 * s.stiffness * stretch * stretch
+        })]
     }
 
     body_scene!();
@@ -97,27 +89,19 @@ impl SceneType for SpringPendulum {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene_of;
-    use crate::testing::assert_engine_matches_closed_form;
-
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [1.1, 0.5], [0.0, 0.0]),
-            State::new(0.5, [0.7, -1.3], [0.4, -2.0]),
-            State::new(1.0, [2.3, 3.0], [-0.6, 0.3]),
-            State::new(2.0, [0.4, 7.0], [1.5, 4.0]),
-            State::new(4.0, [1.0, 0.2], [0.1, 0.05]),
-        ]
-    }
+    use crate::testing::assert_engine_matches_closed_form_along;
 
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<SpringPendulum>().default_params();
-        assert_engine_matches_closed_form(scene_of::<SpringPendulum>(), &params, &states());
-        for (key, value) in [("k", 3.0), ("L0", 0.6), ("m", 0.2), ("g", 0.0)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<SpringPendulum>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<SpringPendulum, 2>(
+            &[
+                (0.5, [0.7, -1.3], [0.4, -2.0]),
+                (1.0, [2.3, 3.0], [-0.6, 0.3]),
+                (2.0, [0.4, 7.0], [1.5, 4.0]),
+                (4.0, [1.0, 0.2], [0.1, 0.05]),
+            ],
+            &[("k", 3.0), ("L0", 0.6), ("m", 0.2), ("g", 0.0)],
+        );
     }
 
     /// Hanging at rest at the stretched length `L0 + m g/k` is an equilibrium.

@@ -1,8 +1,8 @@
 //! Checks shared by the scenes' unit tests, with every tolerance in one place and the reason
 //! for its size. Failures print expected, got and residual.
 
-use crate::{Params, Scene};
-use lagrange::State;
+use crate::{Params, Scene, SceneType, scene_of};
+use lagrange::{Mechanism, Model, State};
 use lagrange_validation::fixtures::max_abs_diff;
 pub(crate) use lagrange_validation::fixtures::{assert_close, max_abs};
 
@@ -40,6 +40,57 @@ pub(crate) fn assert_engine_matches_closed_form(scene: &dyn Scene, params: &Para
         let what = format!("{}: engine q̈ vs closed form at state {k} {state:?}", scene.id());
         assert_close(&what, &expected, &got, ENGINE_VS_CLOSED_FORM * max_abs(&expected));
     }
+}
+
+/// Generic states `(t, q, q̇)` of the central forces (`r > 0`, both senses of rotation).
+pub(crate) const POLAR_ROWS: [(f64, [f64; 2], [f64; 2]); 4] = [
+    (0.5, [0.7, 1.1], [0.4, -2.0]),
+    (1.0, [2.3, -3.0], [-0.6, 0.3]),
+    (2.0, [0.4, 7.0], [1.5, 4.0]),
+    (4.0, [5.0, 0.2], [0.1, 0.05]),
+];
+
+/// Generic states `(t, q, q̇)` of two coordinates, with no symmetry and no special value (the
+/// pulleys, the wedge, the charge).
+pub(crate) const PLANAR_ROWS: [(f64, [f64; 2], [f64; 2]); 4] = [
+    (0.5, [-0.4, 0.3], [1.2, -0.5]),
+    (1.0, [2.0, 1.9], [-3.0, 2.0]),
+    (3.0, [4.5, -0.7], [0.7, 0.1]),
+    (7.0, [-1.5, 2.5], [-0.2, -1.1]),
+];
+
+/// [`assert_engine_matches_closed_form`] for the scene `T` at its default state and the states
+/// `rows` `(t, q, q̇)`: at the default parameters, then after each change of `changes` in turn
+/// (each keeping the ones before).
+pub(crate) fn assert_engine_matches_closed_form_along<T: SceneType, const N: usize>(
+    rows: &[(f64, [f64; N], [f64; N])],
+    changes: &[(&str, f64)],
+) {
+    let (scene, mut params) = (scene_of::<T>(), scene_of::<T>().default_params());
+    let mut states = vec![scene.default_state(&params).unwrap()];
+    states.extend(rows.iter().map(|&(t, q, qdot)| State::new(t, q, qdot)));
+    assert_engine_matches_closed_form(scene, &params, &states);
+    for &(key, value) in changes {
+        params.set(key, value).unwrap();
+        assert_engine_matches_closed_form(scene, &params, &states);
+    }
+}
+
+/// The largest difference between the articulated-body algorithm on the mechanism's declared
+/// tree and the generic assembly from its poses (`Model::new_generic`) over `states`, relative
+/// to the largest `|q̈_i|` of the generic path (NaN kept); `None` without a declared tree.
+pub(crate) fn tree_versus_generic<M: Mechanism + Clone>(mechanism: M, states: &[State]) -> Option<f64> {
+    mechanism.tree()?;
+    let tree = Model::new(mechanism.clone()).expect("the declared tree matches the poses");
+    let generic = Model::new_generic(mechanism).expect("valid");
+    assert!(tree.uses_tree_path() && !generic.uses_tree_path());
+    let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
+    let relative = states.iter().map(|s| {
+        let a = lagrange::accelerations(&tree, &mut wt, s.t, &s.q, &s.qdot).expect("valid").to_vec();
+        let b = lagrange::accelerations(&generic, &mut wg, s.t, &s.q, &s.qdot).expect("valid").to_vec();
+        max_abs_diff(&a, &b) / max_abs(&b)
+    });
+    Some(max_abs(&relative.collect::<Vec<_>>()))
 }
 
 /// `(q, q̇)` of the scene's exact solution at `t`, which must exist.

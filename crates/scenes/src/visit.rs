@@ -93,19 +93,7 @@ mod tests {
         type Output = Option<f64>;
 
         fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> Option<f64> {
-            mechanism.tree()?;
-            let tree = Model::new(mechanism.clone()).expect("the declared tree matches the poses");
-            let generic = Model::new_generic(mechanism).expect("valid");
-            assert!(tree.uses_tree_path() && !generic.uses_tree_path());
-            let (mut wt, mut wg) = (tree.workspace(), generic.workspace());
-            let mut worst = 0.0_f64;
-            for s in self.states {
-                let a = lagrange::accelerations(&tree, &mut wt, s.t, &s.q, &s.qdot).expect("valid").to_vec();
-                let b = lagrange::accelerations(&generic, &mut wg, s.t, &s.q, &s.qdot).expect("valid").to_vec();
-                let scale = crate::testing::max_abs(&b);
-                worst = worst.max(a.iter().zip(&b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs())) / scale);
-            }
-            Some(worst)
+            crate::testing::tree_versus_generic(mechanism, self.states)
         }
     }
 

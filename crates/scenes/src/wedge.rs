@@ -1,9 +1,8 @@
 //! Block sliding on a movable frictionless wedge (docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture)).
 
-use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::body_scene;
-use crate::uniform_acceleration::uniformly_accelerated;
+use crate::scene::fields;
+use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
@@ -13,10 +12,6 @@ scene_params! {
     /// of mass `m` on its frictionless incline (angle `α`, length `L`, descending towards `+x`) at
     /// `(x + x' cosα, (L − x') sinα)`; `q = (x, x')`, `x'` measured down the slope from the top
     /// corner (docs/scenes.md#wedge). The wedge only translates.
-    ///
-    /// Construct with [`new`](Self::new) or [`from_params`](Self::from_params); the fields are public
-    /// for reading (changing one afterwards does not update the bodies the engine sees).
-    #[derive(Clone, Debug, PartialEq)]
     pub struct Wedge {
         /// Wedge mass `M` (kg).
         pub wedge_mass: f64 = ["M", "kg", 3.0, Domain::Positive, "mass of the wedge"],
@@ -49,15 +44,6 @@ impl Wedge {
         [-block * g * sin * cos / denominator, (wedge + block) * g * sin / denominator]
     }
 
-    /// `[ẍ, ẍ']`, the constant accelerations (independent of the state).
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 2 entries.
-    pub fn closed_form_accelerations(&self, q: &[f64], qdot: &[f64]) -> [f64; 2] {
-        let _: ([f64; 2], [f64; 2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
-        self.acceleration()
-    }
-
     /// The normal force of the incline on the block, `N = M m g cosα / (M + m sin²α)` (N),
     /// along the incline's outward normal `(sinα, cosα)` (docs/scenes.md#wedge).
     pub fn normal_force(&self) -> f64 {
@@ -65,32 +51,10 @@ impl Wedge {
         let (sin, cos) = self.angle.sin_cos();
         wedge * block * self.gravity * cos / (wedge + block * sin * sin)
     }
-
-    /// The conserved horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` (docs/scenes.md#wedge,
-    /// "Conserved quantities": `x` is cyclic). It does not depend on `q`, which is taken for
-    /// symmetry with the other scenes' momenta.
-    ///
-    /// # Panics
-    /// If `q` or `qdot` does not have 2 entries.
-    pub fn horizontal_momentum(&self, q: &[f64], qdot: &[f64]) -> f64 {
-        let _: [f64; 2] = fixed(q, "q");
-        let [wedge_velocity, slide_velocity] = fixed(qdot, "q̇");
-        (self.wedge_mass + self.block_mass) * wedge_velocity + self.block_mass * self.angle.cos() * slide_velocity
-    }
 }
 
 impl Mechanism for Wedge {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
-    }
+    fields!(coordinates, bodies, gravity);
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_prime) = (q[0], q[1]);
@@ -105,6 +69,23 @@ impl Mechanism for Wedge {
     }
 }
 
+impl ConstantForce<2> for Wedge {
+    /// `x` is cyclic: the horizontal momentum `p_x = (M + m) ẋ + m cosα ẋ'` is conserved.
+    const CYCLIC: &'static [usize] = &[0];
+
+    fn qddot(&self) -> [f64; 2] {
+        self.acceleration()
+    }
+
+    /// `M = [[M + m, m cosα], [m cosα, m]]`, `F = (0, m g sinα)`, `V₀ = m g L sinα`
+    /// (docs/scenes.md#wedge).
+    fn constant_terms(&self) -> ([[f64; 2]; 2], [f64; 2], f64) {
+        let (block, (sin, cos)) = (self.block_mass, self.angle.sin_cos());
+        let weight = block * self.gravity * sin;
+        ([[self.wedge_mass + block, block * cos], [block * cos, block]], [0.0, weight], weight * self.incline_length)
+    }
+}
+
 impl SceneType for Wedge {
     const ID: &'static str = "wedge";
     const TITLE: &'static str = "Block on a movable frictionless wedge";
@@ -112,21 +93,12 @@ impl SceneType for Wedge {
         "docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture), example: block on a movable wedge";
     param_table!();
 
-    fn closed_form(&self, _t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
-        qddot.copy_from_slice(&self.closed_form_accelerations(q, qdot));
-    }
-
     /// `x = 0`, `x' = 0` (block at the top corner), at rest.
     fn default_state(&self) -> State {
         State::new(0.0, [0.0, 0.0], [0.0, 0.0])
     }
 
-    /// Uniform acceleration: `q = q₀ + q̇₀ τ + ½ q̈ τ²`.
-    fn exact_solution(&self, initial: &State, t: f64) -> Option<State> {
-        Some(uniformly_accelerated(initial, &self.acceleration(), t))
-    }
-
-    body_scene!();
+    constant_force_scene!();
 }
 
 #[cfg(test)]
@@ -134,28 +106,17 @@ mod tests {
     use super::*;
     use crate::scene_of;
     use crate::testing::{
-        ENGINE_VS_CLOSED_FORM, assert_close, assert_engine_matches_closed_form, assert_exact_solution_consistent,
+        ENGINE_VS_CLOSED_FORM, PLANAR_ROWS, assert_close, assert_engine_matches_closed_form_along,
+        assert_exact_solution_consistent,
     };
     use lagrange::{Buffered, Model, System};
 
-    fn states() -> Vec<State> {
-        vec![
-            State::new(0.0, [0.0, 0.0], [0.0, 0.0]),
-            State::new(0.5, [-0.4, 0.3], [1.2, -0.5]),
-            State::new(1.0, [2.0, 1.9], [-3.0, 2.0]),
-            State::new(3.0, [4.5, -0.7], [0.7, 0.1]),
-            State::new(7.0, [-1.5, 2.5], [-0.2, -1.1]),
-        ]
-    }
-
     #[test]
     fn engine_matches_closed_form() {
-        let mut params = scene_of::<Wedge>().default_params();
-        assert_engine_matches_closed_form(scene_of::<Wedge>(), &params, &states());
-        for (key, value) in [("α", 1.2), ("M", 0.2), ("m", 5.0), ("α", 0.05)] {
-            params.set(key, value).unwrap();
-            assert_engine_matches_closed_form(scene_of::<Wedge>(), &params, &states());
-        }
+        assert_engine_matches_closed_form_along::<Wedge, 2>(
+            &PLANAR_ROWS,
+            &[("α", 1.2), ("M", 0.2), ("m", 5.0), ("α", 0.05)],
+        );
     }
 
     #[test]
@@ -179,7 +140,8 @@ mod tests {
         let tolerance = ENGINE_VS_CLOSED_FORM * normal;
         assert_close("reaction on the block", &[normal * sin, normal * cos], &reactions[3..5], tolerance);
         let momenta = system.momenta(0.0, &q, &qdot).unwrap();
-        assert_close("p_x", &[scene.horizontal_momentum(&q, &qdot)], &momenta[..1], 1e-14);
+        let horizontal_momentum = scene.conserved()[1].value(0.0, &q, &qdot).unwrap();
+        assert_close("p_x", &[horizontal_momentum], &momenta[..1], 1e-14);
     }
 
     #[test]

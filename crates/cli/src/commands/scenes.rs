@@ -33,6 +33,8 @@ struct SceneOut {
     reference: &'static str,
     coordinates: Vec<CoordinateOut>,
     parameters: Vec<ParamOut>,
+    /// The constants of the motion at the default parameters (valid: `coordinates` took them).
+    conserved: Vec<String>,
 }
 
 /// Print the scene list.
@@ -57,6 +59,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                     description: p.description,
                 })
                 .collect(),
+            conserved: scene.conserved_quantities(&params).unwrap_or_default().into_iter().map(|c| c.symbol).collect(),
         });
     }
     if args.json {
@@ -67,6 +70,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let coordinates: Vec<String> = s.coordinates.iter().map(|c| format!("{} [{}]", c.name, c.unit)).collect();
         println!("{} — {} ({})", s.id, s.title, s.reference);
         println!("  coordinates: {}", coordinates.join(", "));
+        println!("  conserved: {}", if s.conserved.is_empty() { "none".into() } else { s.conserved.join(", ") });
         for p in &s.parameters {
             let unit = if p.unit.is_empty() { String::new() } else { format!(" {}", p.unit) };
             println!("  {:<22} {:<4} = {}{unit}  — {}", p.name, p.symbol, p.default, p.description);
