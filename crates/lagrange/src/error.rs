@@ -132,6 +132,23 @@ pub enum Error {
         /// Which quantity became non-finite or exceeded its bound.
         quantity: String,
     },
+    /// The state lies outside the region where the mechanism's model holds, as the mechanism
+    /// declares it ([`Mechanism::admissible`](crate::Mechanism::admissible)): a polar radius
+    /// through zero, a mass pulled through its pulley, a block past the end of its incline.
+    /// The integrators check the initial state and the state after every accepted step.
+    #[error("{quantity} = {} is outside the admissible region {bound} at t = {} s", compact(.value), compact(.t))]
+    Inadmissible {
+        /// Time of the state.
+        t: f64,
+        /// The bounded quantity, as the mechanism names it (`r`, `rope length l − x`).
+        quantity: String,
+        /// The bound that failed, written out (`r > 0`).
+        bound: String,
+        /// The quantity's value at the state.
+        value: f64,
+        /// The limit of the bound.
+        limit: f64,
+    },
     /// A step size or tolerance is not usable.
     #[error("invalid {what} = {}: {why}", compact(.value))]
     InvalidSetting {
@@ -303,7 +320,7 @@ pub(crate) fn bad_pivot<S: Scalar>(t: S, q: &[S], coordinate: &str, pivot: f64, 
 
 /// A value for a message, in its shortest exact form: plain between 1e-4 and 1e6, in
 /// scientific notation outside (`1e-16`, not `0.0000000000000001`).
-struct Compact(f64);
+pub(crate) struct Compact(f64);
 
 impl fmt::Display for Compact {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -312,7 +329,7 @@ impl fmt::Display for Compact {
     }
 }
 
-fn compact(v: &f64) -> Compact {
+pub(crate) fn compact(v: &f64) -> Compact {
     Compact(*v)
 }
 

@@ -233,7 +233,7 @@ pub use eom::reactions::reaction_forces;
 pub use error::{Derived, Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
 pub use mechanism::{
-    Body, Coordinate, CoordinateKind, Described, Lagrangian, LagrangianFunction, Loads, Mechanism, Poses,
+    Body, Bounds, Coordinate, CoordinateKind, Described, Lagrangian, LagrangianFunction, Loads, Mechanism, Poses, Side,
 };
 pub use model::Model;
 pub use pose::Pose;

@@ -2,7 +2,7 @@
 //! (scene registries, the command line).
 
 use crate::integrate::{Method, Output, Trajectory, simulate};
-use crate::{Body, Coordinate, Dynamics, Error, State};
+use crate::{Body, Bounds, Coordinate, Dynamics, Error, State};
 
 /// A system with its own workspace, usable as `Box<dyn System>`. All results are `f64` and
 /// borrowed from internal buffers.
@@ -70,6 +70,14 @@ pub trait System {
     /// # Errors
     /// As [`simulate`](crate::simulate).
     fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error>;
+
+    /// Check `(t, q, q̇)` against the system's admissible region
+    /// ([`Mechanism::admissible`](crate::Mechanism::admissible)): `Ok(false)` when it declares
+    /// none, `Ok(true)` inside ([`Bounds::check`]).
+    ///
+    /// # Errors
+    /// [`Error::Inadmissible`] naming the first bound that fails.
+    fn check_admissible(&self, t: f64, q: &[f64], qdot: &[f64]) -> Result<bool, Error>;
 }
 
 /// A [`Dynamics`] together with its workspace and result buffers: the [`System`] of any body
@@ -159,5 +167,9 @@ impl<D: Dynamics> System for Buffered<D> {
 
     fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error> {
         simulate(&self.system, initial, t_end, method, output)
+    }
+
+    fn check_admissible(&self, t: f64, q: &[f64], qdot: &[f64]) -> Result<bool, Error> {
+        Bounds::check(&self.system, t, q, qdot)
     }
 }

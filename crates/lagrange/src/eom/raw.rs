@@ -397,6 +397,10 @@ impl<F: LagrangianFunction> LagrangianFunction for RawModel<F> {
     ) -> bool {
         self.has_generalized_force() && self.function.generalized_force_with(scratch, t, q, qdot, force)
     }
+
+    fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut crate::Bounds) -> bool {
+        self.function.admissible(t, q, qdot, bounds)
+    }
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! The short form of a mechanism: names and masses in a builder, the poses in a small trait.
 
-use super::{Body, Coordinate, Loads, Mechanism};
+use super::{Body, Bounds, Coordinate, Loads, Mechanism};
 use crate::pose::Pose;
 use crate::scalar::Scalar;
 
@@ -36,6 +36,13 @@ pub trait Poses {
         loads: &mut Loads<'_, S>,
     ) -> bool {
         let _ = (t, q, qdot, world_from_body, loads);
+        false
+    }
+
+    /// Declare the admissible region in `bounds` and return `true`, or return `false`
+    /// ([`Mechanism::admissible`]).
+    fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut Bounds) -> bool {
+        let _ = (t, q, qdot, bounds);
         false
     }
 }
@@ -142,5 +149,9 @@ impl<P: Poses> Mechanism for Described<P> {
         loads: &mut Loads<'_, S>,
     ) -> bool {
         self.poses.applied_forces(t, q, qdot, world_from_body, loads)
+    }
+
+    fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut Bounds) -> bool {
+        self.poses.admissible(t, q, qdot, bounds)
     }
 }

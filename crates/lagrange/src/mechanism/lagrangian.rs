@@ -1,6 +1,6 @@
 //! Lagrangians as functions: the user's raw `L(q, q̇, t)`, and what the raw path needs of one.
 
-use super::Coordinate;
+use super::{Bounds, Coordinate};
 use crate::scalar::Scalar;
 
 /// A system given directly by its Lagrangian `L(q, q̇, t)`, written by the user.
@@ -19,6 +19,15 @@ pub trait Lagrangian {
     /// or return `false` if there are none (the answer must not depend on the inputs).
     fn generalized_force<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
         let _ = (t, q, qdot, force);
+        false
+    }
+
+    /// Declare the region where `L` holds, bounding quantities of `(t, q, q̇)` in `bounds`, and
+    /// return `true`; return `false` (the default: no region, no cost) if it holds everywhere.
+    /// As for the generalized force, the answer must not depend on the inputs
+    /// ([`Mechanism::admissible`](crate::Mechanism::admissible)).
+    fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut Bounds) -> bool {
+        let _ = (t, q, qdot, bounds);
         false
     }
 }
@@ -52,6 +61,13 @@ pub trait LagrangianFunction {
         qdot: &[S],
         force: &mut [S],
     ) -> bool;
+
+    /// Declare the admissible region at `(t, q, q̇)` in `bounds` and return `true`, or return
+    /// `false` if there is none (the default); [`Bounds::check`] runs it.
+    fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut Bounds) -> bool {
+        let _ = (t, q, qdot, bounds);
+        false
+    }
 }
 
 impl<L: Lagrangian> LagrangianFunction for L {
@@ -69,5 +85,9 @@ impl<L: Lagrangian> LagrangianFunction for L {
 
     fn generalized_force_with<S: Scalar>(&self, _: &mut (), t: S, q: &[S], qdot: &[S], force: &mut [S]) -> bool {
         self.generalized_force(t, q, qdot, force)
+    }
+
+    fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut Bounds) -> bool {
+        Lagrangian::admissible(self, t, q, qdot, bounds)
     }
 }

@@ -1,5 +1,6 @@
 //! What a user writes: coordinates, bodies, and where each body is as a function of them.
 
+use super::Bounds;
 use super::loads::Loads;
 use crate::pose::Pose;
 use crate::scalar::Scalar;
@@ -168,6 +169,61 @@ pub trait Mechanism {
         loads: &mut Loads<'_, S>,
     ) -> bool {
         let _ = (t, q, qdot, world_from_body, loads);
+        false
+    }
+
+    /// Declare the *admissible region*, where the model holds, as inequality bounds on the state
+    /// `(t, q, q̇)` added to `bounds` ([`Bounds::above`], [`Bounds::at_least`],
+    /// [`Bounds::at_most`], [`Bounds::below`]: a name for the bounded quantity, its value, the
+    /// limit), and return `true`; return `false` (writing nothing) if the model holds everywhere
+    /// (the default). A polar radius `r > 0`, every rope segment's length `≥ 0`, a block between
+    /// the ends of its incline.
+    ///
+    /// As for the potential, the answer must not depend on the inputs:
+    /// [`Model::new`](crate::Model::new) asks once, and a model without a region costs nothing.
+    /// [`run`](crate::integrate::run) and [`simulate`](crate::simulate) check the initial state
+    /// and the state after every accepted step of every integrator, and end the run with
+    /// [`Error::Inadmissible`](crate::Error::Inadmissible) naming the quantity, the bound and
+    /// the time when one fails; [`Bounds::check`] checks a single state
+    /// (docs/method.md#admissible-regions).
+    ///
+    /// ```
+    /// use lagrange::{Body, Bounds, Coordinate, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, simulate};
+    ///
+    /// /// A particle in plane polar coordinates q = (r, θ), no force: the model breaks at r = 0.
+    /// struct Polar { bodies: [Body; 1], coordinates: [Coordinate; 2] }
+    ///
+    /// impl Mechanism for Polar {
+    ///     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
+    ///     fn bodies(&self) -> &[Body] { &self.bodies }
+    ///     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
+    ///         world_from_body[0] = Pose::point(q[0] * q[1].cos(), q[0] * q[1].sin());
+    ///     }
+    ///     fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+    ///         bounds.above("r", q[0], 0.0);
+    ///         true
+    ///     }
+    /// }
+    ///
+    /// let model = Model::new(Polar {
+    ///     bodies: [Body::point("particle", 1.0)],
+    ///     coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
+    /// })?;
+    /// // Straight at the origin at 1 m/s from r = 1: steps of 0.3 s would carry it through r = 0
+    /// // (at t = 1) into r < 0, where the coordinates no longer describe the particle.
+    /// let initial = State::new(0.0, [1.0, 0.0], [-1.0, 0.0]);
+    /// let run = simulate(&model, &initial, 2.0, Method::Rk4 { dt: 0.3 }, &Output::Ends);
+    /// let Err(Error::Inadmissible { t, ref bound, value, .. }) = run else { panic!("{run:?}") };
+    /// // The first step that ends outside: t = 1.2, r = −0.2.
+    /// assert_eq!(bound, "r > 0");
+    /// approx::assert_relative_eq!(t, 1.2, max_relative = 1e-15);
+    /// approx::assert_relative_eq!(value, -0.2, max_relative = 1e-12);
+    /// // A single state.
+    /// assert_eq!(Bounds::check(&model, 0.0, &[0.5, 0.0], &[0.0, 0.0]), Ok(true));
+    /// # Ok::<(), lagrange::Error>(())
+    /// ```
+    fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut Bounds) -> bool {
+        let _ = (t, q, qdot, bounds);
         false
     }
 

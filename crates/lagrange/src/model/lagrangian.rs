@@ -1,6 +1,6 @@
 //! The Lagrangian `T − V` that a [`Model`] builds from its bodies.
 
-use crate::mechanism::{Coordinate, LagrangianFunction, Mechanism};
+use crate::mechanism::{Bounds, Coordinate, LagrangianFunction, Mechanism};
 use crate::model::Model;
 use crate::pose::Pose;
 use crate::scalar::Scalar;
@@ -83,5 +83,9 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
             }
         }
         has_force || self.has_applied
+    }
+
+    fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut Bounds) -> bool {
+        self.has_region && self.mechanism.admissible(t, q, qdot, bounds)
     }
 }

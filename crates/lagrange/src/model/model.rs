@@ -1,7 +1,7 @@
 //! The validated, immutable model built from a user's [`Mechanism`].
 
 use crate::error::Error;
-use crate::mechanism::{Body, Coordinate, Loads, Mechanism};
+use crate::mechanism::{Body, Bounds, Coordinate, Loads, Mechanism};
 use crate::pose::Pose;
 use crate::probe::{self, ConstantTerms, ProbeStates};
 use crate::tree::Tree;
@@ -9,7 +9,7 @@ use crate::tree::Tree;
 /// A [`Mechanism`] checked and prepared for evaluation: the *model* of the model/workspace split.
 ///
 /// Construction validates the bodies (finite, non-negative masses and inertias), asks once
-/// which optional terms the mechanism has (potential, generalized forces), checks a declared
+/// which optional terms the mechanism has (potential, generalized forces, admissible region), checks a declared
 /// constant mass matrix or kinematic tree at probe states (and factors the constant matrix),
 /// and finds the cyclic coordinates. Evaluations never re-check any of this.
 ///
@@ -37,6 +37,8 @@ pub struct Model<M> {
     pub(crate) has_force: bool,
     /// Whether the mechanism lists forces applied at points of bodies.
     pub(crate) has_applied: bool,
+    /// Whether the mechanism declares an admissible region.
+    pub(crate) has_region: bool,
     pub(crate) constant: Option<ConstantTerms>,
     pub(crate) cyclic: Vec<bool>,
     pub(crate) autonomous: bool,
@@ -96,6 +98,7 @@ impl<M: Mechanism> Model<M> {
             has_potential: false,
             has_force: false,
             has_applied: false,
+            has_region: false,
             constant: None,
             cyclic: vec![false; n],
             autonomous: false,
@@ -117,6 +120,7 @@ impl<M: Mechanism> Model<M> {
         if let Some(body) = loads.bad_body() {
             return Err(invalid("applied force", body as f64, "names a body the mechanism does not have"));
         }
+        model.has_region = model.mechanism.admissible(t, q, qdot, &mut Bounds::new());
         if model.mechanism.constant_mass_matrix() {
             model.constant = Some(probe::constant_terms(&model.mechanism, &probes)?);
         }
@@ -172,6 +176,11 @@ impl<M: Mechanism> Model<M> {
     /// ([`Mechanism::applied_forces`]).
     pub fn has_applied_forces(&self) -> bool {
         self.has_applied
+    }
+
+    /// Whether the mechanism declares an admissible region ([`Mechanism::admissible`]).
+    pub fn has_admissible_region(&self) -> bool {
+        self.has_region
     }
 
     /// Whether `M` is constant (declared, and checked at construction).
