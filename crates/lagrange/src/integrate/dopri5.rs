@@ -365,6 +365,10 @@ impl<D: Dynamics> Integrator<D> for Dopri5 {
         Ok(())
     }
 
+    fn current(&self) -> (&[f64], &[f64]) {
+        (Self::q(self), Self::qdot(self))
+    }
+
     fn stats(&self) -> Stats {
         Self::stats(self)
     }

@@ -1,8 +1,8 @@
 //! Running an integrator over an interval: one loop over the output times, writing each sample
 //! into a [`Sink`] (a [`Trajectory`] being one).
 
-use super::{Dopri5, Gauss4, Grid, Integrator, Method, Rk4, Sdirk4, Stats, Variational};
-use crate::{Dynamics, Error, State};
+use super::{Dopri5, Gauss4, Grid, Integrator, Method, Rk4, Sdirk4, Stats, Variational, non_finite_quantity};
+use crate::{Bounds, Dynamics, Error, State};
 
 /// When to record the state.
 #[derive(Clone, Debug, PartialEq)]
@@ -125,6 +125,9 @@ const MAX_STEPS: usize = 500_000_000;
 ///
 /// # Errors
 /// [`Error::InvalidSetting`] for a bad horizon, step, tolerance or output grid;
+/// [`Error::Inadmissible`] when the initial state, the state after an accepted step or a
+/// recorded sample lies outside the system's admissible region
+/// ([`Mechanism::admissible`](crate::Mechanism::admissible));
 /// [`Error::Diverged`] (naming the quantity) when the state, a stage value or the recorded
 /// energy stops being finite; [`Error::Stiff`] when the explicit adaptive method runs out of
 /// step or of steps after its stiffness test fired; any error of the equations of motion or
@@ -163,6 +166,11 @@ pub fn simulate<D: Dynamics>(
 /// on it. The energy function `h` is evaluated only for a sink that
 /// [wants it](Sink::wants_energy).
 ///
+/// Every step is checked here, once for all integrators: the state after each accepted step
+/// must be finite (each integrator's [`advance`](Integrator::advance)) and, when the system
+/// declares an admissible region, inside it — as must the initial state and every recorded
+/// sample (docs/method.md#admissible-regions).
+///
 /// # Errors
 /// As [`simulate`].
 pub fn run<D: Dynamics, I: Integrator<D>, S: Sink>(
@@ -177,6 +185,9 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink>(
     let times = check_run(system, initial, t_end, output)?;
     let t0 = initial.t;
     let mut ws = system.new_workspace();
+    // Asked once: a system without a region is never checked again.
+    let region = non_finite_quantity(&[], &initial.q, &initial.qdot).is_none()
+        && Bounds::check(system, t0, &initial.q, &initial.qdot)?;
     integrator.begin(system, &mut ws, initial, t_end)?;
     if let Some(dt) = integrator.fixed_step() {
         for (index, &t_out) in times.iter().enumerate() {
@@ -206,8 +217,15 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink>(
             }
             integrator.advance(system, &mut ws, t_out, t_end)?;
             steps += 1;
+            if region {
+                let (q, qdot) = integrator.current();
+                Bounds::check(system, integrator.t(), q, qdot)?;
+            }
         }
         integrator.read(system, &mut ws, t_out, &mut q, &mut qdot)?;
+        if region {
+            Bounds::check(system, t_out, &q, &qdot)?;
+        }
         let energy =
             if sink.wants_energy() { Some(energy(system, &mut ws, t_out, &q, &qdot, index, steps)?) } else { None };
         sink.record(Sample { t: t_out, q: &q, qdot: &qdot, energy });

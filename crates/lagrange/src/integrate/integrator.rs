@@ -82,6 +82,13 @@ pub trait Integrator<D: Dynamics> {
     fn read(&mut self, system: &D, ws: &mut D::Workspace, t: f64, q: &mut [f64], qdot: &mut [f64])
     -> Result<(), Error>;
 
+    /// The state `(q, q̇)` the method holds at [`t`](Self::t), after its last accepted step
+    /// (or at the start), without computing anything: what the driver checks against the
+    /// admissible region after every step. The velocities are the method's own: for the
+    /// variational integrator, its discrete velocity `Δq/h` of the last step (the initial
+    /// velocities at the start), which [`read`](Self::read) would refine by a Newton solve.
+    fn current(&self) -> (&[f64], &[f64]);
+
     /// Work done since [`begin`](Self::begin).
     fn stats(&self) -> Stats;
 }
@@ -150,6 +157,11 @@ impl<D: Dynamics, M: OnGrid> Integrator<D> for M {
         q.copy_from_slice(&state.q);
         qdot.copy_from_slice(&state.qdot);
         Ok(())
+    }
+
+    fn current(&self) -> (&[f64], &[f64]) {
+        let state = self.grid().0;
+        (&state.q, &state.qdot)
     }
 
     fn stats(&self) -> Stats {

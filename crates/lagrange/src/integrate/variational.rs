@@ -432,6 +432,10 @@ impl<D: Dynamics> Integrator<D> for Variational<D> {
         Ok(())
     }
 
+    fn current(&self) -> (&[f64], &[f64]) {
+        (&self.q, &self.velocity)
+    }
+
     fn stats(&self) -> Stats {
         Self::stats(self)
     }
