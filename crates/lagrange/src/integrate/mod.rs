@@ -76,17 +76,36 @@ pub(crate) fn check_step(h: f64) -> Result<(), Error> {
     }
 }
 
+/// The smallest relative tolerance accepted, `10 ε ≈ 2.2e-15`: one step of any method rounds
+/// its result by about `ε |y|`, so an error estimate below a few `ε` is rounding noise that the
+/// step-size control would chase, and the implicit method's Newton test already stops at `10 ε`
+/// in the tolerance-scaled norm ([`Sdirk4`]) — a tolerance at or below it asks for iterates no
+/// more accurate than the tolerance itself (Hairer and Wanner's RADAU5 refuses the same range).
+pub const MIN_RELATIVE_TOLERANCE: f64 = 10.0 * f64::EPSILON;
+
+/// Positive, finite tolerances whose relative part lies in `[10 ε, 1)`
+/// ([`MIN_RELATIVE_TOLERANCE`]): at 1 and above a step may be wrong by the size of the state
+/// itself, so no digit of the result is correct.
 pub(crate) fn check_tolerance(tol: Tolerances) -> Result<(), Error> {
     for value in [tol.rtol, tol.atol] {
         if !(value > 0.0 && value.is_finite()) {
             return Err(Error::InvalidSetting { what: "tolerance", value, why: "must be positive and finite" });
         }
     }
-    if tol.rtol < 1e-15 {
+    if tol.rtol >= 1.0 {
         return Err(Error::InvalidSetting {
             what: "tolerance",
             value: tol.rtol,
-            why: "a relative tolerance below 1e-15 is below f64 round-off",
+            why: "a relative tolerance must lie in [2.2e-15, 1): at 1 and above a step may be wrong by the whole \
+                  state, so no digit of the result is correct",
+        });
+    }
+    if tol.rtol < MIN_RELATIVE_TOLERANCE {
+        return Err(Error::InvalidSetting {
+            what: "tolerance",
+            value: tol.rtol,
+            why: "a relative tolerance must lie in [2.2e-15, 1): below 10 ε ≈ 2.2e-15 the error estimate is f64 \
+                  rounding noise, which no step size can reduce",
         });
     }
     Ok(())
