@@ -5,7 +5,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
 
 scene_params! {
@@ -21,8 +21,9 @@ scene_params! {
         pub pulley_inertia: f64 = ["I", "kg m²", 0.1, Domain::NonNegative, "moment of inertia of the pulley"],
         /// Pulley radius `a` (m).
         pub pulley_radius: f64 = ["a", "m", 0.5, Domain::Positive, "radius of the pulley"],
-        /// Rope length `l` (m), including the `πa` around the pulley. `l > πa` is not required:
-        /// it shifts `m2`'s height only.
+        /// Rope length `l` (m), including the `πa` around the pulley. Any `l > 0` is accepted (it
+        /// shifts `m2`'s height only), but the rope reaches both masses only for
+        /// `0 ≤ x ≤ l − πa`, the admissible region.
         pub rope_length: f64 = ["l", "m", 10.0, Domain::Positive, "length of the rope"],
         /// Gravitational acceleration `g` (m/s²).
         pub gravity: f64 = [GRAVITY],
@@ -69,6 +70,14 @@ impl Mechanism for Atwood {
         world_from_body[0] = Pose::point(S::from(-a), -x);
         world_from_body[1] = Pose::point(S::from(a), x - (self.rope_length - PI * a));
         world_from_body[2] = Pose::new(S::zero(), S::zero(), x * (1.0 / a));
+    }
+
+    /// Both rope segments keep a non-negative length: `x` from the pulley to `m1` and
+    /// `l − πa − x` to `m2` (the masses cannot pass through the pulley).
+    fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        bounds.at_least("rope to m1, x", q[0], 0.0);
+        bounds.at_least("rope to m2, l − πa − x", self.rope_length - PI * self.pulley_radius - q[0], 0.0);
+        true
     }
 
     fn constant_mass_matrix(&self) -> bool {

@@ -5,7 +5,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
 use crate::{Domain, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A fixed upper pulley whose rope (length `l`) carries `m1` on one end and a movable pulley on
@@ -91,6 +91,18 @@ impl Mechanism for DoubleAtwood {
         let pulley_depth = -x + self.rope_length;
         let depths = [x, pulley_depth + x_prime, pulley_depth - x_prime + self.lower_rope_length, pulley_depth];
         hang_at_depths(world_from_body, depths);
+    }
+
+    /// Every rope segment keeps a non-negative length (radii neglected): the upper rope's `x`
+    /// to `m1` and `l − x` to the movable pulley, the lower rope's `x'` to `m2` and `l' − x'` to
+    /// `m3` (no mass passes through a pulley).
+    fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        let (x, x_prime) = (q[0], q[1]);
+        bounds.at_least("upper rope to m1, x", x, 0.0);
+        bounds.at_least("upper rope to the pulley, l − x", self.rope_length - x, 0.0);
+        bounds.at_least("lower rope to m2, x'", x_prime, 0.0);
+        bounds.at_least("lower rope to m3, l' − x'", self.lower_rope_length - x_prime, 0.0);
+        true
     }
 
     fn constant_mass_matrix(&self) -> bool {

@@ -5,7 +5,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
 use crate::{Domain, SceneType};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A fixed upper pulley whose rope (length `l`) carries movable pulley A (depth `x`) and
@@ -131,6 +131,20 @@ impl Mechanism for DoubleDoubleAtwood {
             depth_a - x_a + self.rope_length_a,
         ];
         hang_at_depths(world_from_body, depths);
+    }
+
+    /// Every rope segment keeps a non-negative length (radii neglected): the upper rope's `x`
+    /// to A and `l − x` to B, B's rope's `x'` to `m2` and `l' − x'` to `m3`, A's rope's `x''`
+    /// to `m4` and `l'' − x''` to `m5` (no mass passes through a pulley).
+    fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        let (x, x_b, x_a) = (q[0], q[1], q[2]);
+        bounds.at_least("upper rope to A, x", x, 0.0);
+        bounds.at_least("upper rope to B, l − x", self.rope_length - x, 0.0);
+        bounds.at_least("B's rope to m2, x'", x_b, 0.0);
+        bounds.at_least("B's rope to m3, l' − x'", self.rope_length_b - x_b, 0.0);
+        bounds.at_least("A's rope to m4, x''", x_a, 0.0);
+        bounds.at_least("A's rope to m5, l'' − x''", self.rope_length_a - x_a, 0.0);
+        true
     }
 
     fn constant_mass_matrix(&self) -> bool {

@@ -5,7 +5,7 @@ use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 scene_params! {
@@ -111,6 +111,13 @@ impl Mechanism for IsotropicOscillator {
     fn potential<S: Scalar>(&self, _t: S, _q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {
         let Pose { x, y, .. } = world_from_body[0];
         Some((x * x + y * y) * (0.5 * self.stiffness))
+    }
+
+    /// Plane polar coordinates describe the particle for `r > 0` only (at `r = 0` `θ` moves no
+    /// mass; past it `(r, θ)` and `(−r, θ + π)` are one point).
+    fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        bounds.above("r", q[0], 0.0);
+        true
     }
 }
 

@@ -4,7 +4,7 @@ use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{PI, TAU};
 
 scene_params! {
@@ -202,6 +202,14 @@ impl Mechanism for Kepler {
     fn potential<S: Scalar>(&self, _t: S, _q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {
         let Pose { x, y, .. } = world_from_body[0];
         Some(-(x * x + y * y).sqrt().recip() * self.strength)
+    }
+
+    /// Plane polar coordinates describe the particle for `r > 0` only (at `r = 0` the
+    /// potential is singular and `θ` moves no mass; past it `(r, θ)` and `(−r, θ + π)` are one
+    /// point).
+    fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        bounds.above("r", q[0], 0.0);
+        true
     }
 }
 

@@ -4,7 +4,7 @@ use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A bob of mass `m` at `(r sinθ, −r cosθ)` on a massless spring (stiffness `k`, rest length
@@ -59,6 +59,13 @@ impl Mechanism for SpringPendulum {
         let Pose { x, y, .. } = world_from_body[0];
         let stretch = (x * x + y * y).sqrt() - self.rest_length;
         Some(stretch * stretch * (0.5 * self.stiffness))
+    }
+
+    /// `r` is the spring's length, which must stay positive (at `r = 0` `θ` moves no mass and
+    /// the spring's direction is undefined).
+    fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        bounds.above("spring length r", q[0], 0.0);
+        true
     }
 }
 

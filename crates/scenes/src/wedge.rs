@@ -4,7 +4,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
 
 scene_params! {
@@ -62,6 +62,15 @@ impl Mechanism for Wedge {
         // Wedge corner on the floor; block at x' down the slope.
         world_from_body[0] = Pose::point(x, S::zero());
         world_from_body[1] = Pose::point(x + x_prime * cos, (-x_prime + self.incline_length) * sin);
+    }
+
+    /// The block stays on the incline, between its top corner (`x' = 0`) and its foot on the
+    /// floor (`x' = L`); past either end the block would slide on a slope that is not there.
+    /// The floor is unbounded: the wedge's `x` is free.
+    fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        bounds.at_least("block on the incline x'", q[1], 0.0);
+        bounds.at_most("block on the incline x'", q[1], self.incline_length);
+        true
     }
 
     fn constant_mass_matrix(&self) -> bool {
