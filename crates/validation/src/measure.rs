@@ -207,12 +207,14 @@ pub struct Sample<'a> {
 
 /// The measurement loop of a maximal engine: advance `simulation` (built for the problem's scene
 /// with its parameters) to each of the saved times, read the bodies back into generalized
-/// coordinates, and measure the error `error(k, q)` against the caller's reference, the energy
+/// coordinates, check them against the scene's admissible region (as the reduced integrators
+/// do after every step; docs/method.md#admissible-regions), and measure the error `error(k, q)` against the caller's reference, the energy
 /// error (when the energy is conserved), the constraint violation, and the time of the
 /// advances; `each` reads what else the caller needs at every sample.
 ///
 /// # Errors
-/// A failing advance, read-back or energy, or an error of `each`.
+/// A failing advance, read-back or energy, a read-back state outside the admissible region
+/// ([`lagrange::Error::Inadmissible`]), or an error of `each`.
 pub fn track(
     simulation: &mut dyn MaximalSimulation,
     problem: &Problem<'_>,
@@ -221,6 +223,8 @@ pub fn track(
 ) -> Result<Pass, Error> {
     let Problem { scene, params, initial, times, conserves_energy } = *problem;
     let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies())?;
+    // The reduced model of the same scene, for its admissible region.
+    let reduced = crate::error::scene(scene)?.build(params)?;
     let mut q_previous = initial.q.clone();
     let (mut errors, mut energy_error, mut violation) = (Vec::with_capacity(times.len()), 0.0, None::<f64>);
     let mut advance_time = 0.0;
@@ -230,6 +234,7 @@ pub fn track(
         advance_time += start.elapsed().as_secs_f64();
         let bodies = simulation.bodies();
         let (q, qdot) = maps::generalized(scene, params, t, &bodies, &q_previous)?;
+        reduced.check_admissible(t, &q, &qdot)?;
         errors.push(error(k, &q));
         if conserves_energy {
             let energy = maps::energy(scene, params, t, &bodies)?;
