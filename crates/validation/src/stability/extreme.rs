@@ -89,9 +89,9 @@ fn rapier_error(
 
 fn extreme(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     case.setup = "Wedge (M = 1): m ∈ {1e-6, 1e6} at α = π/6, and m ∈ {1e-6, 1, 1e6} at α = 1e-6 and π/2 − 1e-6, from \
-                  rest for 1 s (dt = 0.01). Atwood (a = 0.5): m1 = m2 = 1 with I = 0.1 and I = 1e8 a² for 100 s with \
+                  rest for 1 s (dt = 0.01), on an incline of L = 20 m. Atwood (a = 0.5): m1 = m2 = 1 with I = 0.1 and I = 1e8 a² for 100 s with \
                   every method; (m1, m2, I) = (2, 1, 1e8 a²), (1e-6, 1, 0.1), (1e6, 1, 0.1), (1, 1e6, 0.1) from \
-                  x = 1, ẋ = 0.5 for 1 s. Cart pendulum (M = 1, r = 1): m ∈ {1e-6, 1e6}, released at θ₀ = 1e-9 \
+                  x = 1 (x = 5 where m2 > m1, to stay below the pulley), ẋ = 0.5 for 1 s. Cart pendulum (M = 1, r = 1): m ∈ {1e-6, 1e6}, released at θ₀ = 1e-9 \
                   for 10.5 periods (adaptive, rtol 1e-12) and from θ = 0.5, Ẋ = 0.3, θ̇ = −1 for 20 000 \
                   variational steps of P/2000. Chains of four unit rods with masses (1, 1e2, 1e4, 1e6), \
                   (1e6, 1e4, 1e2, 1), (1, 1e6, 1, 1e6) from q = (0.5, 1, −0.3, 2), q̇ = (0.3, −1, 2, 0.5) for 10 s. \
@@ -112,7 +112,9 @@ fn wedge(case: &mut CaseBuilder) -> Result<(), Error> {
     }
     let initial = State::new(0.0, [0.0, 0.0], [0.0, 0.0]);
     for (ratio, angle) in cases {
-        let changes = [("wedge_mass", 1.0), ("block_mass", ratio), ("angle", angle)];
+        // An incline of 20 m: the block (at most g/(2 sinα) = 9.81 m down it after 1 s here)
+        // stays on it, inside the scene's admissible region. The length enters no acceleration.
+        let changes = [("wedge_mass", 1.0), ("block_mass", ratio), ("angle", angle), ("incline_length", 20.0)];
         let (params, mut system) = setup("wedge", &changes)?;
         let kappa = condition_number(2, system.mass_matrix(0.0, &initial.q, &initial.qdot)?);
         let exact = scene.exact_solution(&params, &initial, 1.0)?.ok_or(Error::Missing("no closed form"))?;
@@ -240,9 +242,11 @@ fn atwood(case: &mut CaseBuilder) -> Result<(), Error> {
         // rapier is reported beside ours: its coupling constraint is solved iteratively.
         case.push(m);
     }
-    let cases = [(2.0, 1.0, 1e8 * quarter), (1e-6, 1.0, 0.1), (1e6, 1.0, 0.1), (1.0, 1e6, 0.1)];
-    let initial = State::new(0.0, [1.0], [0.5]);
-    for (m1, m2, inertia) in cases {
+    // Where m2 ≫ m1 the machine runs backwards at up to g: from x = 5 (not 1) m1 stays below the
+    // pulley (x ≥ 0, the admissible region) for the whole second.
+    let cases = [(2.0, 1.0, 1e8 * quarter, 1.0), (1e-6, 1.0, 0.1, 5.0), (1e6, 1.0, 0.1, 1.0), (1.0, 1e6, 0.1, 5.0)];
+    for (m1, m2, inertia, x0) in cases {
+        let initial = State::new(0.0, [x0], [0.5]);
         let changes = [("mass_1", m1), ("mass_2", m2), ("pulley_inertia", inertia)];
         let (params, system) = setup("atwood", &changes)?;
         let exact = phase(&scene.exact_solution(&params, &initial, 1.0)?.ok_or(Error::Missing("no closed form"))?);

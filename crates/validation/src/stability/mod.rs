@@ -130,6 +130,8 @@ pub enum ErrorKind {
     Diverged,
     /// `InvalidSetting`.
     InvalidSetting,
+    /// `Inadmissible`: the state left the scene's admissible region.
+    Inadmissible,
     /// Any other variant (a failing integration: step-size underflow, too many steps, …).
     Other,
 }
@@ -145,6 +147,7 @@ impl ErrorKind {
             E::NonFinite { .. } => ErrorKind::NonFinite,
             E::Diverged { .. } => ErrorKind::Diverged,
             E::InvalidSetting { .. } => ErrorKind::InvalidSetting,
+            E::Inadmissible { .. } => ErrorKind::Inadmissible,
             _ => ErrorKind::Other,
         }
     }

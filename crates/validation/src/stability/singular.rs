@@ -23,7 +23,8 @@ pub const SINGULAR: CaseSpec = CaseSpec {
              also wherever r² underflows), unless the potential is singular first (−k/r, |x| at the origin: \
              NonFinite at the potential stage); for small finite r the accelerations are finite, with round-off \
              amplified by κ(M) = 1/r². A radial infall from rest at r₀ = 1 reaches r = 0 at \
-             t_c = (π/2)√(r₀³/2μ) = 1.1107 s.",
+             t_c = (π/2)√(r₀³/2μ) = 1.1107 s; the scene's admissible region is r > 0, so a fixed-step run that \
+             steps over the collision stops there with Inadmissible instead of running on at r < 0.",
     run: singular,
 };
 
@@ -241,7 +242,8 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
                     Error::StepSizeUnderflow { t, .. }
                     | Error::Stiff { t, .. }
                     | Error::NewtonFailed { t, .. }
-                    | Error::Diverged { t, .. } => Some(t),
+                    | Error::Diverged { t, .. }
+                    | Error::Inadmissible { t, .. } => Some(t),
                     _ => None,
                 };
                 let mut m = m.failed(&error);
