@@ -1,7 +1,7 @@
 //! Bad input on every scene: every call under `catch_unwind`, counting panics, non-finite values
 //! returned as values, and invalid parameters or settings not rejected by name.
 
-use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement};
+use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, ErrorKind, Measurement, timed_simulate};
 use crate::fixtures::{Rng, rng};
 use lagrange::{Error, Method, Output, State, System, Tolerances};
 use lagrange_maximal::{BuildError, Engine, Settings};
@@ -18,7 +18,12 @@ pub const BAD_INPUT: CaseSpec = CaseSpec {
     scenes: &[],
     theory: "User input never reaches a panic, and the engine checks finiteness after every stage \
              (docs/method.md#typed-failures): every call returns finite values or a typed error; a \
-             non-finite, negative or zero mass, length or step is rejected with the parameter named.",
+             non-finite, negative or zero mass, length or step is rejected with the parameter named. A \
+             relative tolerance outside [10 ε, 1) is refused (InvalidSetting): at 1 and above no digit is \
+             correct, below 10 ε the error estimate is rounding noise. A run that leaves its scene's \
+             admissible region (docs/method.md#admissible-regions) ends in Inadmissible, whatever the \
+             method: Kepler's radial infall stepped over r = 0 by RK4, the Atwood machines pulling a mass \
+             through a pulley, the wedge's block sliding off its incline.",
     run: bad_input,
 };
 
@@ -154,7 +159,7 @@ fn simulate(tally: &mut Tally, system: &dyn System, state: &State) {
             }
         }
     }
-    for bad in [0.0, -tol, f64::NAN, 1e-18] {
+    for bad in [0.0, -tol, f64::NAN, 1e-18, 1e-20, 1.0, 10.0] {
         for method in
             [Method::Adaptive { tol: Tolerances::uniform(bad) }, Method::Implicit { tol: Tolerances::uniform(bad) }]
         {
@@ -228,14 +233,94 @@ fn bad_input(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error
                   and at q = 1e300, q̇ = 1e200, q = 0: accelerations, reaction forces, mass matrix, momenta, energy; \
                   at NaN q, ∞ q̇, NaN t and a short q: the same, which must be errors; 0.1 s runs with every method \
                   and with bad steps and tolerances; builds in every maximal engine (advanced 0.05 s) and with bad \
-                  settings; every parameter set to NaN, ∞ and values outside its domain."
+                  settings; every parameter set to NaN, ∞ and values outside its domain. Runs that leave the \
+                  admissible region: Kepler from r = 1 at rest with RK4 (dt = 1e-3) for 2 s; the Atwood machine and \
+                  the wedge from their defaults for 100 s and the double Atwood machine with l' = 0.001 for 10 s \
+                  (adaptive, tol 1e-10). The harmonic oscillator with tolerances 10, 1 and 1e-20 (adaptive, \
+                  implicit)."
         .into();
     // Panics are caught and counted here: keep their messages off the terminal.
     let hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));
     let result = run_scenes(case);
     std::panic::set_hook(hook);
-    result
+    result?;
+    leaving_the_region(case)?;
+    refused_tolerances(case)
+}
+
+/// Runs that leave their scene's admissible region end in [`Error::Inadmissible`], checked for
+/// the exact variant: `(label, scene, parameter changes, initial state or the default, method,
+/// horizon)`.
+fn leaving_the_region(case: &mut CaseBuilder) -> Result<(), crate::Error> {
+    let adaptive = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
+    let runs: [(&str, &str, &[(&str, f64)], Option<State>, Method, f64); 4] = [
+        (
+            "radial infall through r = 0",
+            "kepler",
+            &[],
+            Some(State::new(0.0, [1.0, 0.0], [0.0, 0.0])),
+            Method::Rk4 { dt: 1e-3 },
+            2.0,
+        ),
+        ("default state for 100 s", "atwood", &[], None, adaptive, 100.0),
+        ("default state for 100 s", "wedge", &[], None, adaptive, 100.0),
+        ("l' = 0.001", "double_atwood", &[("lower_rope_length", 0.001)], None, adaptive, 10.0),
+    ];
+    for (label, id, changes, initial, method, horizon) in runs {
+        let scene = crate::error::scene(id)?;
+        let params = super::scene_params(scene, changes)?;
+        let system = scene.build(&params)?;
+        let initial = match initial {
+            Some(state) => state,
+            None => scene.default_state(&params)?,
+        };
+        let (run, wall) = timed_simulate(system.as_ref(), &initial, horizon, method, &Output::Every(horizon / 200.0));
+        let m = Measurement::new(label, id, method.name(), "the run ends in Inadmissible")
+            .params(changes)
+            .method_settings(method, horizon);
+        let m = match run {
+            Ok(t) => m.value(t.t[t.len() - 1]).cost(Cost::of(&t.stats, wall)),
+            Err(e) => {
+                let kind = ErrorKind::of(&e);
+                let mut m = m.failed(e);
+                m.error = Some(kind);
+                m.cost.wall_time_s = wall;
+                m
+            }
+        };
+        case.push(m.expect_error(ErrorKind::Inadmissible));
+    }
+    Ok(())
+}
+
+/// Relative tolerances outside `[10 ε, 1)` are refused with [`Error::InvalidSetting`] by both
+/// error-controlled methods, checked for the exact variant.
+fn refused_tolerances(case: &mut CaseBuilder) -> Result<(), crate::Error> {
+    let scene = crate::error::scene("harmonic_oscillator")?;
+    let params = scene.default_params();
+    let system = scene.build(&params)?;
+    let initial = scene.default_state(&params)?;
+    for tol in [10.0, 1.0, 1e-20] {
+        for method in
+            [Method::Adaptive { tol: Tolerances::uniform(tol) }, Method::Implicit { tol: Tolerances::uniform(tol) }]
+        {
+            let (run, wall) = timed_simulate(system.as_ref(), &initial, 10.0, method, &Output::Ends);
+            let m = Measurement::new(format!("tol = {tol:e}"), scene.id(), method.name(), "the tolerance is refused")
+                .method_settings(method, 10.0);
+            let m = match run {
+                Ok(t) => m.value(t.t[t.len() - 1]).cost(Cost::of(&t.stats, wall)),
+                Err(e) => {
+                    let kind = ErrorKind::of(&e);
+                    let mut m = m.failed(e);
+                    m.error = Some(kind);
+                    m
+                }
+            };
+            case.push(m.expect_error(ErrorKind::InvalidSetting));
+        }
+    }
+    Ok(())
 }
 
 fn run_scenes(case: &mut CaseBuilder) -> Result<(), crate::Error> {
