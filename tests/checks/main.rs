@@ -12,4 +12,5 @@ mod properties;
 mod raw_path;
 mod reactions;
 mod readme;
+mod region;
 mod stability;

@@ -1,0 +1,239 @@
+//! Admissible regions (docs/method.md#admissible-regions): a run that leaves the region where its
+//! model holds ends in `Error::Inadmissible` with every integrator, at the first step outside;
+//! the scenes declare theirs; tolerances that cannot give a meaningful result are refused.
+
+use lagrange::integrate::MIN_RELATIVE_TOLERANCE;
+use lagrange::{Bounds, Described, Error, Method, Model, Output, Pose, Poses, Scalar, State, Tolerances};
+use lagrange_scenes::find;
+
+/// A free particle in plane polar coordinates `q = (r, θ)`: `r > 0` is its region.
+struct Polar;
+
+impl Poses for Polar {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
+        p[0] = Pose::point(q[0] * q[1].cos(), q[0] * q[1].sin());
+    }
+
+    fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        bounds.above("r", q[0], 0.0);
+        true
+    }
+}
+
+fn polar() -> Model<Described<Polar>> {
+    Model::new(Described::new(Polar).length("r").angle("θ").point("particle", 1.0)).expect("valid")
+}
+
+fn every_method() -> [Method; 5] {
+    let (dt, tol) = (0.3, Tolerances::uniform(1e-8));
+    [
+        Method::Rk4 { dt },
+        Method::Adaptive { tol },
+        Method::Variational { dt },
+        Method::Implicit { tol },
+        Method::Gauss { dt },
+    ]
+}
+
+/// Straight at the origin from r = 1 at 1 m/s (`r = 1 − t`, every method exact up to
+/// round-off): each method stops at the first step that ends at r ≤ 0 — the fixed-step ones at
+/// t = 1.2 (r = −0.2), the adaptive ones wherever their step lands past t = 1 — never later.
+#[test]
+fn every_integrator_stops_at_the_first_step_outside_the_region() {
+    let model = polar();
+    assert!(model.has_admissible_region());
+    let initial = State::new(0.0, [1.0, 0.0], [-1.0, 0.0]);
+    for method in every_method() {
+        let run = lagrange::simulate(&model, &initial, 3.0, method, &Output::Ends);
+        let Err(Error::Inadmissible { t, quantity, bound, value, limit }) = run else { panic!("{method:?}: {run:?}") };
+        assert_eq!((quantity.as_str(), bound.as_str(), limit), ("r", "r > 0", 0.0), "{method:?}");
+        // The state at the failing step is on the line r = 1 − t, at or past r = 0.
+        assert!(t >= 1.0 && value <= 0.0 && (value - (1.0 - t)).abs() <= 1e-9, "{method:?}: t = {t}, r = {value}");
+        match method {
+            Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
+                assert!((t - 4.0 * dt).abs() <= 1e-12, "{method:?}: t = {t}")
+            }
+            _ => assert!(t < 3.0, "{method:?}: t = {t}"),
+        }
+    }
+}
+
+#[test]
+fn an_initial_state_outside_the_region_is_refused_before_any_step() {
+    let model = polar();
+    let initial = State::new(0.5, [-0.25, 0.0], [1.0, 0.0]);
+    for method in every_method() {
+        let run = lagrange::simulate(&model, &initial, 1.0, method, &Output::Ends);
+        assert_eq!(
+            run,
+            Err(Error::Inadmissible { t: 0.5, quantity: "r".into(), bound: "r > 0".into(), value: -0.25, limit: 0.0 }),
+            "{method:?}"
+        );
+    }
+    let message = Bounds::check(&model, 0.5, &[-0.25, 0.0], &[0.0, 0.0]).unwrap_err().to_string();
+    assert_eq!(message, "r = -0.25 is outside the admissible region r > 0 at t = 0.5 s");
+}
+
+/// Without a declared region nothing is checked: the same motion runs through r = 0.
+#[test]
+fn without_a_region_nothing_is_checked() {
+    struct Unbounded;
+    impl Poses for Unbounded {
+        fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
+            p[0] = Pose::point(q[0] * q[1].cos(), q[0] * q[1].sin());
+        }
+    }
+    let model = Model::new(Described::new(Unbounded).length("r").angle("θ").point("particle", 1.0)).expect("valid");
+    assert!(!model.has_admissible_region());
+    assert_eq!(Bounds::check(&model, 0.0, &[-1.0, 0.0], &[0.0, 0.0]), Ok(false));
+    let run = lagrange::simulate(
+        &model,
+        &State::new(0.0, [1.0, 0.0], [-1.0, 0.0]),
+        3.0,
+        Method::Rk4 { dt: 0.3 },
+        &Output::Ends,
+    )
+    .expect("no region");
+    assert!((run.q(1)[0] + 2.0).abs() < 1e-12, "r(3) = {}", run.q(1)[0]);
+}
+
+/// A run of a registered scene: `(id, parameter changes, initial state or the default, method,
+/// horizon)` → its result.
+fn scene_run(
+    id: &str,
+    changes: &[(&str, f64)],
+    initial: Option<State>,
+    method: Method,
+    t_end: f64,
+) -> Result<lagrange::Trajectory, Error> {
+    let scene = find(id).expect("registered");
+    let mut params = scene.default_params();
+    for &(name, value) in changes {
+        params.set(name, value).expect("valid");
+    }
+    let initial = initial.unwrap_or_else(|| scene.default_state(&params).expect("valid"));
+    let system = scene.build(&params).expect("valid");
+    system.simulate(&initial, t_end, method, &Output::Every(t_end / 200.0))
+}
+
+fn expect_inadmissible(what: &str, run: Result<lagrange::Trajectory, Error>, quantity: &str) -> f64 {
+    match run {
+        Err(Error::Inadmissible { quantity: q, t, .. }) if q == quantity => t,
+        other => panic!("{what}: expected Inadmissible for {quantity}, got {other:?}"),
+    }
+}
+
+/// Kepler's radial infall from rest at r = 1 reaches r = 0 at t_c = (π/2)√(1/2) = 1.1107 s;
+/// RK4 with dt = 1e-3 used to step over it and run on to r(2) = −19.9.
+#[test]
+fn kepler_stepped_through_r_0_by_rk4_ends_in_inadmissible() {
+    let infall = Some(State::new(0.0, [1.0, 0.0], [0.0, 0.0]));
+    let t = expect_inadmissible("kepler", scene_run("kepler", &[], infall, Method::Rk4 { dt: 1e-3 }, 2.0), "r");
+    let collision = std::f64::consts::FRAC_PI_2 * 0.5_f64.sqrt();
+    assert!((collision - 0.01..=collision + 0.01).contains(&t), "stopped at {t}, collision at {collision}");
+}
+
+/// The pulley machines and the wedge leave their regions from their defaults on long runs
+/// (masses pulled through pulleys, the block off the end of its incline).
+#[test]
+fn scenes_leave_their_regions_with_a_typed_error() {
+    let adaptive = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
+    // Atwood: x = 1 + ẍ t²/2 with ẍ = 2.885 m/s² reaches l − πa = 8.43 m at t = 2.27 s.
+    let t = expect_inadmissible("atwood", scene_run("atwood", &[], None, adaptive, 100.0), "rope to m2, l − πa − x");
+    assert!(t >= 2.26, "atwood stopped at {t}");
+    // Wedge: x' = ẍ' t²/2 with ẍ' = 6.04 m/s² reaches L = 2 m at t = 0.81 s.
+    let t = expect_inadmissible("wedge", scene_run("wedge", &[], None, adaptive, 100.0), "block on the incline x'");
+    assert!(t >= 0.81, "wedge stopped at {t}");
+    // Double Atwood with l' = 0.001 < x' = 1: outside from the start.
+    let t = expect_inadmissible(
+        "double_atwood",
+        scene_run("double_atwood", &[("lower_rope_length", 0.001)], None, adaptive, 10.0),
+        "lower rope to m3, l' − x'",
+    );
+    assert_eq!(t, 0.0);
+    // Polar scenes and the spring pendulum at r < 0.
+    for (id, quantity) in [("isotropic_oscillator", "r"), ("spring_pendulum", "spring length r")] {
+        let outside = Some(State::new(0.0, [-0.5, 0.0], [0.0, 0.0]));
+        expect_inadmissible(id, scene_run(id, &[], outside, adaptive, 1.0), quantity);
+    }
+}
+
+/// Every scene's default state lies inside its region, and the scenes without a coordinate
+/// singularity or a physical limit declare none.
+#[test]
+fn default_states_are_admissible_and_unbounded_scenes_declare_no_region() {
+    let bounded = [
+        "kepler",
+        "isotropic_oscillator",
+        "atwood",
+        "double_atwood",
+        "double_double_atwood",
+        "wedge",
+        "spring_pendulum",
+    ];
+    for scene in lagrange_scenes::all() {
+        let params = scene.default_params();
+        let initial = scene.default_state(&params).expect("valid");
+        let system = scene.build(&params).expect("valid");
+        let region = system.check_admissible(initial.t, &initial.q, &initial.qdot);
+        assert_eq!(region, Ok(bounded.contains(&scene.id())), "{}", scene.id());
+    }
+}
+
+/// `--tol 10` used to be accepted (a conservative oscillator's energy grew from 0.05 to 1e16),
+/// and 1e-15 .. 1e-20 too close to f64 round-off: the relative tolerance must lie in [10 ε, 1).
+#[test]
+fn tolerances_outside_ten_epsilon_to_one_are_refused() {
+    assert_eq!(MIN_RELATIVE_TOLERANCE, 10.0 * f64::EPSILON);
+    let scene = find("harmonic_oscillator").expect("registered");
+    let params = scene.default_params();
+    let system = scene.build(&params).expect("valid");
+    let initial = scene.default_state(&params).expect("valid");
+    let run = |method| system.simulate(&initial, 1.0, method, &Output::Ends);
+    for tol in [10.0, 1.0, 2e-15, 1e-20] {
+        for method in
+            [Method::Adaptive { tol: Tolerances::uniform(tol) }, Method::Implicit { tol: Tolerances::uniform(tol) }]
+        {
+            match run(method) {
+                Err(Error::InvalidSetting { what: "tolerance", value, why }) => {
+                    assert_eq!(value, tol);
+                    assert!(why.contains("[2.2e-15, 1)"), "{why}");
+                }
+                other => panic!("{method:?}: {other:?}"),
+            }
+        }
+    }
+    for tol in [0.5, 1e-14] {
+        for method in
+            [Method::Adaptive { tol: Tolerances::uniform(tol) }, Method::Implicit { tol: Tolerances::uniform(tol) }]
+        {
+            assert!(run(method).is_ok(), "{method:?} refused");
+        }
+    }
+}
+
+/// The maximal engines are checked in their measurement loop: read back into the wedge's
+/// coordinates, the block leaves the incline (x' = 2 m at t = 0.81 s) between the samples at
+/// 0.80 and 0.85 s, and the pass ends there.
+#[test]
+fn maximal_engines_read_back_outside_the_region_end_in_inadmissible() {
+    use lagrange_maximal::{Engine, Settings, build};
+    use lagrange_validation::measure::{Problem, track};
+    let scene = find("wedge").expect("registered");
+    let params = scene.default_params();
+    let initial = scene.default_state(&params).expect("valid");
+    let times: Vec<f64> = (0..=40).map(|k| k as f64 * 0.05).collect();
+    for engine in [Engine::Cartesian, Engine::RapierMultibody] {
+        let mut built = build(engine, "wedge", &params, &initial, &Settings::default()).expect("buildable");
+        let problem =
+            Problem { scene: "wedge", params: &built.params, initial: &initial, times: &times, conserves_energy: true };
+        let result = track(built.simulation.as_mut(), &problem, |_, _| 0.0, |_| Ok(()));
+        match result {
+            Err(lagrange_validation::Error::Engine(Error::Inadmissible { quantity, t, value, .. })) => {
+                assert_eq!(quantity, "block on the incline x'", "{engine}");
+                assert!((t - 0.85).abs() < 1e-9 && value > 2.0, "{engine}: t = {t}, x' = {value}");
+            }
+            other => panic!("{engine}: {:?}", other.map(|pass| pass.errors.len())),
+        }
+    }
+}
