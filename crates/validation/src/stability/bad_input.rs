@@ -249,12 +249,15 @@ fn bad_input(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error
     refused_tolerances(case)
 }
 
+/// A run that must leave its scene's admissible region: `(label, scene, parameter changes,
+/// initial state or the default, method, horizon)`.
+type Leaving<'a> = (&'a str, &'a str, &'a [(&'a str, f64)], Option<State>, Method, f64);
+
 /// Runs that leave their scene's admissible region end in [`Error::Inadmissible`], checked for
-/// the exact variant: `(label, scene, parameter changes, initial state or the default, method,
-/// horizon)`.
+/// the exact variant.
 fn leaving_the_region(case: &mut CaseBuilder) -> Result<(), crate::Error> {
     let adaptive = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
-    let runs: [(&str, &str, &[(&str, f64)], Option<State>, Method, f64); 4] = [
+    let runs: [Leaving<'_>; 4] = [
         (
             "radial infall through r = 0",
             "kepler",
