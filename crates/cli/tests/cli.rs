@@ -171,7 +171,8 @@ fn wrong_scene_parameter_arity_or_value_is_a_one_line_error() {
     assert_one_line_error(&["simulate", "wedge", "--t-end", "1", "--integrator", "rk4", "--dt", "0"], "--dt");
     assert_one_line_error(&["simulate", "wedge", "--t-end", "1", "--integrator", "rk4", "--tol", "1e-6"], "--tol");
     assert_one_line_error(&["simulate", "wedge", "--t-end", "-1"], "--t-end");
-    assert_one_line_error(&["accel", "wedge"], "--q");
+    // `accel wedge` alone runs from the default state; a flag without its value is an error.
+    assert_one_line_error(&["accel", "wedge", "--q"], "--q");
     assert_one_line_error(&["frobnicate"], "frobnicate");
 }
 

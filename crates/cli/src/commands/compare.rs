@@ -2,6 +2,7 @@
 
 use crate::args;
 use crate::error::CliError;
+use crate::output::outln;
 use lagrange_maximal::{BuildError, Engine, Settings};
 use lagrange_validation::Error;
 use lagrange_validation::compare::{Comparison, compare};
@@ -113,6 +114,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if !(args.t_end.is_finite() && args.t_end > 0.0) {
         return Err(CliError::NotPositive { flag: "--t-end", value: args.t_end });
     }
+    args::step("--dt", args.dt, args.t_end)?;
     let settings = Settings { dt: args.dt, substeps: args.substeps, tolerance: args.tol };
     let every = args.t_end / 100.0;
     let mut rows = Vec::new();
@@ -120,27 +122,35 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         rows.push(Row::from(engine, compare(engine, scene, &params, &initial, &settings, args.t_end, every))?);
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        outln!("{}", serde_json::to_string_pretty(&rows)?)?;
         return Ok(());
     }
-    println!(
+    outln!(
         "{} over {} s (rapier dt = {:.3e}, {} substeps; Cartesian tol = {:e}); errors against the reduced solution at tol 1e-13",
         scene.id(),
         args.t_end,
         args.dt,
         args.substeps,
         args.tol
-    );
-    println!(
+    )?;
+    outln!(
         "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
-        "engine", "max err", "final err", "energy", "(ours)", "momentum", "violation", "force err", "µs/step"
-    );
+        "engine",
+        "max err",
+        "final err",
+        "energy",
+        "(ours)",
+        "momentum",
+        "violation",
+        "force err",
+        "µs/step"
+    )?;
     for row in &rows {
         if let Some(reason) = &row.unbuildable {
-            println!("{:<21} not buildable: {reason}", row.engine);
+            outln!("{:<21} not buildable: {reason}", row.engine)?;
             continue;
         }
-        println!(
+        outln!(
             "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9.2}",
             row.engine,
             cell(row.max_error),
@@ -151,9 +161,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             cell(row.constraint_violation),
             cell(row.force_error),
             row.microseconds_per_step.unwrap_or(0.0)
-        );
+        )?;
         for deviation in &row.deviations {
-            println!("{:<21}   deviation: {deviation}", "");
+            outln!("{:<21}   deviation: {deviation}", "")?;
         }
     }
     Ok(())

@@ -93,11 +93,7 @@ fn method_and_output(args: &Args) -> Result<(Method, Output), CliError> {
                     instead: "--dt",
                 });
             }
-            let dt = args.dt.unwrap_or(dt);
-            if !(dt > 0.0 && dt.is_finite()) {
-                return Err(CliError::NotPositive { flag: "--dt", value: dt });
-            }
-            kind.with(dt)
+            kind.with(args::step("--dt", args.dt.unwrap_or(dt), args.t_end)?)
         }
     };
     let every = match (args.every, method) {

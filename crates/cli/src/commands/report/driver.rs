@@ -5,6 +5,7 @@ use super::markdown;
 use super::options::{Args, Options};
 use super::plots;
 use crate::error::CliError;
+use crate::output::{out, outln};
 use lagrange_validation::assemble::scene_report;
 use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_TARGET};
 use lagrange_validation::runs::{ScenePlan, SceneRuns};
@@ -95,9 +96,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     write(&options.out.join("report.json"), &json)?;
     write(&options.out.join("report.md"), &markdown::render(&report))?;
     if options.json {
-        println!("{json}");
+        outln!("{json}")?;
     } else {
-        print!("{}", terminal::render(&report, &options.out, files));
+        out!("{}", terminal::render(&report, &options.out, files))?;
     }
     Ok(())
 }
