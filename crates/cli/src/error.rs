@@ -137,7 +137,7 @@ pub enum CliError {
     /// `lagrange accel --check`: the engine's `q̈` and the scene's closed form differ beyond the
     /// round-off bound of two exact formulas.
     #[error(
-        "the engine's q̈ differs from the closed form by {} (relative to the largest |q̈|), beyond the \
+        "the engine's q̈ differs from the closed form by {} (relative to its largest |q̈_i|), beyond the \
          round-off bound {} = max(1e-12, 64 ε κ(M)) at κ(M) = {}",
         compact(*.difference), compact(*.bound), compact(*.condition_number)
     )]
