@@ -127,8 +127,185 @@ fn every_table_row_of_the_report_has_its_headers_cells() {
 
 #[test]
 fn every_table_row_of_the_documentation_has_its_headers_cells() {
-    for doc in ["crates/cli/REPORT_SCHEMA.md"] {
+    for doc in ["crates/cli/REPORT_SCHEMA.md", "docs/cli-json.md"] {
         let markdown = std::fs::read_to_string(root().join(doc)).unwrap_or_else(|e| panic!("{doc}: {e}"));
         assert!(assert_tables_keep_their_columns(&markdown, doc) > 0, "{doc} has no table");
     }
+}
+
+/// The field paths that docs/cli-json.md lists in the table of the section `## {command}`.
+fn documented_fields(command: &str) -> BTreeSet<String> {
+    let doc = std::fs::read_to_string(root().join("docs/cli-json.md")).expect("docs/cli-json.md");
+    let section = doc
+        .split("\n## ")
+        .find(|s| s.lines().next() == Some(command))
+        .unwrap_or_else(|| panic!("docs/cli-json.md has no section `## {command}`"));
+    let (_, header, rows) = tables(section).into_iter().next().expect("a field table");
+    assert_eq!(header[0].trim(), "field", "{command}: the first column names the fields");
+    rows.iter()
+        .map(|(_, row)| cells(row)[0].trim().to_string())
+        .filter(|first| !first.starts_with("---"))
+        .map(|first| first.trim_matches('`').to_string())
+        .collect()
+}
+
+/// The field paths of `value` (`a`, `a[].b`), descending into an object or an array of objects
+/// where the documentation lists fields below it.
+fn fields(value: &Value, prefix: &str, documented: &BTreeSet<String>, found: &mut BTreeSet<String>) {
+    let below = |path: &str| documented.iter().any(|d| d.starts_with(path));
+    match value {
+        Value::Object(object) => {
+            for (key, value) in object {
+                let path = format!("{prefix}{key}");
+                found.insert(path.clone());
+                if value.is_object() && below(&format!("{path}.")) {
+                    fields(value, &format!("{path}."), documented, found);
+                }
+                if let Value::Array(items) = value
+                    && below(&format!("{path}[]."))
+                {
+                    for item in items {
+                        fields(item, &format!("{path}[]."), documented, found);
+                    }
+                }
+            }
+        }
+        Value::Array(items) => {
+            for item in items {
+                fields(item, prefix, documented, found);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// A command's JSON has exactly the documented fields.
+fn assert_documented(command: &str, args: &[&str]) -> Value {
+    let output = lagrange(args);
+    assert!(output.status.success(), "{args:?}: {}", stderr(&output));
+    let json: Value = serde_json::from_str(&stdout(&output)).expect("valid JSON");
+    let documented = documented_fields(command);
+    let mut found = BTreeSet::new();
+    fields(&json, "", &documented, &mut found);
+    let undocumented: Vec<&String> = found.difference(&documented).collect();
+    let missing: Vec<&String> = documented.difference(&found).collect();
+    assert!(undocumented.is_empty(), "{args:?} prints fields docs/cli-json.md does not list: {undocumented:?}");
+    assert!(missing.is_empty(), "docs/cli-json.md lists fields {args:?} does not print: {missing:?}");
+    json
+}
+
+#[test]
+fn the_json_of_scenes_accel_and_compare_is_documented_field_by_field() {
+    assert_documented("scenes", &["scenes", "--json"]);
+    assert_documented("accel", &["accel", "wedge", "--q", "0,0", "--qdot", "0,0", "--json"]);
+    // One engine that builds the scene and one that does not: every row field appears.
+    let json = assert_documented("compare", &["compare", "atwood", "--t-end", "0.5", "--json"]);
+    let rows = json["rows"].as_array().expect("rows");
+    assert!(rows.iter().any(|r| r["unbuildable"].is_string()) && rows.iter().any(|r| r["max_error"].is_f64()));
+}
+
+#[test]
+fn compare_json_says_what_was_compared() {
+    let output = lagrange(&[
+        "compare",
+        "cart_pendulum",
+        "--param",
+        "m=2",
+        "--engine",
+        "cartesian",
+        "--dt",
+        "0.005",
+        "--substeps",
+        "2",
+        "--t-end",
+        "0.5",
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let json: Value = serde_json::from_str(&stdout(&output)).expect("valid JSON");
+    assert!(json.is_object(), "not an object: {json}");
+    assert_eq!(json["scene"], "cart_pendulum");
+    assert_eq!(json["parameters"]["bob_mass"], 2.0, "{}", json["parameters"]);
+    assert_eq!(
+        (json["dt"].as_f64(), json["substeps"].as_u64(), json["t_end"].as_f64()),
+        (Some(0.005), Some(2), Some(0.5))
+    );
+    assert_eq!(json["rows"].as_array().map(Vec::len), Some(1));
+    assert_eq!(json["rows"][0]["engine"], "cartesian");
+}
+
+/// The rows of a CSV, as numbers, after its header.
+fn csv_rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().expect("number")).collect()).collect()
+}
+
+#[test]
+fn simulate_csv_header_names_the_units_and_the_energy_function_h() {
+    let output = lagrange(&["simulate", "cart_pendulum", "--t-end", "0.1"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(stdout(&output).lines().next(), Some("t [s],X [m],θ [rad],X_dot [m/s],θ_dot [rad/s],h [J]"));
+    let output = lagrange(&["simulate", "wedge", "--t-end", "0.1"]);
+    assert_eq!(stdout(&output).lines().next(), Some("t [s],x [m],x' [m],x_dot [m/s],x'_dot [m/s],h [J]"));
+}
+
+#[test]
+fn simulate_starts_at_the_start_time() {
+    // The driven pendulum's support moves as A sin ωt: the same state at another time is
+    // another motion.
+    let run = |args: &[&str]| {
+        let output = lagrange(
+            &[&["simulate", "driven_pendulum", "--integrator", "rk4", "--dt", "0.01", "--every", "0.5"][..], args]
+                .concat(),
+        );
+        assert!(output.status.success(), "{args:?}: {}", stderr(&output));
+        csv_rows(&stdout(&output))
+    };
+    let later = run(&["--start", "1", "--t-end", "2"]);
+    assert_eq!(later.iter().map(|r| r[0]).collect::<Vec<_>>(), [1.0, 1.5, 2.0]);
+    let from_zero = run(&["--t-end", "1"]);
+    assert_eq!(from_zero.iter().map(|r| r[0]).collect::<Vec<_>>(), [0.0, 0.5, 1.0]);
+    assert_eq!(later[0][1..3], from_zero[0][1..3], "both start from the default state");
+    assert!((later[2][1] - from_zero[2][1]).abs() > 1e-3, "the drive's phase changed nothing: {later:?} {from_zero:?}");
+    let output = lagrange(&["simulate", "driven_pendulum", "--start", "3", "--t-end", "2"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("--t-end (2) must be after --start (3)"), "{}", stderr(&output));
+}
+
+#[test]
+fn simulate_warns_when_a_conserved_energy_drifts_beyond_the_methods_tolerance() {
+    // At tol 1e-1 the oscillator's energy grows ~150-fold in 10 s: a warning names the drift
+    // and the flag to change.
+    let output = lagrange(&["simulate", "harmonic_oscillator", "--t-end", "10", "--tol", "1e-1"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let err = stderr(&output);
+    assert!(err.starts_with("warning: the energy h of this conservative scene drifted by"), "{err}");
+    assert!(err.contains("--tol"), "{err}");
+    // Runs that resolve the motion stay silent: the defaults, and fixed steps of every method.
+    for args in [
+        &["simulate", "harmonic_oscillator", "--t-end", "10"][..],
+        &["simulate", "harmonic_oscillator", "--t-end", "10", "--tol", "1e-6"],
+        &["simulate", "kepler", "--t-end", "10", "--integrator", "rk4"],
+        &["simulate", "double_pendulum", "--t-end", "10", "--integrator", "variational", "--dt", "0.01"],
+        &["simulate", "double_pendulum", "--t-end", "10", "--integrator", "gauss", "--dt", "0.1"],
+    ] {
+        let output = lagrange(args);
+        assert!(output.status.success(), "{args:?}: {}", stderr(&output));
+        assert!(stderr(&output).is_empty(), "{args:?}: {}", stderr(&output));
+    }
+    // A fixed step far too large for the fast mode: RK4 at ω dt = 2.5 (stable, below 2√2, but
+    // losing most of the energy).
+    let output = lagrange(&[
+        "simulate",
+        "harmonic_oscillator",
+        "--param",
+        "k=6.25",
+        "--t-end",
+        "10",
+        "--integrator",
+        "rk4",
+        "--dt",
+        "1",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stderr(&output).contains("--dt"), "{}", stderr(&output));
 }

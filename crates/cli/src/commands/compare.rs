@@ -5,7 +5,9 @@ use crate::error::CliError;
 use lagrange_maximal::{BuildError, Engine, Settings};
 use lagrange_validation::Error;
 use lagrange_validation::compare::{Comparison, compare};
+use lagrange_validation::plan::REFERENCE_TOLERANCE;
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// Arguments of `lagrange compare`.
 #[derive(clap::Args, Debug)]
@@ -40,6 +42,29 @@ pub struct Args {
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
+}
+
+/// `compare --json`: what was compared, under which settings, and one row per engine
+/// (documented field by field in docs/cli-json.md).
+#[derive(Serialize)]
+struct Document {
+    scene: &'static str,
+    /// Every parameter by name, overrides applied.
+    parameters: BTreeMap<&'static str, f64>,
+    /// The initial state.
+    t0: f64,
+    q0: Vec<f64>,
+    qdot0: Vec<f64>,
+    /// rapier's step and substeps, the Cartesian engine's tolerance.
+    dt: f64,
+    substeps: usize,
+    tol: f64,
+    t_end: f64,
+    /// Interval of the times where errors are measured.
+    every: f64,
+    /// Tolerance of the reduced solution the engines are measured against.
+    reference_tol: f64,
+    rows: Vec<Row>,
 }
 
 /// One engine's row.
@@ -120,7 +145,21 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         rows.push(Row::from(engine, compare(engine, scene, &params, &initial, &settings, args.t_end, every))?);
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        let document = Document {
+            scene: scene.id(),
+            parameters: params.iter().map(|(spec, value)| (spec.name, value)).collect(),
+            t0: initial.t,
+            q0: initial.q.clone(),
+            qdot0: initial.qdot.clone(),
+            dt: args.dt,
+            substeps: args.substeps,
+            tol: args.tol,
+            t_end: args.t_end,
+            every,
+            reference_tol: REFERENCE_TOLERANCE,
+            rows,
+        };
+        println!("{}", serde_json::to_string_pretty(&document)?);
         return Ok(());
     }
     println!(
