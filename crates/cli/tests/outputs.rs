@@ -61,11 +61,14 @@ fn cells(row: &str) -> Vec<String> {
     cells
 }
 
+/// One Markdown table: the line number of its header, the header's cells, and its other rows
+/// with their line numbers.
+type Table = (usize, Vec<String>, Vec<(usize, String)>);
+
 /// Every table of a Markdown document: a run of lines starting with `|`, the first its header.
-/// Returns `(line number, header, rows)` per table.
-fn tables(markdown: &str) -> Vec<(usize, Vec<String>, Vec<(usize, String)>)> {
+fn tables(markdown: &str) -> Vec<Table> {
     let mut tables = Vec::new();
-    let mut current: Option<(usize, Vec<String>, Vec<(usize, String)>)> = None;
+    let mut current: Option<Table> = None;
     let mut in_code = false;
     for (index, line) in markdown.lines().enumerate() {
         if line.trim_start().starts_with("```") {
@@ -308,4 +311,96 @@ fn simulate_warns_when_a_conserved_energy_drifts_beyond_the_methods_tolerance() 
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     assert!(stderr(&output).contains("--dt"), "{}", stderr(&output));
+}
+
+/// Run `lagrange` for at most `seconds`; `None` (the child killed) if it has not finished.
+fn lagrange_within(args: &[&str], seconds: u64) -> Option<Output> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lagrange"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let start = std::time::Instant::now();
+    while start.elapsed().as_secs() < seconds {
+        if child.try_wait().expect("wait").is_some() {
+            return Some(child.wait_with_output().expect("output"));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    None
+}
+
+#[test]
+fn absurd_requests_are_refused_up_front_with_the_estimate_and_the_flag_to_change() {
+    for (args, flag) in [
+        (&["simulate", "harmonic_oscillator", "--t-end", "1e12"][..], "--t-end"),
+        (&["simulate", "harmonic_oscillator", "--t-end", "1e12", "--integrator", "rk4"], "--dt"),
+        (&["simulate", "harmonic_oscillator", "--t-end", "1", "--every", "1.1e-8"], "--every"),
+        (&["compare", "cart_pendulum", "--t-end", "1e12"], "--t-end"),
+        (&["compare", "cart_pendulum", "--substeps", "1000000000"], "--substeps"),
+        (&["compare", "chain", "--param", "N=64", "--t-end", "1"], "--t-end"),
+    ] {
+        let output = lagrange_within(args, 60).unwrap_or_else(|| panic!("{args:?} still running after 60 s"));
+        let err = stderr(&output);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
+        assert!(err.contains("estimated") && err.contains("beyond the limit of"), "{args:?}: {err}");
+        assert!(err.contains(flag) && err.contains("--force"), "{args:?}: {err}");
+        assert!(output.stdout.is_empty(), "{args:?} wrote output");
+    }
+    // Within the limits, the defaults run as before.
+    let output = lagrange(&["simulate", "harmonic_oscillator", "--t-end", "10"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    // --force lifts the output limit (here on a request small enough to run: the limit is
+    // checked on the estimate, so a forced request is simply run).
+    let output = lagrange(&["simulate", "harmonic_oscillator", "--t-end", "0.001", "--every", "1e-4", "--force"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(csv_rows(&stdout(&output)).len(), 11);
+}
+
+#[test]
+fn an_interrupted_simulate_leaves_no_partial_file() {
+    // 10⁶ rows (≈ 70 MB): killed as soon as the file appears, it must hold every row — the
+    // file only ever appears complete.
+    let dir = temp_dir("partial");
+    let file = dir.join("run.csv");
+    let args = [
+        "simulate",
+        "harmonic_oscillator",
+        "--t-end",
+        "1000",
+        "--integrator",
+        "rk4",
+        "--dt",
+        "1e-3",
+        "--every",
+        "1e-3",
+        "--out",
+        file.to_str().unwrap(),
+    ];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lagrange"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("the binary runs");
+    let start = std::time::Instant::now();
+    while !file.exists() && child.try_wait().expect("wait").is_none() && start.elapsed().as_secs() < 120 {
+        std::thread::sleep(std::time::Duration::from_micros(200));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    let text = std::fs::read_to_string(&file).expect("the run got as far as its file");
+    assert_eq!(text.lines().count(), 1 + 1_000_001, "a partial file: {} bytes", text.len());
+    assert!(text.ends_with('\n'));
+    // Nothing else is left beside it once a run ends normally.
+    std::fs::remove_file(&file).unwrap();
+    let output = lagrange(&["simulate", "kepler", "--t-end", "1", "--out", file.to_str().unwrap()]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names, [std::ffi::OsString::from("run.csv")]);
+    let _ = std::fs::remove_dir_all(&dir);
 }

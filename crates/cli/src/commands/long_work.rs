@@ -5,11 +5,13 @@
 //!
 //! The wall time is estimated by running the request itself over the first `τ, 2τ, 4τ, …` of
 //! its horizon until one calibration run takes [`CALIBRATION_S`] or covers the whole horizon,
-//! then scaling that run's wall time by `horizon / τ`. The cost of a run grows linearly with
-//! the simulated time (steps at a rate the calibration measures), so the scaling is an
-//! estimate of the right order; it overestimates rather than under (the first steps of an
-//! adaptive run are its smallest, and the calibration's own overhead is counted). The
-//! calibration costs at most about twice [`CALIBRATION_S`] per estimate.
+//! then extrapolating along the last two runs to the whole horizon ([`wall_time`]): the cost of
+//! a run is a set-up plus steps at a rate that the calibration measures, so the estimate is of
+//! the right order (the first steps of an adaptive run are its smallest, which errs on the
+//! high side). A calibration run that alone proves the request beyond the limit is abandoned
+//! there. The calibration costs about two [`CALIBRATION_S`] runs for a long request, and about
+//! the request itself once more for a short one (its last calibration run is the whole
+//! horizon).
 
 use crate::error::CliError;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -35,26 +37,80 @@ pub const OUTPUT_LIMIT: &str = "1 GB of output";
 /// Wall time of the calibration run from which an estimate is scaled (s).
 pub const CALIBRATION_S: f64 = 0.05;
 
-/// Bytes of one CSV number: `f64`'s shortest round-trip form is at most 24 characters
-/// (`-1.2345678901234567e-100`), 18 to 20 for a typical value; with its separator, 20 is the
-/// typical width.
-pub const BYTES_PER_NUMBER: f64 = 20.0;
+/// The least wall time (s) a calibration run is given before it may be abandoned.
+pub const BUDGET_FLOOR_S: f64 = 2.0;
 
-/// Estimated wall time (s) of a run over `span` simulated seconds, from `calibrate(τ)` — the
-/// same run over the first `τ` of the horizon, returning `false` if it failed — for
-/// `τ = first, 2 first, …` up to `span`. `None` when a calibration run fails (the real run will
-/// say why).
-pub fn wall_time(span: f64, first: f64, mut calibrate: impl FnMut(f64) -> bool) -> Option<f64> {
-    let mut tau = first.min(span);
-    loop {
+/// Bytes of one CSV number with its separator: `f64`'s shortest round-trip decimal form, as
+/// measured on `simulate --every 1e-4` runs of harmonic_oscillator, double_pendulum and kepler
+/// (17.9 to 18.2 bytes a number).
+pub const BYTES_PER_NUMBER: f64 = 18.0;
+
+/// How one calibration run went.
+pub enum Run {
+    /// It ran to its end.
+    Done,
+    /// It failed (the real run will say why).
+    Failed,
+    /// It was still running when its budget ran out (it is abandoned).
+    Exceeded,
+}
+
+/// An estimated wall time.
+#[derive(Clone, Copy, Debug)]
+pub struct Estimate {
+    /// Seconds.
+    pub seconds: f64,
+    /// Whether `seconds` is only a lower bound (a calibration run exceeded its budget).
+    pub at_least: bool,
+}
+
+/// Estimated wall time of a run over `span` simulated seconds, from `calibrate(τ, budget)` —
+/// the same run over the first `τ` of the horizon — for `τ = first, 2 first, …` up to `span`
+/// (from `span / 2⁴⁰` at least). `budget` is the wall time (s) beyond which the calibration run
+/// proves the whole run beyond [`TIME_LIMIT_S`] (and at least [`BUDGET_FLOOR_S`]): a caller that can abandon a run stops waiting
+/// then and says [`Run::Exceeded`], and the estimate is that lower bound. `None` when a
+/// calibration run fails. A run that reaches [`CALIBRATION_S`] is timed twice and the shorter
+/// time kept: a pause of the process (another program on the cores) only ever lengthens a run.
+pub fn wall_time(span: f64, first: f64, mut calibrate: impl FnMut(f64, f64) -> Run) -> Option<Estimate> {
+    let mut timed = |tau: f64| {
         let start = Instant::now();
-        if !calibrate(tau) {
-            return None;
-        }
+        // Never less than BUDGET_FLOOR_S: a run's fixed set-up must not pass for its cost.
+        let run = calibrate(tau, (TIME_LIMIT_S * tau / span).max(BUDGET_FLOOR_S));
         let wall = start.elapsed().as_secs_f64();
-        if wall >= CALIBRATION_S || tau >= span {
-            return Some(wall * span / tau);
+        match run {
+            Run::Done => Some(Ok(wall)),
+            Run::Failed => None,
+            Run::Exceeded => Some(Err(Estimate { seconds: wall * span / tau, at_least: true })),
         }
+    };
+    // At most 40 doublings: a horizon of more than 2⁴⁰ calibration runs' worth is absurd at
+    // any cost per run.
+    let mut tau = first.max(span * 2f64.powi(-40)).min(span);
+    let mut previous: Option<(f64, f64)> = None;
+    loop {
+        let mut wall = match timed(tau)? {
+            Ok(wall) => wall,
+            Err(bound) => return Some(bound),
+        };
+        if tau >= span {
+            return Some(Estimate { seconds: wall, at_least: false });
+        }
+        if wall >= CALIBRATION_S {
+            wall = match timed(tau)? {
+                Ok(again) => wall.min(again),
+                Err(bound) => return Some(bound),
+            };
+            if wall >= CALIBRATION_S {
+                // Extrapolate along the last two runs — cost = set-up + rate × τ — so a fixed
+                // set-up is not scaled with the horizon; from the origin without a previous run.
+                let seconds = match previous {
+                    Some((tau0, wall0)) if wall > wall0 => wall + (wall - wall0) / (tau - tau0) * (span - tau),
+                    _ => wall * span / tau,
+                };
+                return Some(Estimate { seconds, at_least: false });
+            }
+        }
+        previous = Some((tau, wall));
         tau = (2.0 * tau).min(span);
     }
 }
@@ -78,10 +134,15 @@ pub fn size(bytes: f64) -> String {
 ///
 /// # Errors
 /// [`CliError::TooCostly`] with `what` (the request and how the estimate was made) and `flag`.
-pub fn check_time(seconds: Option<f64>, force: bool, what: &str, flag: &'static str) -> Result<(), CliError> {
-    match seconds {
-        Some(s) if s > TIME_LIMIT_S && !force => {
-            Err(CliError::TooCostly { estimate: format!("{what}: estimated {}", duration(s)), limit: TIME_LIMIT, flag })
+pub fn check_time(estimate: Option<Estimate>, force: bool, what: &str, flag: &'static str) -> Result<(), CliError> {
+    match estimate {
+        Some(Estimate { seconds, at_least }) if seconds > TIME_LIMIT_S && !force => {
+            let bound = if at_least { "at least " } else { "" };
+            Err(CliError::TooCostly {
+                estimate: format!("{what}: estimated {bound}{}", duration(seconds)),
+                limit: TIME_LIMIT,
+                flag,
+            })
         }
         _ => Ok(()),
     }

@@ -4,7 +4,7 @@
 //! `--out` whole or not at all.
 
 use super::files::Pending;
-use super::long_work;
+use super::long_work::{self, Run};
 use crate::args;
 use crate::error::CliError;
 use lagrange::integrate::MethodKind;
@@ -122,6 +122,16 @@ fn method_and_every(args: &Args, span: f64) -> Result<(Method, f64), CliError> {
     Ok((method, every))
 }
 
+/// `rk4 at dt = 1e-3`, `adaptive at tol = 1e-10`.
+fn describe(method: Method) -> String {
+    match method {
+        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
+            format!("{} at dt = {dt:e}", method.name())
+        }
+        Method::Adaptive { tol } | Method::Implicit { tol } => format!("{} at tol = {:e}", method.name(), tol.rtol),
+    }
+}
+
 /// The CSV header: `t [s]`, each coordinate and its velocity (`_dot`) with their SI units, and
 /// the energy function `h [J]`.
 fn header(coordinates: &[Coordinate]) -> String {
@@ -225,13 +235,17 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     long_work::check_output(rows, 2 * coordinates.len() + 2, args.force, "--every")?;
     let (first, flag) = match method {
         Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => (dt, "--t-end or --dt"),
-        Method::Adaptive { .. } | Method::Implicit { .. } => (span * 2f64.powi(-40), "--t-end or --tol"),
+        Method::Adaptive { .. } | Method::Implicit { .. } => (0.0, "--t-end or --tol"),
     };
     if !args.force {
-        let estimate = long_work::wall_time(span, first, |tau| {
-            system.simulate(&initial, initial.t + tau, method, &Output::Ends).is_ok()
+        // The reduced solver's steps are short: its calibration runs to its end.
+        let estimate = long_work::wall_time(span, first, |tau, _| {
+            match system.simulate(&initial, initial.t + tau, method, &Output::Ends) {
+                Ok(_) => Run::Done,
+                Err(_) => Run::Failed,
+            }
         });
-        let what = format!("simulating {span:e} s of {} with {method}", scene.id());
+        let what = format!("simulating {span:e} s of {} with {}", scene.id(), describe(method));
         long_work::check_time(estimate, args.force, &what, flag)?;
     }
     let trajectory = system.simulate(&initial, args.t_end, method, &Output::Every(every))?;
@@ -246,8 +260,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         {
             eprintln!(
                 "warning: the energy h of this conservative scene drifted by {drift:.2e} (relative) over the run, \
-                 beyond the {threshold:.1e} that {method} over {} steps allows: the result is not to be trusted; \
+                 beyond the {threshold:.1e} that {} over {} steps allows: the result is not to be trusted; \
                  use a smaller {}",
+                describe(method),
                 trajectory.stats.steps,
                 if method.kind().is_fixed_step() { "--dt" } else { "--tol" }
             );

@@ -82,7 +82,7 @@ pub fn render(report: &Report) -> String {
     for scene in &report.scenes {
         let mut row = format!(
             "| [{}](#{}) | {} |",
-            cells::text(&scene.scene),
+            cells::text(scene.scene),
             scene.scene,
             cells::text(&scene.reference.kind.replace('_', " "))
         );
@@ -95,7 +95,7 @@ pub fn render(report: &Report) -> String {
                     cells::equal_error(&v.time_ratio_at_equal_error)
                 );
             } else {
-                let _ = write!(row, " {} | {} |", cells::text(&v.status), cells::text(&v.status));
+                let _ = write!(row, " {} | {} |", cells::text(v.status), cells::text(v.status));
             }
         }
         let _ = writeln!(md, "{row}");
@@ -123,7 +123,7 @@ fn method_rows(md: &mut String, method: &MethodReport) {
             (None, Some(tol), _) => format!("tol = {tol:.0e}"),
             _ => String::new(),
         };
-        let name = cells::text(&method.method);
+        let name = cells::text(method.method);
         if let Some(reason) = &run.reason {
             // The failure fills the error column; the six columns after it stay empty.
             let _ = writeln!(md, "| {name} | {setting} | failed: {} |||||||", cells::text(reason));
@@ -187,7 +187,7 @@ fn scene_section(md: &mut String, scene: &SceneReport) {
             let reason = method.reason.as_deref().unwrap_or("");
             let label = if method.status == "unbuildable" { "not buildable" } else { "failed" };
             // The reason fills the setting column; the seven columns after it stay empty.
-            let _ = writeln!(md, "| {} | {label}: {} ||||||||", cells::text(&method.method), cells::text(reason));
+            let _ = writeln!(md, "| {} | {label}: {} ||||||||", cells::text(method.method), cells::text(reason));
         }
     }
     let _ = writeln!(md);

@@ -93,7 +93,7 @@ fn case_section(md: &mut String, case: &Case) {
             "| {} | {} | {} | {} | {} | {value} | {} | {} | {} | {note} |",
             cells::text(&m.label),
             cells::text(&m.scene),
-            cells::text(&m.method),
+            cells::text(m.method),
             cells::text(&setting(m)),
             cells::text(&m.quantity),
             cells::text(&check(m)),
