@@ -109,6 +109,25 @@ pub enum CliError {
     /// sample grid.
     #[error(transparent)]
     Argument(lagrange_validation::Error),
+    /// A request whose estimated cost (wall time or output size) is beyond the documented limit
+    /// (`commands::long_work`); `--force` runs it anyway.
+    #[error("{estimate}, beyond the limit of {limit}: change {flag}, or pass --force to run it anyway")]
+    TooCostly {
+        /// The estimate and what it is made of.
+        estimate: String,
+        /// The limit, in words.
+        limit: &'static str,
+        /// The flag to change.
+        flag: &'static str,
+    },
+    /// `simulate --t-end` not after `--start`.
+    #[error("--t-end ({t_end}) must be after --start ({start})")]
+    EndBeforeStart {
+        /// The initial time.
+        start: f64,
+        /// The end time.
+        t_end: f64,
+    },
 
     // Runtime failures (exit 1, except where the engine rejects a value the user gave: see
     // [`CliError::exit_code`]).
@@ -225,7 +244,9 @@ impl CliError {
             | CliError::UnknownEngine(_)
             | CliError::EmptyOut
             | CliError::Param(_)
-            | CliError::Argument(_) => USAGE,
+            | CliError::Argument(_)
+            | CliError::TooCostly { .. }
+            | CliError::EndBeforeStart { .. } => USAGE,
             CliError::Engine(e)
             | CliError::Compare {
                 source:
