@@ -247,7 +247,9 @@ impl<F: LagrangianFunction> Variational<F> {
     ///
     /// # Errors
     /// [`Error::InvalidSetting`] for a bad step, [`Error::NewtonFailed`] when Newton does not
-    /// converge (step too large for the motion), [`Error::NonFinite`] on a blow-up.
+    /// converge (step too large for the motion), [`Error::Diverged`] naming the value when one
+    /// inside a Newton iteration stops being finite, [`Error::NonFinite`] when the new state is
+    /// not finite.
     pub fn step(&mut self, system: &F, h: f64) -> Result<(), Error> {
         check_step(h)?;
         let n = self.n;
@@ -264,14 +266,12 @@ impl<F: LagrangianFunction> Variational<F> {
             // Midpoint state and derivatives of L there.
             self.midpoint(system, tm, h);
             self.derivatives(system, tm, true);
+            self.check_finite(system, iteration)?;
             // Residual R = p₀ + (h/2) ∂L/∂q − ∂L/∂q̇ + (h/2) Q.
             residual_norm = 0.0;
             for i in 0..n {
                 self.residual[i] = self.p[i] + 0.5 * h * (self.gradient[i] + self.force[i]) - self.gradient[n + i];
                 residual_norm = f64::max(residual_norm, self.residual[i].abs());
-            }
-            if !residual_norm.is_finite() {
-                return Err(crate::eom::non_finite(crate::error::Stage::Lagrangian, t, &self.q));
             }
             // dR/dq₁ = (h/4) L_qq + ½ L_qv − ½ L_vq − (1/h) L_vv.
             let m = 2 * n;
@@ -288,9 +288,10 @@ impl<F: LagrangianFunction> Variational<F> {
             }
             self.stats.factorizations += 1;
             if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
-                return Err(Error::NewtonFailed { t, iterations: iteration, residual: residual_norm });
+                return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
             }
             solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
+            self.check_update(system, iteration, "Δq")?;
             // Δq ← Δq − J⁻¹ R (dR/dΔq = dR/dq₁).
             let (mut update, mut scale) = (0.0_f64, 0.0_f64);
             for i in 0..n {
@@ -304,7 +305,7 @@ impl<F: LagrangianFunction> Variational<F> {
             }
         }
         if !converged {
-            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: residual_norm });
+            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) });
         }
         // p₁ = D₂L_d + (h/2) Q = (h/2)(∂L/∂q + Q) + ∂L/∂q̇ at the final midpoint; the final
         // residual comes from the same gradient.
@@ -333,7 +334,8 @@ impl<F: LagrangianFunction> Variational<F> {
     /// (Newton on the Legendre map, started from the last discrete velocity), into `qdot`.
     ///
     /// # Errors
-    /// [`Error::NewtonFailed`] if the Legendre map cannot be inverted (singular `∂²L/∂q̇²`).
+    /// [`Error::NewtonFailed`] if the Legendre map cannot be inverted (singular `∂²L/∂q̇²`),
+    /// [`Error::Diverged`] naming the value when one stops being finite.
     pub fn velocities(&mut self, system: &F, qdot: &mut [f64]) -> Result<(), Error> {
         // Keep the discrete velocity (the next step's predictor) in `delta`, which is free
         // between steps, and iterate on `velocity` from it.
@@ -349,10 +351,12 @@ impl<F: LagrangianFunction> Variational<F> {
     fn invert_legendre(&mut self, system: &F) -> Result<(), Error> {
         let n = self.n;
         let m = 2 * n;
+        let mut residual_norm = f64::INFINITY;
         for iteration in 1..=NEWTON_MAX_ITERATIONS {
             self.stats.newton_iterations += 1;
             self.derivatives(system, self.t, true);
-            let mut residual_norm = 0.0_f64;
+            self.check_finite(system, iteration)?;
+            residual_norm = 0.0;
             for i in 0..n {
                 self.residual[i] = self.gradient[n + i] - self.p[i];
                 residual_norm = residual_norm.max(self.residual[i].abs());
@@ -362,9 +366,10 @@ impl<F: LagrangianFunction> Variational<F> {
             }
             self.stats.factorizations += 1;
             if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
-                return Err(Error::NewtonFailed { t: self.t, iterations: iteration, residual: residual_norm });
+                return Err(Error::NewtonFailed { t: self.t, iterations: iteration, residual: Some(residual_norm) });
             }
             solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
+            self.check_update(system, iteration, "q̇")?;
             let (mut update, mut scale) = (0.0_f64, 0.0_f64);
             for i in 0..n {
                 self.velocity[i] -= self.residual[i];
@@ -376,7 +381,58 @@ impl<F: LagrangianFunction> Variational<F> {
                 return Ok(());
             }
         }
-        Err(Error::NewtonFailed { t: self.t, iterations: NEWTON_MAX_ITERATIONS, residual: f64::NAN })
+        Err(Error::NewtonFailed { t: self.t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) })
+    }
+
+    /// [`Error::Diverged`] naming the first non-finite value among the point at which Newton
+    /// evaluated (`q_mid`, `velocity`), the derivatives of `L` there and the generalized force,
+    /// in iteration `iteration` (a wild iterate, or a blow-up of the motion; `f64::max` would
+    /// drop a NaN from the residual's norm, so the values are checked one by one).
+    fn check_finite(&self, system: &F, iteration: usize) -> Result<(), Error> {
+        let n = self.n;
+        let name = |i: usize| system.coordinates().get(i).map_or_else(|| i.to_string(), |c| c.name.clone());
+        let named = |label: &str, values: &[f64]| {
+            let i = values.iter().position(|v| !v.is_finite())?;
+            Some(format!("{label}[{}] = {}", name(i), values[i]))
+        };
+        let hessian = || {
+            let k = self.hessian.iter().position(|v| !v.is_finite())?;
+            let (a, b) = (k / (2 * n), k % (2 * n));
+            let variable = |a: usize| if a < n { name(a) } else { format!("{}̇", name(a - n)) };
+            Some(format!("∂²L/∂{}∂{} = {}", variable(a), variable(b), self.hessian[k]))
+        };
+        let quantity = named("q", &self.q_mid)
+            .or_else(|| named("q̇", &self.velocity))
+            .or_else(|| named("∂L/∂q", &self.gradient[..n]))
+            .or_else(|| named("∂L/∂q̇", &self.gradient[n..]))
+            .or_else(|| named("Q", &self.force))
+            .or_else(hessian);
+        match quantity {
+            None => Ok(()),
+            Some(quantity) => Err(self.newton_diverged(iteration, &quantity)),
+        }
+    }
+
+    /// [`Error::Diverged`] if the Newton update in `residual` (of `unknown`) is not finite: a
+    /// numerically singular Newton matrix.
+    fn check_update(&self, system: &F, iteration: usize, unknown: &str) -> Result<(), Error> {
+        match non_finite_quantity(system.coordinates(), &self.residual, &[]) {
+            None => Ok(()),
+            Some(quantity) => {
+                // `q[θ] = inf` from the helper names the coordinate: say what it updates.
+                let quantity = format!("the update of {unknown}{}", quantity.trim_start_matches('q'));
+                Err(self.newton_diverged(iteration, &quantity))
+            }
+        }
+    }
+
+    /// The divergence of a Newton iteration of the step from the current time.
+    fn newton_diverged(&self, iteration: usize, quantity: &str) -> Error {
+        Error::Diverged {
+            t: self.t,
+            step: self.stats.steps,
+            quantity: format!("{quantity} in Newton iteration {iteration} of the variational integrator"),
+        }
     }
 }
 
