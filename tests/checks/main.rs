@@ -13,3 +13,4 @@ mod raw_path;
 mod reactions;
 mod readme;
 mod stability;
+mod variational;

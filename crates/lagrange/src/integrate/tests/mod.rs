@@ -1,6 +1,7 @@
 //! Integrator checks on small mechanisms: observed order, tolerance tracking, structure.
 
 mod implicit;
+mod newton;
 
 use super::*;
 use crate::test_support::{Charge, Spring, assert_relative, cart};
