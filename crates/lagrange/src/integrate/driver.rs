@@ -291,12 +291,15 @@ fn output_times(t0: f64, t_end: f64, output: &Output) -> Result<Vec<f64>, Error>
             Ok(times)
         }
         Output::Times(times) => {
-            let increasing = times.windows(2).all(|w| w[1] > w[0]);
-            if !increasing || times.iter().any(|t| !(*t >= t0 && *t <= t_end)) {
+            // The first time that is out of order or outside [t0, t_end] is the one reported.
+            let outside = |t: f64| !(t >= t0 && t <= t_end);
+            let first_bad =
+                times.iter().enumerate().find(|&(i, &t)| outside(t) || (i > 0 && t <= times[i - 1])).map(|(_, &t)| t);
+            if let Some(value) = first_bad {
                 return Err(Error::InvalidSetting {
-                    what: "output times",
-                    value: f64::NAN,
-                    why: "must be increasing and within [t0, t_end]",
+                    what: "output time",
+                    value,
+                    why: "output times must be increasing and within [t0, t_end]",
                 });
             }
             Ok(times.clone())
