@@ -1,7 +1,7 @@
 //! An object-safe facade over any [`Dynamics`], for code that picks systems at run time
 //! (scene registries, the command line).
 
-use crate::integrate::{Method, Output, Trajectory, simulate};
+use crate::integrate::{Method, Output, Sink, Stats, Trajectory, simulate, simulate_into};
 use crate::{Body, Coordinate, Dynamics, Error, State};
 
 /// A system with its own workspace, usable as `Box<dyn System>`. All results are `f64` and
@@ -70,6 +70,20 @@ pub trait System {
     /// # Errors
     /// As [`simulate`](crate::simulate).
     fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error>;
+
+    /// Integrate from `initial` to `t_end` into any `sink`; see
+    /// [`simulate_into`](crate::integrate::simulate_into).
+    ///
+    /// # Errors
+    /// As [`simulate`](crate::simulate).
+    fn simulate_into(
+        &self,
+        initial: &State,
+        t_end: f64,
+        method: Method,
+        output: &Output,
+        sink: &mut dyn Sink,
+    ) -> Result<Stats, Error>;
 }
 
 /// A [`Dynamics`] together with its workspace and result buffers: the [`System`] of any body
@@ -159,5 +173,16 @@ impl<D: Dynamics> System for Buffered<D> {
 
     fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error> {
         simulate(&self.system, initial, t_end, method, output)
+    }
+
+    fn simulate_into(
+        &self,
+        initial: &State,
+        t_end: f64,
+        method: Method,
+        output: &Output,
+        sink: &mut dyn Sink,
+    ) -> Result<Stats, Error> {
+        simulate_into(&self.system, initial, t_end, method, output, sink)
     }
 }

@@ -8,11 +8,8 @@ use super::long_work::{self, Run};
 use crate::args;
 use crate::error::CliError;
 use indicatif::ProgressBar;
-use lagrange::integrate::{
-    Dopri5, Gauss4, MethodKind, Rk4, Sample, Sdirk4, Sink, Stats, Variational, run as integrate,
-};
-use lagrange::{Coordinate, Mechanism, Method, Model, Output, State, System, Trajectory};
-use lagrange_scenes::{ClosedForm, MechanismVisitor};
+use lagrange::integrate::{MethodKind, Sample, Sink, Stats};
+use lagrange::{Coordinate, Method, Output, State, System, Trajectory};
 use std::io::Write;
 
 /// Which integrator: a [`MethodKind`], spelled and described as the solver names it.
@@ -235,71 +232,26 @@ impl Sink for Progress<'_> {
     }
 }
 
-/// The run of [`System::simulate`] on the scene's typed mechanism, with a progress bar: the
-/// same model, the same integrators and the same driver ([`lagrange::integrate::run`]), which
-/// `simulate` runs into a plain [`Trajectory`] — the same samples to the digit.
-struct WithProgress<'a> {
-    initial: &'a State,
-    t_end: f64,
-    method: Method,
-    output: &'a Output,
-    bar: &'a ProgressBar,
-}
-
-impl MechanismVisitor for WithProgress<'_> {
-    type Output = Result<Trajectory, lagrange::Error>;
-
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> Self::Output {
-        let model = Model::new(mechanism)?;
-        let WithProgress { initial, t_end, method, output, bar } = self;
-        let n = initial.q.len();
-        let trajectory = Trajectory {
-            n,
-            t: Vec::new(),
-            q: Vec::new(),
-            qdot: Vec::new(),
-            energy: Vec::new(),
-            stats: Stats::default(),
-        };
-        let mut progress = Progress { trajectory, bar, t0: initial.t, span: t_end - initial.t };
-        let sink = &mut progress;
-        match method {
-            Method::Rk4 { dt } => integrate(&model, &mut Rk4::new(n).with_step(dt)?, initial, t_end, output, sink)?,
-            Method::Adaptive { tol } => integrate(&model, &mut Dopri5::new(n, tol)?, initial, t_end, output, sink)?,
-            Method::Variational { dt } => {
-                integrate(&model, &mut Variational::new(&model).with_step(dt)?, initial, t_end, output, sink)?
-            }
-            Method::Implicit { tol } => integrate(&model, &mut Sdirk4::new(n, tol)?, initial, t_end, output, sink)?,
-            Method::Gauss { dt } => {
-                integrate(&model, &mut Gauss4::new(n).with_step(dt)?, initial, t_end, output, sink)?
-            }
-        };
-        Ok(progress.trajectory)
-    }
-}
-
-/// The run, with a progress bar and the time left when standard error is a terminal (a scene
-/// that is a raw Lagrangian runs without).
+/// The run, with a progress bar and the time left when standard error is a terminal: the same
+/// run as [`System::simulate`], into a sink that moves the bar as it records.
 fn simulate(
     scene: &dyn lagrange_scenes::Scene,
-    params: &lagrange_scenes::Params,
     system: &dyn System,
     initial: &State,
     t_end: f64,
     method: Method,
     output: &Output,
 ) -> Result<Trajectory, CliError> {
-    if long_work::shows_progress() {
-        let bar = long_work::progress_bar(1000);
-        bar.set_message(scene.id());
-        let visitor = WithProgress { initial, t_end, method, output, bar: &bar };
-        let result = lagrange_scenes::visit_mechanism(scene.id(), params, visitor)?;
-        bar.finish_and_clear();
-        if let Some(trajectory) = result {
-            return Ok(trajectory?);
-        }
+    if !long_work::shows_progress() {
+        return Ok(system.simulate(initial, t_end, method, output)?);
     }
-    Ok(system.simulate(initial, t_end, method, output)?)
+    let bar = long_work::progress_bar(1000);
+    bar.set_message(scene.id());
+    let trajectory = Trajectory::with_capacity(initial.q.len(), 0);
+    let mut progress = Progress { trajectory, bar: &bar, t0: initial.t, span: t_end - initial.t };
+    system.simulate_into(initial, t_end, method, output, &mut progress)?;
+    bar.finish_and_clear();
+    Ok(progress.trajectory)
 }
 
 /// Integrate and write.
@@ -339,7 +291,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let what = format!("simulating {span:e} s of {} with {}", scene.id(), describe(method));
         long_work::check_time(estimate, args.force, &what, flag)?;
     }
-    let trajectory = simulate(scene, &params, system.as_ref(), &initial, args.t_end, method, &Output::Every(every))?;
+    let trajectory = simulate(scene, system.as_ref(), &initial, args.t_end, method, &Output::Every(every))?;
     if let Some(t) = trajectory.stats.stiffness {
         crate::output::warn(&format!("warning: the problem looks stiff from t = {t}; try --integrator implicit"));
     }
