@@ -14,3 +14,4 @@ mod reactions;
 mod readme;
 mod region;
 mod stability;
+mod variational;

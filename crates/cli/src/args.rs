@@ -1,6 +1,7 @@
 //! Argument parsing shared by the commands: scenes, parameters, state vectors.
 
 use crate::error::CliError;
+use crate::output::compact;
 use lagrange::State;
 use lagrange_scenes::{Params, Scene};
 
@@ -9,9 +10,11 @@ pub fn scene(id: &str) -> Result<&'static dyn Scene, CliError> {
     lagrange_validation::scene(id).map_err(CliError::Argument)
 }
 
-/// The scene's parameters with `NAME=VALUE` overrides (name or symbol).
+/// The scene's parameters with `NAME=VALUE` overrides (name, symbol, or the symbol in ASCII:
+/// `alpha` for `α`), each parameter at most once.
 pub fn params(scene: &dyn Scene, overrides: &[String]) -> Result<Params, CliError> {
     let mut params = scene.default_params();
+    let mut given: Vec<(&'static str, &String)> = Vec::new();
     for item in overrides {
         let (key, value) = item.split_once('=').ok_or_else(|| CliError::ParamForm(item.clone()))?;
         let value: f64 = value
@@ -19,8 +22,71 @@ pub fn params(scene: &dyn Scene, overrides: &[String]) -> Result<Params, CliErro
             .parse()
             .map_err(|_| CliError::NotANumber { flag: format!("--param {key}"), value: value.to_string() })?;
         params.set(key.trim(), value).map_err(CliError::Param)?;
+        // `set` accepted the key, so it names a parameter.
+        if let Some(spec) = params.spec(key.trim()) {
+            if let Some((_, first)) = given.iter().find(|(name, _)| *name == spec.name) {
+                return Err(CliError::RepeatedParam { name: spec.name, first: (*first).clone(), second: item.clone() });
+            }
+            given.push((spec.name, item));
+        }
     }
     Ok(params)
+}
+
+/// A fixed step `dt` (flag `flag`) for a run ending at `t_end`: positive, finite, and large
+/// enough to advance the time at `t_end` (a step below the spacing of `f64` there, such as
+/// 1e-320, would leave `t + dt == t`).
+///
+/// # Errors
+/// [`CliError::NotPositive`] or [`CliError::StepBelowResolution`], naming the flag.
+pub fn step(flag: &'static str, dt: f64, t_end: f64) -> Result<f64, CliError> {
+    if !(dt > 0.0 && dt.is_finite()) {
+        return Err(CliError::NotPositive { flag, value: dt });
+    }
+    let t = t_end.abs();
+    if t + dt == t {
+        // The gap from `t` to the next f64 above it.
+        let spacing = f64::from_bits(t.to_bits() + 1) - t;
+        return Err(CliError::StepBelowResolution { flag, value: dt, t: t_end, spacing });
+    }
+    Ok(dt)
+}
+
+/// Inputs at the edge of `f64`'s range: a nonzero magnitude above 1e150 or below 1e-150, whose
+/// square (or the square of its reciprocal) overflows `f64` (largest ≈ 1.8e308), the usual way an
+/// acceleration becomes infinite or NaN at an otherwise valid state. Named as the user gives them:
+/// `--param mass = 1e-320`, `--qdot x = 1e200`, `--q θ = 1e300`, `--t = 1e200`.
+pub fn extreme_inputs(params: &Params, names: &[String], state: &State) -> Vec<String> {
+    let extreme = |v: f64| v != 0.0 && !(1e-150..=1e150).contains(&v.abs());
+    let mut found: Vec<String> = params
+        .iter()
+        .filter(|(_, v)| extreme(*v))
+        .map(|(spec, v)| format!("--param {} = {}", spec.name, compact(v)))
+        .collect();
+    for (flag, values) in [("--q", &state.q), ("--qdot", &state.qdot)] {
+        for (name, &v) in names.iter().zip(values.iter()) {
+            if extreme(v) {
+                found.push(format!("{flag} {name} = {}", compact(v)));
+            }
+        }
+    }
+    if extreme(state.t) {
+        found.push(format!("--t = {}", compact(state.t)));
+    }
+    found
+}
+
+/// An engine error at a state, with the extreme inputs named when the engine met a non-finite
+/// value ([`extreme_inputs`]): "non-finite accelerations" alone does not say which input to
+/// change.
+pub fn explain(error: lagrange::Error, params: &Params, names: &[String], state: &State) -> CliError {
+    if matches!(error, lagrange::Error::NonFinite { .. }) {
+        let extremes = extreme_inputs(params, names, state);
+        if !extremes.is_empty() {
+            return CliError::Extreme { source: error, extremes: extremes.join(", ") };
+        }
+    }
+    CliError::Engine(error)
 }
 
 /// A comma-separated list of numbers with the scene's arity.

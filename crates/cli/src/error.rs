@@ -4,6 +4,7 @@
 //! exit [`USAGE`], 2, as for clap's own errors) and a runtime failure (the engine, the file
 //! system or a validation run failed on a valid request: exit [`FAILURE`], 1).
 
+use crate::output::compact;
 use lagrange_maximal::{BuildError, Engine};
 use std::path::PathBuf;
 
@@ -40,7 +41,7 @@ pub enum CliError {
         got: usize,
     },
     /// A value that is NaN or infinite.
-    #[error("{flag}: {value} is not finite")]
+    #[error("{flag}: {} is not finite", compact(*.value))]
     NotFinite {
         /// The flag.
         flag: &'static str,
@@ -48,12 +49,38 @@ pub enum CliError {
         value: f64,
     },
     /// A duration, step or interval that is not positive and finite.
-    #[error("{flag} must be positive and finite, got {value}")]
+    #[error("{flag} must be positive and finite, got {}", compact(*.value))]
     NotPositive {
         /// The flag.
         flag: &'static str,
         /// The value.
         value: f64,
+    },
+    /// A step too small to advance the time over the run: `t + dt` rounds back to `t`.
+    #[error(
+        "{flag} {} is below the resolution of the time at t = {} (the spacing of f64 there is {}): \
+         a step would not advance the time",
+        compact(*.value), compact(*.t), compact(*.spacing)
+    )]
+    StepBelowResolution {
+        /// The flag.
+        flag: &'static str,
+        /// The step.
+        value: f64,
+        /// The latest time of the run.
+        t: f64,
+        /// The spacing of the `f64` values at `t`.
+        spacing: f64,
+    },
+    /// The same parameter given twice (by its name, symbol or ASCII spelling).
+    #[error("--param {name} is given twice (`{first}`, then `{second}`); give each parameter once")]
+    RepeatedParam {
+        /// The parameter's name.
+        name: &'static str,
+        /// The first `--param`.
+        first: String,
+        /// The repeated `--param`.
+        second: String,
     },
     /// A setting the chosen integrator does not take (`--dt` for an error-controlled one,
     /// `--tol` for a fixed-step one).
@@ -82,6 +109,25 @@ pub enum CliError {
     /// sample grid.
     #[error(transparent)]
     Argument(lagrange_validation::Error),
+    /// A request whose estimated cost (wall time or output size) is beyond the documented limit
+    /// (`commands::long_work`); `--force` runs it anyway.
+    #[error("{estimate}, beyond the limit of {limit}: change {flag}, or pass --force to run it anyway")]
+    TooCostly {
+        /// The estimate and what it is made of.
+        estimate: String,
+        /// The limit, in words.
+        limit: &'static str,
+        /// The flag to change.
+        flag: &'static str,
+    },
+    /// `simulate --t-end` not after `--start`.
+    #[error("--t-end ({t_end}) must be after --start ({start})")]
+    EndBeforeStart {
+        /// The initial time.
+        start: f64,
+        /// The end time.
+        t_end: f64,
+    },
 
     // Runtime failures (exit 1, except where the engine rejects a value the user gave: see
     // [`CliError::exit_code`]).
@@ -89,13 +135,38 @@ pub enum CliError {
     /// integration; or it rejected a setting (`invalid step`, `invalid tolerance`).
     #[error(transparent)]
     Engine(#[from] lagrange::Error),
-    /// A maximal engine failed in `lagrange compare`.
-    #[error("{engine}: {source}")]
+    /// A maximal engine, or the reduced reference run it is compared with, failed in
+    /// `lagrange compare`.
+    #[error("{}", compare_message(*.engine, .source))]
     Compare {
         /// The engine.
         engine: Engine,
         /// What failed.
         source: lagrange_validation::Error,
+    },
+    /// The engine failed with a non-finite value at a state or with parameters of which some
+    /// lie at the edge of `f64`'s range (see [`crate::args::extreme_inputs`]), named.
+    #[error("{source}; inputs at the edge of f64's range: {extremes}")]
+    Extreme {
+        /// The engine's error.
+        source: lagrange::Error,
+        /// The extreme inputs, as `--param mass = 1e-320, --qdot x = 1e200`.
+        extremes: String,
+    },
+    /// `lagrange accel --check`: the engine's `q̈` and the scene's closed form differ beyond the
+    /// round-off bound of two exact formulas.
+    #[error(
+        "the engine's q̈ differs from the closed form by {} (relative to its largest |q̈_i|), beyond the \
+         round-off bound {} = max(1e-12, 64 ε κ(M)) at κ(M) = {}",
+        compact(*.difference), compact(*.bound), compact(*.condition_number)
+    )]
+    Disagreement {
+        /// `max_i |q̈_i − closed_i| / max_i |closed_i|` (absolute when the closed form is 0).
+        difference: f64,
+        /// The bound it exceeds.
+        bound: f64,
+        /// The condition number of the mass matrix at the state.
+        condition_number: f64,
     },
     /// The validation library failed: a reference, a sweep or a stability case could not run.
     #[error(transparent)]
@@ -139,6 +210,17 @@ fn engine_names() -> String {
     Engine::ALL.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ")
 }
 
+/// The message of [`CliError::Compare`]: the engine and its failure, or that the reduced
+/// reference run failed (the engine is then not to blame).
+fn compare_message(engine: Engine, source: &lagrange_validation::Error) -> String {
+    match source {
+        lagrange_validation::Error::Reference { scene, source } => {
+            format!("{scene}: the reduced reference run (to compare {engine} with) failed: {source}")
+        }
+        source => format!("{engine}: {source}"),
+    }
+}
+
 /// Whether the engine rejected a value out of its domain (a parameter, a step, a tolerance, an
 /// output time): a value the user gave, so a bad argument rather than a failure.
 fn rejects_a_value(error: &lagrange::Error) -> bool {
@@ -156,19 +238,27 @@ impl CliError {
             | CliError::Arity { .. }
             | CliError::NotFinite { .. }
             | CliError::NotPositive { .. }
+            | CliError::StepBelowResolution { .. }
+            | CliError::RepeatedParam { .. }
             | CliError::NotForIntegrator { .. }
             | CliError::UnknownEngine(_)
             | CliError::EmptyOut
             | CliError::Param(_)
-            | CliError::Argument(_) => USAGE,
+            | CliError::Argument(_)
+            | CliError::TooCostly { .. }
+            | CliError::EndBeforeStart { .. } => USAGE,
             CliError::Engine(e)
             | CliError::Compare {
                 source:
-                    lagrange_validation::Error::Engine(e) | lagrange_validation::Error::Build(BuildError::Invalid(e)),
+                    lagrange_validation::Error::Engine(e)
+                    | lagrange_validation::Error::Reference { source: e, .. }
+                    | lagrange_validation::Error::Build(BuildError::Invalid(e)),
                 ..
             } if rejects_a_value(e) => USAGE,
             CliError::Engine(_)
             | CliError::Compare { .. }
+            | CliError::Extreme { .. }
+            | CliError::Disagreement { .. }
             | CliError::Validation(_)
             | CliError::Io { .. }
             | CliError::OutputDirectory { .. }

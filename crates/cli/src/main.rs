@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! lagrange scenes [--json]
-//! lagrange accel <scene> [--param NAME=VALUE]... --q a,b,.. --qdot a,b,.. [--t T] [--json]
+//! lagrange accel <scene> [--param NAME=VALUE]... [--q a,b,..] [--qdot a,b,..] [--t T] [--check] [--json]
 //! lagrange simulate <scene> [--param ..] [--q ..] [--qdot ..] --t-end T
 //!          [--integrator rk4|adaptive|variational] [--dt H | --tol E] [--every S] [--out FILE.csv]
 //! lagrange compare <scene> [--param ..] [--engine cartesian|rapier-impulse|rapier-multibody|
@@ -17,13 +17,23 @@
 //! malformed or out-of-range `--param`, the wrong number of values in `--q`, a non-finite or
 //! non-positive value, a step or tolerance the engine rejects), 1 for a failure at run time
 //! (the engine fails on a valid request — a singular mass matrix, a diverging integration —,
-//! a file cannot be written, a validation run cannot be set up), 0 on success.
+//! a file cannot be written, a validation run cannot be set up, `accel --check` finds the engine
+//! and the closed form apart), 0 on success. `lagrange` without a command is a usage error (the
+//! help, on standard error). A repeated `--param`, a step below the resolution of the time
+//! (`--dt 1e-320`) and a negative number (`--dt -1e-3`, read as a value, not a flag) are bad
+//! argument values too.
+//!
+//! Standard output goes through one writer ([`output`]): a reader that goes away (`| head -1`)
+//! ends the command quietly with exit 0; any other write failure (a full disk) is a one-line
+//! error with exit 1.
 
 mod args;
 mod commands;
 mod error;
+mod output;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
+use std::io::Write;
 use std::process::ExitCode;
 
 /// Exact Lagrangian mechanics of planar mechanisms, checked against closed forms.
@@ -36,9 +46,10 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// List every scene with its coordinates and parameters.
+    /// List every scene with its coordinates, parameters and default initial state.
     Scenes(commands::scenes::Args),
-    /// Generalized accelerations q̈ at one state, to full precision.
+    /// Generalized accelerations q̈ at one state (default: the scene's initial state), to full
+    /// precision, beside the scene's closed form.
     Accel(commands::accel::Args),
     /// Integrate a scene and write t, q, q̇ and the energy as CSV.
     Simulate(commands::simulate::Args),
@@ -52,19 +63,37 @@ enum Command {
     Report(commands::report::Args),
 }
 
+/// The command line, with every numeric option accepting a value that starts with `-`
+/// (`--dt -1e-3` reaches the range check with its value instead of being read as a flag `-1`;
+/// clap's `allow_negative_numbers` does not recognize `-1e-3`).
+fn command() -> clap::Command {
+    use std::any::TypeId;
+    let numeric = [TypeId::of::<f64>(), TypeId::of::<usize>(), TypeId::of::<u64>(), TypeId::of::<u32>()];
+    Cli::command().mut_subcommands(|sub| {
+        sub.mut_args(|arg| {
+            let takes_a_number = numeric.iter().any(|t| arg.get_value_parser().type_id() == *t);
+            if takes_a_number && !arg.is_positional() { arg.allow_hyphen_values(true) } else { arg }
+        })
+    })
+}
+
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    let parsed = command().try_get_matches().and_then(|matches| Cli::from_arg_matches(&matches));
+    let cli = match parsed {
         Ok(cli) => cli,
         Err(error) => {
             use clap::error::ErrorKind;
-            if matches!(
-                error.kind(),
-                ErrorKind::DisplayHelp
-                    | ErrorKind::DisplayVersion
-                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
-            ) {
-                let _ = error.print();
-                return ExitCode::SUCCESS;
+            match error.kind() {
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    let _ = error.print();
+                    return ExitCode::SUCCESS;
+                }
+                // `lagrange` alone: the help, on standard error, as a usage error.
+                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    let _ = write!(std::io::stderr(), "{}", error.render());
+                    return ExitCode::from(error::USAGE);
+                }
+                _ => {}
             }
             // One line: clap's message joined up to the usage block.
             let rendered = error.render().to_string();
@@ -74,7 +103,7 @@ fn main() -> ExitCode {
                 .map(str::trim)
                 .filter(|l| !l.is_empty())
                 .collect();
-            eprintln!("{}", message.join(" "));
+            output::warn(&message.join(" "));
             return ExitCode::from(error::USAGE);
         }
     };
@@ -85,10 +114,12 @@ fn main() -> ExitCode {
         Command::Compare(args) => commands::compare::run(&args),
         Command::Report(args) => commands::report::run(&args),
     };
-    match result {
+    match result.and_then(|()| output::flush()) {
         Ok(()) => ExitCode::SUCCESS,
+        // The reader of standard output went away (`| head -1`): it has what it wanted.
+        Err(error) if output::is_closed_pipe(&error) => ExitCode::SUCCESS,
         Err(error) => {
-            eprintln!("error: {error}");
+            output::warn(&format!("error: {error}"));
             ExitCode::from(error.exit_code())
         }
     }

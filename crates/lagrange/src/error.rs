@@ -197,19 +197,17 @@ pub enum Error {
         /// The last step tried.
         h: f64,
     },
-    /// Newton's method in an implicit integrator did not converge.
-    #[error(
-        "Newton iteration did not converge at t = {} ({iterations} iterations, residual {})",
-        compact(.t),
-        compact(.residual)
-    )]
+    /// Newton's method in an implicit integrator did not converge. (A value that stops being
+    /// finite inside a Newton iteration is an [`Error::Diverged`] naming it instead.)
+    #[error("Newton iteration did not converge at t = {} ({iterations} iterations, {})", compact(.t), NewtonResidual(*.residual))]
     NewtonFailed {
         /// Time at the start of the step.
         t: f64,
         /// Iterations done.
         iterations: usize,
-        /// Final residual norm.
-        residual: f64,
+        /// Final residual norm (finite), or `None` when the Newton matrix was singular before a
+        /// residual was evaluated.
+        residual: Option<f64>,
     },
     /// [`Mechanism::poses`](crate::Mechanism::poses) left a component of a body's pose
     /// unwritten (or wrote NaN) at a probe state: the engine fills the poses with NaN first,
@@ -329,6 +327,20 @@ impl fmt::Display for Compact {
     }
 }
 
+/// The residual of an [`Error::NewtonFailed`] for its message.
+struct NewtonResidual(Option<f64>);
+
+impl fmt::Display for NewtonResidual {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Some(r) if r.is_finite() => write!(f, "residual {}", Compact(r)),
+            // Never constructed (a non-finite value inside Newton is `Diverged`), never printed.
+            Some(_) => f.write_str("a non-finite residual"),
+            None => f.write_str("the Newton matrix is singular"),
+        }
+    }
+}
+
 pub(crate) fn compact(v: &f64) -> Compact {
     Compact(*v)
 }
@@ -366,6 +378,22 @@ mod tests {
         assert_eq!(CompactAll(&[0.0, 1e-16, 2.5]).to_string(), "[0, 1e-16, 2.5]");
         let error = Error::NonFinite { stage: Stage::State, t: 1e-16, q: vec![0.1, 1e-20] };
         assert_eq!(error.to_string(), "non-finite state at t = 1e-16, q = [0.1, 1e-20]");
+    }
+
+    #[test]
+    fn a_newton_failure_prints_its_residual_or_a_singular_matrix_never_nan() {
+        let failed = Error::NewtonFailed { t: 4.15, iterations: 50, residual: Some(5.5e-17) };
+        assert_eq!(
+            failed.to_string(),
+            "Newton iteration did not converge at t = 4.15 (50 iterations, residual 5.5e-17)"
+        );
+        let singular = Error::NewtonFailed { t: 0.5, iterations: 0, residual: None };
+        assert_eq!(
+            singular.to_string(),
+            "Newton iteration did not converge at t = 0.5 (0 iterations, the Newton matrix is singular)"
+        );
+        let never = Error::NewtonFailed { t: 0.5, iterations: 3, residual: Some(f64::NAN) }.to_string();
+        assert!(!never.contains("NaN"), "{never}");
     }
 
     #[test]

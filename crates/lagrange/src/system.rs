@@ -1,7 +1,7 @@
 //! An object-safe facade over any [`Dynamics`], for code that picks systems at run time
 //! (scene registries, the command line).
 
-use crate::integrate::{Method, Output, Trajectory, simulate};
+use crate::integrate::{Method, Output, Sink, Stats, Trajectory, simulate, simulate_into};
 use crate::{Body, Bounds, Coordinate, Dynamics, Error, State};
 
 /// A system with its own workspace, usable as `Box<dyn System>`. All results are `f64` and
@@ -78,6 +78,20 @@ pub trait System {
     /// # Errors
     /// [`Error::Inadmissible`] naming the first bound that fails.
     fn check_admissible(&self, t: f64, q: &[f64], qdot: &[f64]) -> Result<bool, Error>;
+
+    /// Integrate from `initial` to `t_end` into any `sink`; see
+    /// [`simulate_into`](crate::integrate::simulate_into).
+    ///
+    /// # Errors
+    /// As [`simulate`](crate::simulate).
+    fn simulate_into(
+        &self,
+        initial: &State,
+        t_end: f64,
+        method: Method,
+        output: &Output,
+        sink: &mut dyn Sink,
+    ) -> Result<Stats, Error>;
 }
 
 /// A [`Dynamics`] together with its workspace and result buffers: the [`System`] of any body
@@ -171,5 +185,16 @@ impl<D: Dynamics> System for Buffered<D> {
 
     fn check_admissible(&self, t: f64, q: &[f64], qdot: &[f64]) -> Result<bool, Error> {
         Bounds::check(&self.system, t, q, qdot)
+    }
+
+    fn simulate_into(
+        &self,
+        initial: &State,
+        t_end: f64,
+        method: Method,
+        output: &Output,
+        sink: &mut dyn Sink,
+    ) -> Result<Stats, Error> {
+        simulate_into(&self.system, initial, t_end, method, output, sink)
     }
 }

@@ -90,6 +90,13 @@ impl ParamSpec {
         Self { name, symbol, unit, default, domain, description }
     }
 
+    /// The symbol spelled in ASCII, also accepted as a key by [`Params::set`]: each Greek letter
+    /// by its English name (`α` → `alpha`, `ω` → `omega`, `θ` → `theta`, `λ` → `lambda`,
+    /// `μ` → `mu`; `Ω` → `Omega`), every other character kept (`m_p` stays `m_p`).
+    pub fn ascii_symbol(&self) -> String {
+        ascii_symbol(self.symbol)
+    }
+
     /// Check a value against the domain; non-finite values are always rejected.
     ///
     /// # Errors
@@ -261,8 +268,9 @@ impl Params {
         Params { specs, values: specs.iter().map(|s| s.default).collect() }
     }
 
-    /// Set a parameter by its name (`cart_mass`) or its symbol (`M`); both are case-sensitive
-    /// (`M` and `m` are different masses).
+    /// Set a parameter by its name (`cart_mass`), its symbol (`M`) or the symbol spelled in ASCII
+    /// (`alpha` for `α`, `omega` for `ω`: [`ParamSpec::ascii_symbol`]); all are case-sensitive (`M` and
+    /// `m` are different masses).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for an unknown key (listing the accepted names) or a value
@@ -270,7 +278,14 @@ impl Params {
     /// then left unchanged.
     pub fn set(&mut self, key: &str, value: f64) -> Result<(), Error> {
         let Some(index) = self.index_of_key(key) else {
-            let accepted: Vec<String> = self.specs.iter().map(|s| format!("{} ({})", s.name, s.symbol)).collect();
+            let accepted: Vec<String> = self
+                .specs
+                .iter()
+                .map(|s| match s.ascii_symbol() {
+                    ascii if ascii != s.symbol => format!("{} ({} or {ascii})", s.name, s.symbol),
+                    _ => format!("{} ({})", s.name, s.symbol),
+                })
+                .collect();
             return Err(Error::InvalidParameter {
                 name: key.to_string(),
                 value,
@@ -280,6 +295,12 @@ impl Params {
         self.specs[index].check(value)?;
         self.values[index] = value;
         Ok(())
+    }
+
+    /// The specification a key names, as [`set`](Self::set) resolves it (name, symbol, or the
+    /// symbol in ASCII); `None` for an unknown key.
+    pub fn spec(&self, key: &str) -> Option<&'static ParamSpec> {
+        self.index_of_key(key).map(|index| &self.specs[index])
     }
 
     /// The value of the parameter called `name`.
@@ -330,10 +351,12 @@ impl Params {
         Ok(values)
     }
 
-    /// Position of the parameter whose name, or else whose symbol, is `key`.
+    /// Position of the parameter whose name, or else whose symbol, or else whose symbol in ASCII
+    /// is `key`.
     fn index_of_key(&self, key: &str) -> Option<usize> {
         let by_name = self.specs.iter().position(|s| s.name == key);
-        by_name.or_else(|| self.specs.iter().position(|s| s.symbol == key))
+        let by_symbol = || self.specs.iter().position(|s| s.symbol == key);
+        by_name.or_else(by_symbol).or_else(|| self.specs.iter().position(|s| s.ascii_symbol() == key))
     }
 
     /// The parameter names, in order.
@@ -348,6 +371,34 @@ impl Params {
         let index = self.specs.iter().position(|s| s.name == name);
         self.values[index.unwrap_or_else(|| panic!("test names an unknown parameter `{name}`"))] = value;
     }
+}
+
+/// `symbol` spelled in ASCII, as [`ParamSpec::ascii_symbol`] describes.
+fn ascii_symbol(symbol: &str) -> String {
+    const GREEK: [&str; 24] = [
+        "alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa", "lambda", "mu", "nu",
+        "xi", "omicron", "pi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi", "omega",
+    ];
+    let mut ascii = String::new();
+    for c in symbol.chars() {
+        // The lower-case letters α..ω are U+03B1..U+03C9 (with the final sigma ς at U+03C2),
+        // the capitals Α..Ω U+0391..U+03A9 (with no letter at U+03A2).
+        let (index, capital) = match c {
+            'ς' => (Some(17), false),
+            'α'..='ω' => (Some(c as usize - 'α' as usize - usize::from(c > 'ς')), false),
+            'Α'..='Ω' if c != '\u{3a2}' => (Some(c as usize - 'Α' as usize - usize::from(c > '\u{3a2}')), true),
+            _ => (None, false),
+        };
+        match index {
+            Some(i) if capital => {
+                ascii.push_str(&GREEK[i][..1].to_ascii_uppercase());
+                ascii.push_str(&GREEK[i][1..]);
+            }
+            Some(i) => ascii.push_str(GREEK[i]),
+            None => ascii.push(c),
+        }
+    }
+    ascii
 }
 
 /// Check every value against its specification, in order (a typed scene's constructor
@@ -401,6 +452,27 @@ mod tests {
         assert_eq!(params.get("gravity"), 0.0, "set by symbol");
         params.set("M", 7.0).unwrap();
         assert_eq!((params.get("cart_mass"), params.get("bob_mass")), (7.0, 0.25));
+    }
+
+    #[test]
+    fn greek_symbols_have_ascii_spellings() {
+        let spelled: Vec<String> = ["α", "ω", "θ", "λ", "μ", "σ", "ς", "τ", "Ω", "Δ", "m_p", "l'", "ω0"]
+            .iter()
+            .map(|s| ascii_symbol(s))
+            .collect();
+        let expected = [
+            "alpha", "omega", "theta", "lambda", "mu", "sigma", "sigma", "tau", "Omega", "Delta", "m_p", "l'", "omega0",
+        ];
+        assert_eq!(spelled, expected);
+        let mut params = Params::defaults(SPECS);
+        params.set("alpha", 0.25).unwrap();
+        assert_eq!(params.get("angle"), 0.25, "set by the ASCII spelling of α");
+        assert_eq!(params.spec("alpha").map(|s| s.name), Some("angle"));
+        assert_eq!(params.spec("α").map(|s| s.name), Some("angle"));
+        assert_eq!(params.spec("M").map(|s| s.name), Some("cart_mass"));
+        assert_eq!(params.spec("Alpha"), None, "case-sensitive");
+        let (_, why) = rejection(params.set("beta", 1.0));
+        assert!(why.contains("angle (α or alpha)"), "{why}");
     }
 
     #[test]

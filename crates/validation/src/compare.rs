@@ -52,8 +52,8 @@ pub struct Comparison {
 /// `every` seconds (rounded to whole rapier steps), and compare.
 ///
 /// # Errors
-/// [`Error::Build`] with `BuildError::Unbuildable` when the engine cannot build the scene; any
-/// error of either run.
+/// [`Error::Build`] with `BuildError::Unbuildable` when the engine cannot build the scene;
+/// [`Error::Reference`] when the reduced reference run fails; any error of the engine's run.
 pub fn compare(
     engine: Engine,
     scene: &dyn Scene,
@@ -74,12 +74,14 @@ pub fn compare(
     let times: Vec<f64> = (0..=count).map(|k| initial.t + k as f64 * stride).collect();
     // The reduced reference, with the same deviations.
     let mut reduced = scene.build(params)?;
-    let reference = reduced.simulate(
-        initial,
-        *times.last().unwrap_or(&initial.t),
-        Method::Adaptive { tol: Tolerances::uniform(REFERENCE_TOLERANCE) },
-        &Output::Times(times.clone()),
-    )?;
+    let reference = reduced
+        .simulate(
+            initial,
+            *times.last().unwrap_or(&initial.t),
+            Method::Adaptive { tol: Tolerances::uniform(REFERENCE_TOLERANCE) },
+            &Output::Times(times.clone()),
+        )
+        .map_err(|source| Error::Reference { scene: id.to_string(), source })?;
     let conserves = reduced.conserves_energy();
     let cyclic: Vec<usize> =
         reduced.cyclic_coordinates().iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| j).collect();

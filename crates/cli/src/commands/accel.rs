@@ -1,7 +1,17 @@
-//! `lagrange accel`: generalized accelerations at one state.
+//! `lagrange accel`: generalized accelerations at one state, beside the scene's closed form.
+//!
+//! The two are exact formulas for the same `q̈` and differ by round-off only: at most
+//! `max(1e-12, 64 ε κ(M))` relative to the largest `|q̈_i|` (`lagrange_validation::tolerance::conditioned`,
+//! the bound the integration tests hold every scene to at random states and parameters). A
+//! larger difference means the state or the parameters lie where the two models part (outside
+//! the scene's admissible region, say): `accel` says so on standard error, and with `--check`
+//! fails with exit 1.
 
 use crate::args;
 use crate::error::CliError;
+use crate::output::{compact_all, outln, warn};
+use lagrange_validation::fixtures::{condition_number, max_abs, max_abs_diff};
+use lagrange_validation::tolerance;
 use serde::Serialize;
 
 /// Arguments of `lagrange accel`.
@@ -9,62 +19,144 @@ use serde::Serialize;
 pub struct Args {
     /// Scene id (see `lagrange scenes`).
     scene: String,
-    /// Parameter override NAME=VALUE (name or symbol), repeatable.
+    /// Parameter override NAME=VALUE (name, symbol, or the symbol in ASCII: alpha for α),
+    /// once per parameter.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     params: Vec<String>,
-    /// Generalized coordinates, comma-separated.
+    /// Generalized coordinates, comma-separated (default: the scene's initial state).
     #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
-    q: String,
-    /// Generalized velocities, comma-separated.
+    q: Option<String>,
+    /// Generalized velocities, comma-separated (default: the scene's initial state).
     #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
-    qdot: String,
-    /// Time.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    t: f64,
+    qdot: Option<String>,
+    /// Time (default: the scene's initial time, 0).
+    #[arg(long, allow_hyphen_values = true)]
+    t: Option<f64>,
+    /// Fail (exit 1) when the engine and the closed form differ beyond round-off.
+    #[arg(long)]
+    check: bool,
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
+}
+
+/// One coordinate's acceleration, named.
+#[derive(Serialize)]
+struct AccelerationOut<'a> {
+    /// The coordinate whose second time derivative this is.
+    coordinate: &'a str,
+    /// The engine's `q̈` of the coordinate.
+    engine: f64,
+    /// The closed form's `q̈` of the coordinate.
+    closed_form: Option<f64>,
+}
+
+/// Engine against closed form.
+#[derive(Clone, Copy, Serialize)]
+struct AgreementOut {
+    /// `max_i |q̈_i − closed_i| / max_i |closed_i|` (absolute when the closed form is 0).
+    difference: f64,
+    /// The round-off bound `max(1e-12, 64 ε κ(M))`.
+    bound: f64,
+    /// `κ(M)` at the state.
+    condition_number: f64,
+    /// `difference <= bound`.
+    agrees: bool,
 }
 
 #[derive(Serialize)]
 struct Out<'a> {
     scene: &'a str,
     t: f64,
-    coordinates: Vec<String>,
+    coordinates: &'a [String],
     q: &'a [f64],
     qdot: &'a [f64],
+    /// The engine's `q̈`, in the order of `coordinates`.
     qddot: &'a [f64],
-    closed_form: Option<Vec<f64>>,
+    /// The closed form's `q̈`, in the order of `coordinates`.
+    closed_form: Option<&'a [f64]>,
+    /// The same, one object per coordinate.
+    accelerations: Vec<AccelerationOut<'a>>,
+    /// Absent when the scene has no closed form.
+    agreement: Option<AgreementOut>,
 }
 
-/// Print `q̈` (and the scene's closed form beside it).
+/// Compare the engine's `q̈` with the closed form, to the round-off bound at the mass matrix's
+/// condition number `kappa`.
+fn agreement(qddot: &[f64], closed_form: &[f64], kappa: f64) -> AgreementOut {
+    let bound = tolerance::conditioned(kappa);
+    let scale = max_abs(closed_form);
+    let residual = max_abs_diff(qddot, closed_form);
+    let difference = if scale == 0.0 { residual } else { residual / scale };
+    // A NaN difference (or bound) is a disagreement.
+    AgreementOut { difference, bound, condition_number: kappa, agrees: difference <= bound }
+}
+
+/// Print `q̈` (and the scene's closed form beside it, checked against it).
 pub fn run(args: &Args) -> Result<(), CliError> {
     let scene = args::scene(&args.scene)?;
     let params = args::params(scene, &args.params)?;
-    let state = args::state(scene, &params, Some(&args.q), Some(&args.qdot), Some(args.t))?;
+    let state = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), args.t)?;
     let mut system = scene.build(&params)?;
-    let qddot = system.accelerations(state.t, &state.q, &state.qdot)?.to_vec();
-    let closed_form = scene.closed_form_accelerations(&params, state.t, &state.q, &state.qdot)?;
     let coordinates: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
+    let explain = |error| args::explain(error, &params, &coordinates, &state);
+    let qddot = system.accelerations(state.t, &state.q, &state.qdot).map_err(explain)?.to_vec();
+    let closed_form = scene.closed_form_accelerations(&params, state.t, &state.q, &state.qdot).map_err(explain)?;
+    let agreement = match &closed_form {
+        Some(exact) => {
+            let mass_matrix = system.mass_matrix(state.t, &state.q, &state.qdot).map_err(explain)?;
+            Some(agreement(&qddot, exact, condition_number(coordinates.len(), mass_matrix)))
+        }
+        None => None,
+    };
     if args.json {
+        let accelerations = coordinates
+            .iter()
+            .enumerate()
+            .map(|(i, name)| AccelerationOut {
+                coordinate: name,
+                engine: qddot[i],
+                closed_form: closed_form.as_ref().map(|c| c[i]),
+            })
+            .collect();
         let out = Out {
             scene: scene.id(),
             t: state.t,
-            coordinates,
+            coordinates: &coordinates,
             q: &state.q,
             qdot: &state.qdot,
             qddot: &qddot,
-            closed_form,
+            closed_form: closed_form.as_deref(),
+            accelerations,
+            agreement,
         };
-        println!("{}", serde_json::to_string_pretty(&out)?);
-        return Ok(());
-    }
-    // `{:?}` prints the shortest decimal that reads back to the same f64: full precision.
-    for (i, name) in coordinates.iter().enumerate() {
-        match &closed_form {
-            Some(exact) => println!("{name}'' = {:?}    (closed form {:?})", qddot[i], exact[i]),
-            None => println!("{name}'' = {:?}", qddot[i]),
+        outln!("{}", serde_json::to_string_pretty(&out)?)?;
+    } else {
+        // `{:?}` prints the shortest decimal that reads back to the same f64: full precision.
+        // `q̈[x']`, not `x'''`: the coordinate's name may end in a prime itself.
+        for (i, name) in coordinates.iter().enumerate() {
+            match &closed_form {
+                Some(exact) => outln!("q̈[{name}] = {:?}    (closed form {:?})", qddot[i], exact[i])?,
+                None => outln!("q̈[{name}] = {:?}", qddot[i])?,
+            }
         }
+    }
+    match agreement {
+        Some(a) if !a.agrees => {
+            let error = CliError::Disagreement {
+                difference: a.difference,
+                bound: a.bound,
+                condition_number: a.condition_number,
+            };
+            if args.check {
+                return Err(error);
+            }
+            let (q, qdot) = (compact_all(&state.q), compact_all(&state.qdot));
+            warn(&format!(
+                "warning: {error}; the two models part at q = {q}, q̇ = {qdot} (--check makes this an error)"
+            ));
+        }
+        _ => {}
     }
     Ok(())
 }

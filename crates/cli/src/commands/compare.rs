@@ -1,11 +1,20 @@
 //! `lagrange compare`: the reduced solver and the maximal-coordinate engines side by side.
+//! Each engine's run is estimated before any runs, and a request estimated beyond
+//! [`long_work::TIME_LIMIT_S`] is refused (`--force` runs it anyway); a progress bar with the
+//! time left is drawn on a terminal.
 
+use super::long_work::{self, Run};
 use crate::args;
 use crate::error::CliError;
+use crate::output::outln;
+use lagrange::State;
 use lagrange_maximal::{BuildError, Engine, Settings};
+use lagrange_scenes::{Params, Scene};
 use lagrange_validation::Error;
 use lagrange_validation::compare::{Comparison, compare};
+use lagrange_validation::plan::REFERENCE_TOLERANCE;
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// Arguments of `lagrange compare`.
 #[derive(clap::Args, Debug)]
@@ -40,6 +49,85 @@ pub struct Args {
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
+    /// Run a request whose estimated wall time is beyond the limit (2 minutes).
+    #[arg(long)]
+    force: bool,
+}
+
+/// Substeps of a rapier engine's calibration run: a rapier step costs its substeps, so a run
+/// with more is estimated from one with this many, scaled by the ratio.
+const CALIBRATION_SUBSTEPS: usize = 16;
+
+/// Estimated wall time of `compare` for `engine` (its reference run included): the same
+/// comparison over the first `τ, 2τ, …` of the horizon from one rapier step on
+/// ([`long_work::wall_time`]), each calibration run on its own thread so that one whose steps
+/// are too slow is abandoned once it proves the request beyond the limit. Zero for an engine
+/// that cannot build the scene; `None` when a calibration run fails (the real one will say
+/// why).
+fn estimate(
+    engine: Engine,
+    scene: &'static dyn Scene,
+    params: &Params,
+    initial: &State,
+    settings: &Settings,
+    span: f64,
+) -> Option<long_work::Estimate> {
+    let (calibration, scale) = if engine.is_rapier() && settings.substeps > CALIBRATION_SUBSTEPS {
+        let calibration = Settings { substeps: CALIBRATION_SUBSTEPS, ..*settings };
+        (calibration, settings.substeps as f64 / CALIBRATION_SUBSTEPS as f64)
+    } else {
+        (*settings, 1.0)
+    };
+    let mut unbuildable = false;
+    let wall = long_work::wall_time(span, settings.dt, |tau, budget| {
+        let (params, initial) = (params.clone(), initial.clone());
+        let (send, receive) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let run = compare(engine, scene, &params, &initial, &calibration, initial.t + tau, tau);
+            let _ = send.send(match run {
+                Ok(_) => Some(true),
+                Err(Error::Build(BuildError::Unbuildable { .. })) => None,
+                Err(_) => Some(false),
+            });
+        });
+        // A substep count scaled down runs `scale` times faster than the real one.
+        match receive.recv_timeout(std::time::Duration::from_secs_f64(budget / scale)) {
+            Ok(Some(true)) => Run::Done,
+            Ok(Some(false)) | Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => Run::Failed,
+            Ok(None) => {
+                unbuildable = true;
+                Run::Failed
+            }
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Run::Exceeded,
+        }
+    });
+    if unbuildable {
+        return Some(long_work::Estimate { seconds: 0.0, at_least: false });
+    }
+    wall.map(|w| long_work::Estimate { seconds: w.seconds * scale, ..w })
+}
+
+/// `compare --json`: what was compared, under which settings, and one row per engine
+/// (documented field by field in docs/cli-json.md).
+#[derive(Serialize)]
+struct Document {
+    scene: &'static str,
+    /// Every parameter by name, overrides applied.
+    parameters: BTreeMap<&'static str, f64>,
+    /// The initial state.
+    t0: f64,
+    q0: Vec<f64>,
+    qdot0: Vec<f64>,
+    /// rapier's step and substeps, the Cartesian engine's tolerance.
+    dt: f64,
+    substeps: usize,
+    tol: f64,
+    t_end: f64,
+    /// Interval of the times where errors are measured.
+    every: f64,
+    /// Tolerance of the reduced solution the engines are measured against.
+    reference_tol: f64,
+    rows: Vec<Row>,
 }
 
 /// One engine's row.
@@ -113,34 +201,86 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if !(args.t_end.is_finite() && args.t_end > 0.0) {
         return Err(CliError::NotPositive { flag: "--t-end", value: args.t_end });
     }
+    args::step("--dt", args.dt, args.t_end)?;
     let settings = Settings { dt: args.dt, substeps: args.substeps, tolerance: args.tol };
     let every = args.t_end / 100.0;
-    let mut rows = Vec::new();
-    for engine in engines {
-        rows.push(Row::from(engine, compare(engine, scene, &params, &initial, &settings, args.t_end, every))?);
+    // What each engine will cost, before any runs (skipped with --force).
+    let estimates: Vec<Option<long_work::Estimate>> = if args.force {
+        vec![None; engines.len()]
+    } else {
+        engines.iter().map(|&engine| estimate(engine, scene, &params, &initial, &settings, args.t_end)).collect()
+    };
+    let total = long_work::Estimate {
+        seconds: estimates.iter().flatten().map(|e| e.seconds).sum(),
+        at_least: estimates.iter().flatten().any(|e| e.at_least),
+    };
+    if estimates.iter().any(Option::is_some) {
+        let what = format!(
+            "comparing {} over {} s in {} engine{} (rapier dt = {:e}, {} substeps)",
+            scene.id(),
+            args.t_end,
+            engines.len(),
+            if engines.len() == 1 { "" } else { "s" },
+            args.dt,
+            args.substeps
+        );
+        long_work::check_time(Some(total), args.force, &what, "--t-end, --dt or --substeps")?;
     }
+    // Progress in estimated milliseconds (one unit per engine without estimates).
+    let units = |estimate: Option<long_work::Estimate>| estimate.map_or(1, |e| (e.seconds * 1e3).ceil() as u64 + 1);
+    let bar = long_work::progress_bar(estimates.iter().map(|&e| units(e)).sum());
+    let mut rows = Vec::new();
+    for (engine, estimate) in engines.into_iter().zip(estimates) {
+        bar.set_message(engine.name());
+        let result = compare(engine, scene, &params, &initial, &settings, args.t_end, every);
+        bar.inc(units(estimate));
+        rows.push(Row::from(engine, result)?);
+    }
+    bar.finish_and_clear();
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        let document = Document {
+            scene: scene.id(),
+            parameters: params.iter().map(|(spec, value)| (spec.name, value)).collect(),
+            t0: initial.t,
+            q0: initial.q.clone(),
+            qdot0: initial.qdot.clone(),
+            dt: args.dt,
+            substeps: args.substeps,
+            tol: args.tol,
+            t_end: args.t_end,
+            every,
+            reference_tol: REFERENCE_TOLERANCE,
+            rows,
+        };
+        outln!("{}", serde_json::to_string_pretty(&document)?)?;
         return Ok(());
     }
-    println!(
+    outln!(
         "{} over {} s (rapier dt = {:.3e}, {} substeps; Cartesian tol = {:e}); errors against the reduced solution at tol 1e-13",
         scene.id(),
         args.t_end,
         args.dt,
         args.substeps,
         args.tol
-    );
-    println!(
+    )?;
+    outln!(
         "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
-        "engine", "max err", "final err", "energy", "(ours)", "momentum", "violation", "force err", "µs/step"
-    );
+        "engine",
+        "max err",
+        "final err",
+        "energy",
+        "(ours)",
+        "momentum",
+        "violation",
+        "force err",
+        "µs/step"
+    )?;
     for row in &rows {
         if let Some(reason) = &row.unbuildable {
-            println!("{:<21} not buildable: {reason}", row.engine);
+            outln!("{:<21} not buildable: {reason}", row.engine)?;
             continue;
         }
-        println!(
+        outln!(
             "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9.2}",
             row.engine,
             cell(row.max_error),
@@ -151,9 +291,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             cell(row.constraint_violation),
             cell(row.force_error),
             row.microseconds_per_step.unwrap_or(0.0)
-        );
+        )?;
         for deviation in &row.deviations {
-            println!("{:<21}   deviation: {deviation}", "");
+            outln!("{:<21}   deviation: {deviation}", "")?;
         }
     }
     Ok(())

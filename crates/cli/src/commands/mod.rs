@@ -1,7 +1,10 @@
-//! One module per subcommand.
+//! One module per subcommand, and two they share: [`files`] (output written whole or not at
+//! all) and [`long_work`] (cost estimates, refusals of absurd requests, progress bars).
 
 pub mod accel;
 pub mod compare;
+pub mod files;
+pub mod long_work;
 pub mod report;
 pub mod scenes;
 pub mod simulate;

@@ -61,7 +61,8 @@ impl Trajectory {
         Some(State::new(self.t[k], self.q(k), self.qdot(k)))
     }
 
-    fn with_capacity(n: usize, samples: usize) -> Self {
+    /// An empty trajectory of `n` coordinates with room for `samples` samples.
+    pub fn with_capacity(n: usize, samples: usize) -> Self {
         Self {
             n,
             t: Vec::with_capacity(samples),
@@ -142,21 +143,35 @@ pub fn simulate<D: Dynamics>(
     method: Method,
     output: &Output,
 ) -> Result<Trajectory, Error> {
-    let n = system.dof();
     let times = check_run(system, initial, t_end, output)?;
-    let mut trajectory = Trajectory::with_capacity(n, times.len());
-    match method {
-        Method::Rk4 { dt } => run(system, &mut Rk4::new(n).with_step(dt)?, initial, t_end, output, &mut trajectory)?,
-        Method::Adaptive { tol } => run(system, &mut Dopri5::new(n, tol)?, initial, t_end, output, &mut trajectory)?,
-        Method::Variational { dt } => {
-            run(system, &mut Variational::new(system).with_step(dt)?, initial, t_end, output, &mut trajectory)?
-        }
-        Method::Implicit { tol } => run(system, &mut Sdirk4::new(n, tol)?, initial, t_end, output, &mut trajectory)?,
-        Method::Gauss { dt } => {
-            run(system, &mut Gauss4::new(n).with_step(dt)?, initial, t_end, output, &mut trajectory)?
-        }
-    };
+    let mut trajectory = Trajectory::with_capacity(system.dof(), times.len());
+    simulate_into(system, initial, t_end, method, output, &mut trajectory)?;
     Ok(trajectory)
+}
+
+/// [`simulate`] into any [`Sink`] (a progress display wrapping a [`Trajectory`], a sink that
+/// keeps only what it needs): the one place where a [`Method`] picks its integrator.
+///
+/// # Errors
+/// As [`simulate`].
+pub fn simulate_into<D: Dynamics, S: Sink + ?Sized>(
+    system: &D,
+    initial: &State,
+    t_end: f64,
+    method: Method,
+    output: &Output,
+    sink: &mut S,
+) -> Result<Stats, Error> {
+    let n = system.dof();
+    match method {
+        Method::Rk4 { dt } => run(system, &mut Rk4::new(n).with_step(dt)?, initial, t_end, output, sink),
+        Method::Adaptive { tol } => run(system, &mut Dopri5::new(n, tol)?, initial, t_end, output, sink),
+        Method::Variational { dt } => {
+            run(system, &mut Variational::new(system).with_step(dt)?, initial, t_end, output, sink)
+        }
+        Method::Implicit { tol } => run(system, &mut Sdirk4::new(n, tol)?, initial, t_end, output, sink),
+        Method::Gauss { dt } => run(system, &mut Gauss4::new(n).with_step(dt)?, initial, t_end, output, sink),
+    }
 }
 
 /// Integrate `system` from `initial` to `t_end` with `integrator`, writing a sample at each time
@@ -173,7 +188,7 @@ pub fn simulate<D: Dynamics>(
 ///
 /// # Errors
 /// As [`simulate`].
-pub fn run<D: Dynamics, I: Integrator<D>, S: Sink>(
+pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
     system: &D,
     integrator: &mut I,
     initial: &State,
@@ -309,12 +324,15 @@ fn output_times(t0: f64, t_end: f64, output: &Output) -> Result<Vec<f64>, Error>
             Ok(times)
         }
         Output::Times(times) => {
-            let increasing = times.windows(2).all(|w| w[1] > w[0]);
-            if !increasing || times.iter().any(|t| !(*t >= t0 && *t <= t_end)) {
+            // The first time that is out of order or outside [t0, t_end] is the one reported.
+            let outside = |t: f64| !(t >= t0 && t <= t_end);
+            let first_bad =
+                times.iter().enumerate().find(|&(i, &t)| outside(t) || (i > 0 && t <= times[i - 1])).map(|(_, &t)| t);
+            if let Some(value) = first_bad {
                 return Err(Error::InvalidSetting {
-                    what: "output times",
-                    value: f64::NAN,
-                    why: "must be increasing and within [t0, t_end]",
+                    what: "output time",
+                    value,
+                    why: "output times must be increasing and within [t0, t_end]",
                 });
             }
             Ok(times.clone())

@@ -40,8 +40,9 @@ const THETA_REFRESH: f64 = 1e-2;
 
 /// Why Newton stopped without converging.
 enum Failure {
-    /// Not converging (iterations, last scaled update).
-    Newton(usize, f64),
+    /// Not converging (iterations, last scaled update; `None`: the Newton matrix became
+    /// singular at a Jacobian update).
+    Newton(usize, Option<f64>),
     /// A stage value or its accelerations were not finite.
     NonFinite(String),
 }
@@ -187,7 +188,7 @@ impl Gauss4 {
                 if self.newton.factor(h, &A, &self.a_squared) {
                     self.factored_step = h;
                 } else if self.jacobian_fresh {
-                    return Err(Error::NewtonFailed { t: state.t, iterations: 0, residual: f64::NAN });
+                    return Err(Error::NewtonFailed { t: state.t, iterations: 0, residual: None });
                 } else {
                     self.refresh_jacobian = true;
                     continue;
@@ -295,7 +296,7 @@ impl Gauss4 {
             Ok(Ok(()))
         } else {
             self.factored_step = f64::NAN;
-            Ok(Err(Failure::Newton(0, f64::NAN)))
+            Ok(Err(Failure::Newton(0, None)))
         }
     }
 
@@ -335,6 +336,8 @@ impl Gauss4 {
         let (mut previous, mut best, mut since_best) = (f64::NAN, f64::INFINITY, 0);
         let mut theta_max: f64 = 0.0;
         let mut updates = 0;
+        // The last scaled update (finite: a non-finite one returns at once).
+        let mut last = f64::INFINITY;
         for iteration in 1..=NEWTON_MAX_ITERATIONS {
             self.stats.newton_iterations += 1;
             // Accelerations at both stage values.
@@ -384,6 +387,7 @@ impl Gauss4 {
             if !norm.is_finite() {
                 return Ok(Err(Failure::NonFinite("a non-finite Newton update".into())));
             }
+            last = norm;
             // Converged when the update is below round-off, or when the predicted remainder
             // θ/(1 − θ) ‖δ‖ is. The scaled max-norm need not fall at every iteration (its
             // worst component changes, e.g. a velocity growing from zero), so one iteration
@@ -412,7 +416,10 @@ impl Gauss4 {
                     // A slow rate: the next step evaluates its own Jacobian (θ > THETA_REFRESH).
                     theta_max = theta_max.max(theta);
                     if let Err(why) = self.update_jacobian(system, ws, state, h)? {
-                        return Ok(Err(why));
+                        return Ok(Err(match why {
+                            Failure::Newton(_, residual) => Failure::Newton(iteration, residual),
+                            other => other,
+                        }));
                     }
                     (best, since_best) = (f64::INFINITY, 0);
                     previous = f64::NAN;
@@ -422,7 +429,7 @@ impl Gauss4 {
                     if best.min(effect) <= ROUNDOFF_PLATEAU {
                         converged = true;
                     } else {
-                        return Ok(Err(Failure::Newton(iteration, norm)));
+                        return Ok(Err(Failure::Newton(iteration, Some(norm))));
                     }
                 }
             }
@@ -432,7 +439,9 @@ impl Gauss4 {
             }
             previous = norm;
         }
-        Ok(Err(Failure::Newton(NEWTON_MAX_ITERATIONS, previous)))
+        // (`previous` is NaN after a Jacobian update in the last iteration: report the last
+        // update measured.)
+        Ok(Err(Failure::Newton(NEWTON_MAX_ITERATIONS, Some(last))))
     }
 }
 

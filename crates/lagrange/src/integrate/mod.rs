@@ -41,7 +41,7 @@ pub mod stability;
 mod variational;
 
 pub use dopri5::Dopri5;
-pub use driver::{Output, Sample, Sink, Trajectory, run, simulate};
+pub use driver::{Output, Sample, Sink, Trajectory, run, simulate, simulate_into};
 pub use gauss::Gauss4;
 pub(crate) use integrator::Grid;
 pub use integrator::{Integrator, Stats};

@@ -47,8 +47,9 @@ const THETA_REFRESH: f64 = 0.1;
 enum Failure {
     /// The error test.
     Accuracy,
-    /// Newton did not converge (iterations, last scaled update).
-    Newton(usize, f64),
+    /// Newton did not converge (iterations, last scaled update; `None`: the Newton matrix was
+    /// singular).
+    Newton(usize, Option<f64>),
     /// A stage value or its accelerations were not finite.
     NonFinite(String),
 }
@@ -253,7 +254,7 @@ impl Sdirk4 {
                 self.h = 0.5 * h;
                 self.stats.rejected += 1;
                 self.control.rejected();
-                failure = Failure::Newton(0, f64::NAN);
+                failure = Failure::Newton(0, None);
                 continue;
             }
             // Stages; a Newton failure retries with a fresh Jacobian, or else half the step.
@@ -380,11 +381,11 @@ impl Sdirk4 {
                     let theta = norm / previous_norm;
                     theta_max = theta_max.max(theta);
                     if theta >= NEWTON_DIVERGING {
-                        return Ok(Err(Failure::Newton(iteration, norm)));
+                        return Ok(Err(Failure::Newton(iteration, Some(norm))));
                     }
                     let remaining = (NEWTON_MAX_ITERATIONS - iteration) as i32;
                     if theta.powi(remaining) / (1.0 - theta) * norm > self.newton_tolerance {
-                        return Ok(Err(Failure::Newton(iteration, norm)));
+                        return Ok(Err(Failure::Newton(iteration, Some(norm))));
                     }
                     self.eta = theta / (1.0 - theta);
                 } else {
@@ -397,7 +398,7 @@ impl Sdirk4 {
                 previous_norm = norm;
             }
             if !converged {
-                return Ok(Err(Failure::Newton(NEWTON_MAX_ITERATIONS, previous_norm)));
+                return Ok(Err(Failure::Newton(NEWTON_MAX_ITERATIONS, Some(previous_norm))));
             }
             // F_i = (Z − explicit) / (γh): the stage derivative the converged Z implies.
             for i in 0..n2 {

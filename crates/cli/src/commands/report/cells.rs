@@ -34,3 +34,10 @@ pub fn equal_time(r: &EqualTime) -> String {
 pub fn equal_error(r: &EqualError) -> String {
     ratio(r.value, r.lower_bound, r.met)
 }
+
+/// Free text as one Markdown table cell: a `|` would end the cell (GitHub-flavoured Markdown
+/// splits on it even inside a code span), so it is escaped as `\|`; a line break would end the
+/// row, so it becomes a space.
+pub fn text(value: &str) -> String {
+    value.replace('|', "\\|").replace(['\r', '\n'], " ")
+}

@@ -5,28 +5,28 @@ use super::markdown;
 use super::options::{Args, Options};
 use super::plots;
 use crate::error::CliError;
+use crate::output::{out, outln};
 use lagrange_validation::assemble::scene_report;
 use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_TARGET};
 use lagrange_validation::runs::{ScenePlan, SceneRuns};
 use lagrange_validation::schema::{Plots, Report, SCHEMA_VERSION, Targets, TimingReport};
 
 use super::terminal;
-use indicatif::{ProgressBar, ProgressStyle};
+use crate::commands::{files, long_work};
+use indicatif::ProgressBar;
 use lagrange_validation::stability::{self, Effort};
 use std::path::Path;
 use std::time::Instant;
 
+/// Write a file whole or not at all (an interrupted report leaves no partial file).
 fn write(path: &Path, contents: &str) -> Result<(), CliError> {
-    std::fs::write(path, contents).map_err(|source| CliError::Io { path: path.to_path_buf(), source })
+    files::write(path, contents.as_bytes())
 }
 
-/// A progress bar on standard error (hidden when it is not a terminal).
+/// A progress bar over `total` runs on standard error with the time left (drawn only on a
+/// terminal).
 fn progress_bar(total: usize) -> ProgressBar {
-    let bar = ProgressBar::new(total as u64);
-    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {wide_msg}") {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
+    long_work::progress_bar(total as u64)
 }
 
 /// Run the report.
@@ -95,9 +95,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     write(&options.out.join("report.json"), &json)?;
     write(&options.out.join("report.md"), &markdown::render(&report))?;
     if options.json {
-        println!("{json}");
+        outln!("{json}")?;
     } else {
-        print!("{}", terminal::render(&report, &options.out, files));
+        out!("{}", terminal::render(&report, &options.out, files))?;
     }
     Ok(())
 }

@@ -80,7 +80,12 @@ pub fn render(report: &Report) -> String {
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|");
     for scene in &report.scenes {
-        let mut row = format!("| [{}](#{}) | {} |", scene.scene, scene.scene, scene.reference.kind.replace('_', " "));
+        let mut row = format!(
+            "| [{}](#{}) | {} |",
+            cells::text(scene.scene),
+            scene.scene,
+            cells::text(&scene.reference.kind.replace('_', " "))
+        );
         for v in &scene.summary.versus {
             if v.status == "ok" {
                 let _ = write!(
@@ -90,7 +95,7 @@ pub fn render(report: &Report) -> String {
                     cells::equal_error(&v.time_ratio_at_equal_error)
                 );
             } else {
-                let _ = write!(row, " {} | {} |", v.status, v.status);
+                let _ = write!(row, " {} | {} |", cells::text(v.status), cells::text(v.status));
             }
         }
         let _ = writeln!(md, "{row}");
@@ -118,14 +123,15 @@ fn method_rows(md: &mut String, method: &MethodReport) {
             (None, Some(tol), _) => format!("tol = {tol:.0e}"),
             _ => String::new(),
         };
+        let name = cells::text(method.method);
         if let Some(reason) = &run.reason {
-            let _ = writeln!(md, "| {} | {setting} | failed: {reason} ||||||", method.method);
+            // The failure fills the error column; the six columns after it stay empty.
+            let _ = writeln!(md, "| {name} | {setting} | failed: {} |||||||", cells::text(reason));
             continue;
         }
         let _ = writeln!(
             md,
-            "| {} | {setting} | {} | {} | {} | {} | {} | {} | {} |",
-            method.method,
+            "| {name} | {setting} | {} | {} | {} | {} | {} | {} | {} |",
             cells::number(run.max_error),
             cells::number(run.final_error),
             cells::number(run.energy_error),
@@ -180,7 +186,8 @@ fn scene_section(md: &mut String, scene: &SceneReport) {
         } else {
             let reason = method.reason.as_deref().unwrap_or("");
             let label = if method.status == "unbuildable" { "not buildable" } else { "failed" };
-            let _ = writeln!(md, "| {} | {label}: {reason} ||||||||", method.method);
+            // The reason fills the setting column; the seven columns after it stay empty.
+            let _ = writeln!(md, "| {} | {label}: {} ||||||||", cells::text(method.method), cells::text(reason));
         }
     }
     let _ = writeln!(md);

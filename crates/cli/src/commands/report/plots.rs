@@ -1,7 +1,8 @@
 //! The SVG plots of a scene: work-precision (max error against wall time, log-log, one line per
 //! method family through its sweep) and the reference trajectory above each family's error
-//! over time.
+//! over time. Each is drawn in memory and written whole (`commands::files`).
 
+use crate::commands::files;
 use crate::error::CliError;
 use lagrange_validation::pareto::{Front, Point};
 use lagrange_validation::plan::{Family, Setting};
@@ -77,10 +78,21 @@ fn draw_legend(
 /// # Errors
 /// The file cannot be written.
 pub fn work_precision(path: &Path, runs: &SceneRuns, horizon: f64) -> Result<(), CliError> {
+    let mut svg = String::new();
+    draw_work_precision(SVGBackend::with_string(&mut svg, (1100, 640)).into_drawing_area(), path, runs, horizon)?;
+    files::write(path, svg.as_bytes())
+}
+
+/// [`work_precision`] drawn into `root`.
+fn draw_work_precision(
+    root: DrawingArea<SVGBackend<'_>, Shift>,
+    path: &Path,
+    runs: &SceneRuns,
+    horizon: f64,
+) -> Result<(), CliError> {
     let series: Vec<(Family, Vec<(f64, f64)>)> =
         runs.families.iter().map(|f| (f.family, work_precision_points(f))).filter(|(_, p)| !p.is_empty()).collect();
     let all = || series.iter().flat_map(|(_, p)| p.iter().copied());
-    let root = SVGBackend::new(path, (1100, 640)).into_drawing_area();
     root.fill(&WHITE).map_err(drawing_error(path))?;
     let (Some(x), Some(y)) = (log_range(all().map(|p| p.0), 1.5), log_range(all().map(|p| p.1), 3.0)) else {
         root.titled(&format!("{}: no successful run", runs.scene.id()), ("sans-serif", 20))
@@ -233,7 +245,18 @@ struct Curve {
 /// # Errors
 /// The file cannot be written.
 pub fn errors_over_time(path: &Path, runs: &SceneRuns, times: &[f64]) -> Result<(), CliError> {
-    let root = SVGBackend::new(path, (1160, 900)).into_drawing_area();
+    let mut svg = String::new();
+    draw_errors_over_time(SVGBackend::with_string(&mut svg, (1160, 900)).into_drawing_area(), path, runs, times)?;
+    files::write(path, svg.as_bytes())
+}
+
+/// [`errors_over_time`] drawn into `root`.
+fn draw_errors_over_time(
+    root: DrawingArea<SVGBackend<'_>, Shift>,
+    path: &Path,
+    runs: &SceneRuns,
+    times: &[f64],
+) -> Result<(), CliError> {
     root.fill(&WHITE).map_err(drawing_error(path))?;
     let (top, bottom) = root.split_vertically(360);
     let (bottom, legend_area) = bottom.split_horizontally(780);

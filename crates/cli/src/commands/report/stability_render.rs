@@ -1,5 +1,6 @@
 //! The stability section of report.md, and its lines in the terminal summary.
 
+use super::cells;
 use lagrange_validation::stability::{Case, Check, Measurement, StabilityReport};
 use std::fmt::Write;
 
@@ -86,18 +87,18 @@ fn case_section(md: &mut String, case: &Case) {
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
     for m in &case.measurements {
         let value = if m.status == "failed" && m.value.is_none() { "failed".to_string() } else { number(m.value) };
-        let note = m.note.as_deref().unwrap_or("").replace('|', "\\|").replace('\n', " ");
+        let note = cells::text(m.note.as_deref().unwrap_or(""));
         let _ = writeln!(
             md,
             "| {} | {} | {} | {} | {} | {value} | {} | {} | {} | {note} |",
-            m.label,
-            m.scene,
-            m.method,
-            setting(m),
-            m.quantity,
-            check(m),
+            cells::text(&m.label),
+            cells::text(&m.scene),
+            cells::text(m.method),
+            cells::text(&setting(m)),
+            cells::text(&m.quantity),
+            cells::text(&check(m)),
             verdict(m.pass),
-            cost(m)
+            cells::text(&cost(m))
         );
     }
     let _ = writeln!(md);

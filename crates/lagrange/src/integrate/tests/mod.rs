@@ -1,6 +1,7 @@
 //! Integrator checks on small mechanisms: observed order, tolerance tracking, structure.
 
 mod implicit;
+mod newton;
 
 use super::*;
 use crate::test_support::{Charge, Spring, assert_relative, cart};
@@ -186,5 +187,20 @@ fn run_writes_the_samples_of_simulate_into_any_sink() {
         assert_eq!((sink.energies, sink.stats), (0, Some(expected.stats)), "{method:?}");
         assert_eq!(stats, expected.stats);
         assert!(expected.stats.steps > 0 && expected.energy.iter().all(|e| e.is_finite()));
+    }
+}
+
+/// Bad output times name the first offending time, never NaN (it used to report `= NaN`).
+#[test]
+fn bad_output_times_name_the_first_offending_time() {
+    let model = Model::new(Spring::new(1.0, 10.0, 0.0)).unwrap();
+    let initial = State::new(0.0, [0.1], [0.0]);
+    for (times, bad) in [(vec![0.1, 0.3, 0.2], 0.2), (vec![0.1, 2.5], 2.5), (vec![-0.5, 0.5], -0.5)] {
+        let error = simulate(&model, &initial, 1.0, Method::Rk4 { dt: 0.01 }, &Output::Times(times)).unwrap_err();
+        assert!(!error.to_string().contains("NaN"), "{error}");
+        match error {
+            Error::InvalidSetting { what: "output time", value, .. } => assert_eq!(value, bad),
+            other => panic!("expected InvalidSetting naming the output time, got {other}"),
+        }
     }
 }

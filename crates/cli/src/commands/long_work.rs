@@ -1,0 +1,189 @@
+//! Long work: what a request will cost, estimated before it runs; the refusal of a request
+//! whose cost is absurd (with the estimate and the flag to change; `--force` runs it anyway);
+//! and progress bars with an estimate of the time left, drawn only when standard error is a
+//! terminal.
+//!
+//! The wall time is estimated by running the request itself over the first `τ, 2τ, 4τ, …` of
+//! its horizon until one calibration run takes [`CALIBRATION_S`] or covers the whole horizon,
+//! then extrapolating along the last two runs to the whole horizon ([`wall_time`]): the cost of
+//! a run is a set-up plus steps at a rate that the calibration measures, so the estimate is of
+//! the right order (the first steps of an adaptive run are its smallest, which errs on the
+//! high side). A calibration run that alone proves the request beyond the limit is abandoned
+//! there. The calibration costs about two [`CALIBRATION_S`] runs for a long request, and about
+//! the request itself once more for a short one (its last calibration run is the whole
+//! horizon).
+
+use crate::error::CliError;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::time::Instant;
+
+/// Estimated wall time beyond which a request is refused without `--force` (s): two minutes,
+/// longer than any interactive use of `simulate` or `compare` with the defaults (the slowest,
+/// `compare chain` at its default `N`, takes seconds) and short enough that a mistyped
+/// horizon or step is caught before it runs for hours.
+pub const TIME_LIMIT_S: f64 = 120.0;
+
+/// The same limit in words, for the refusal.
+pub const TIME_LIMIT: &str = "2 minutes";
+
+/// Estimated output beyond which a request is refused without `--force` (bytes): 1 GB of CSV
+/// (the trajectory is also held in memory while it runs, at 8 bytes per number).
+pub const OUTPUT_LIMIT_BYTES: f64 = 1e9;
+
+/// The same limit in words.
+pub const OUTPUT_LIMIT: &str = "1 GB of output";
+
+/// Wall time of the calibration run from which an estimate is scaled (s).
+pub const CALIBRATION_S: f64 = 0.05;
+
+/// The least wall time (s) a calibration run is given before it may be abandoned.
+pub const BUDGET_FLOOR_S: f64 = 2.0;
+
+/// Bytes of one CSV number with its separator: `f64`'s shortest round-trip decimal form, as
+/// measured on `simulate --every 1e-4` runs of harmonic_oscillator, double_pendulum and kepler
+/// (17.9 to 18.2 bytes a number).
+pub const BYTES_PER_NUMBER: f64 = 18.0;
+
+/// How one calibration run went.
+pub enum Run {
+    /// It ran to its end.
+    Done,
+    /// It failed (the real run will say why).
+    Failed,
+    /// It was still running when its budget ran out (it is abandoned).
+    Exceeded,
+}
+
+/// An estimated wall time.
+#[derive(Clone, Copy, Debug)]
+pub struct Estimate {
+    /// Seconds.
+    pub seconds: f64,
+    /// Whether `seconds` is only a lower bound (a calibration run exceeded its budget).
+    pub at_least: bool,
+}
+
+/// Estimated wall time of a run over `span` simulated seconds, from `calibrate(τ, budget)` —
+/// the same run over the first `τ` of the horizon — for `τ = first, 2 first, …` up to `span`
+/// (from `span / 2⁴⁰` at least). `budget` is the wall time (s) beyond which the calibration run
+/// proves the whole run beyond [`TIME_LIMIT_S`] (and at least [`BUDGET_FLOOR_S`]): a caller that can abandon a run stops waiting
+/// then and says [`Run::Exceeded`], and the estimate is that lower bound. `None` when a
+/// calibration run fails. A run that reaches [`CALIBRATION_S`] is timed twice and the shorter
+/// time kept: a pause of the process (another program on the cores) only ever lengthens a run.
+pub fn wall_time(span: f64, first: f64, mut calibrate: impl FnMut(f64, f64) -> Run) -> Option<Estimate> {
+    let mut timed = |tau: f64| {
+        let start = Instant::now();
+        // Never less than BUDGET_FLOOR_S: a run's fixed set-up must not pass for its cost.
+        let run = calibrate(tau, (TIME_LIMIT_S * tau / span).max(BUDGET_FLOOR_S));
+        let wall = start.elapsed().as_secs_f64();
+        match run {
+            Run::Done => Some(Ok(wall)),
+            Run::Failed => None,
+            Run::Exceeded => Some(Err(Estimate { seconds: wall * span / tau, at_least: true })),
+        }
+    };
+    // At most 40 doublings: a horizon of more than 2⁴⁰ calibration runs' worth is absurd at
+    // any cost per run.
+    let mut tau = first.max(span * 2f64.powi(-40)).min(span);
+    let mut previous: Option<(f64, f64)> = None;
+    loop {
+        let mut wall = match timed(tau)? {
+            Ok(wall) => wall,
+            Err(bound) => return Some(bound),
+        };
+        if tau >= span {
+            return Some(Estimate { seconds: wall, at_least: false });
+        }
+        if wall >= CALIBRATION_S {
+            wall = match timed(tau)? {
+                Ok(again) => wall.min(again),
+                Err(bound) => return Some(bound),
+            };
+            if wall >= CALIBRATION_S {
+                // Extrapolate along the last two runs — cost = set-up + rate × τ — so a fixed
+                // set-up is not scaled with the horizon; from the origin without a previous run.
+                let seconds = match previous {
+                    Some((tau0, wall0)) if wall > wall0 => wall + (wall - wall0) / (tau - tau0) * (span - tau),
+                    _ => wall * span / tau,
+                };
+                return Some(Estimate { seconds, at_least: false });
+            }
+        }
+        previous = Some((tau, wall));
+        tau = (2.0 * tau).min(span);
+    }
+}
+
+/// `12 s`, `3.4 min`, `5.6 h`, `7.8e3 days`.
+pub fn duration(seconds: f64) -> String {
+    match seconds {
+        s if s < 120.0 => format!("{s:.0} s"),
+        s if s < 7200.0 => format!("{:.1} min", s / 60.0),
+        s if s < 172_800.0 => format!("{:.1} h", s / 3600.0),
+        s => format!("{:.2e} days", s / 86400.0),
+    }
+}
+
+/// `850 MB`, `3.1 GB`.
+pub fn size(bytes: f64) -> String {
+    if bytes < 1e9 { format!("{:.0} MB", bytes / 1e6) } else { format!("{:.1} GB", bytes / 1e9) }
+}
+
+/// Refuse a run whose estimated wall time is beyond [`TIME_LIMIT_S`], unless forced.
+///
+/// # Errors
+/// [`CliError::TooCostly`] with `what` (the request and how the estimate was made) and `flag`.
+pub fn check_time(estimate: Option<Estimate>, force: bool, what: &str, flag: &'static str) -> Result<(), CliError> {
+    match estimate {
+        Some(Estimate { seconds, at_least }) if seconds > TIME_LIMIT_S && !force => {
+            let bound = if at_least { "at least " } else { "" };
+            Err(CliError::TooCostly {
+                estimate: format!("{what}: estimated {bound}{}", duration(seconds)),
+                limit: TIME_LIMIT,
+                flag,
+            })
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Refuse an output whose estimated size is beyond [`OUTPUT_LIMIT_BYTES`], unless forced.
+///
+/// # Errors
+/// [`CliError::TooCostly`] naming `flag`.
+pub fn check_output(rows: f64, numbers_per_row: usize, force: bool, flag: &'static str) -> Result<(), CliError> {
+    let bytes = rows * numbers_per_row as f64 * BYTES_PER_NUMBER;
+    if bytes > OUTPUT_LIMIT_BYTES && !force {
+        return Err(CliError::TooCostly {
+            estimate: format!(
+                "{rows:.2e} rows of {numbers_per_row} numbers: estimated {} of CSV ({BYTES_PER_NUMBER} bytes a number)",
+                size(bytes)
+            ),
+            limit: OUTPUT_LIMIT,
+            flag,
+        });
+    }
+    Ok(())
+}
+
+/// A progress bar of `total` units on standard error with the elapsed time and an estimate of
+/// the time left; hidden (drawing nothing) when standard error is not a terminal.
+pub fn progress_bar(total: u64) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+    if !std::io::stderr().is_terminal() {
+        bar.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    if let Ok(style) =
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {percent:>3}% eta {eta_precise} {wide_msg}")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+/// Whether progress bars are drawn (standard error is a terminal): work that must be arranged
+/// differently to report progress is arranged so only then.
+pub fn shows_progress() -> bool {
+    std::io::stderr().is_terminal()
+}

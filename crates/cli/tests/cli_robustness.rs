@@ -1,0 +1,294 @@
+//! The `lagrange` command where a user's shell or input is unusual: a closed pipe or a full disk
+//! on standard output, an acceleration that disagrees with its closed form, negative and extreme
+//! numbers, repeated or ASCII-spelled parameters, no arguments at all.
+
+use std::process::{Command, Output, Stdio};
+
+fn lagrange(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lagrange")).args(args).output().expect("the binary runs")
+}
+
+/// Run with standard output connected to a pipe whose reading end is already closed, as
+/// `lagrange … | head -1` once `head` has exited: every write fails with a broken pipe.
+fn lagrange_into_closed_pipe(args: &[&str]) -> Output {
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    Command::new(env!("CARGO_BIN_EXE_lagrange"))
+        .args(args)
+        .stdout(writer)
+        .stderr(Stdio::piped())
+        .output()
+        .expect("the binary runs")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// The exit code and the one line on standard error of a failing command.
+fn one_line_error(args: &[&str]) -> (Option<i32>, String) {
+    let output = lagrange(args);
+    let err = stderr(&output);
+    assert!(!output.status.success(), "{args:?} succeeded: {}", stdout(&output));
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
+    (output.status.code(), err)
+}
+
+fn json(output: &Output) -> serde_json::Value {
+    assert!(output.status.success(), "{}", stderr(output));
+    serde_json::from_str(&stdout(output)).expect("valid JSON")
+}
+
+fn numbers(value: &serde_json::Value) -> Vec<f64> {
+    value.as_array().expect("an array").iter().map(|v| v.as_f64().expect("a number")).collect()
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("lagrange-cli-robustness-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    dir
+}
+
+// Item: a closed pipe ends a command quietly, a full disk is a one-line error.
+
+#[test]
+fn a_closed_pipe_ends_every_command_quietly_with_exit_0() {
+    let commands: [&[&str]; 7] = [
+        &["scenes"],
+        &["scenes", "--json"],
+        &["accel", "wedge"],
+        &["accel", "wedge", "--json"],
+        &["compare", "cart_pendulum", "--t-end", "0.1"],
+        &["compare", "cart_pendulum", "--t-end", "0.1", "--json"],
+        &["simulate", "kepler", "--t-end", "1"],
+    ];
+    for args in commands {
+        let output = lagrange_into_closed_pipe(args);
+        assert_eq!(output.status.code(), Some(0), "{args:?}: {}", stderr(&output));
+        assert!(stderr(&output).is_empty(), "{args:?}: {}", stderr(&output));
+    }
+}
+
+#[test]
+fn a_closed_pipe_ends_the_report_quietly_with_exit_0() {
+    let dir = temp_dir("pipe-report");
+    let args = ["report", "--quick", "--scene", "kepler", "--json", "--out", dir.to_str().unwrap()];
+    let output = lagrange_into_closed_pipe(&args);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    // The progress bar draws on a terminal only: nothing at all on a captured standard error.
+    assert!(stderr(&output).is_empty(), "{}", stderr(&output));
+    assert!(dir.join("report.json").is_file(), "the files are written all the same");
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_is_a_one_line_error_with_exit_1() {
+    let commands: [&[&str]; 5] = [
+        &["scenes"],
+        &["scenes", "--json"],
+        &["accel", "wedge"],
+        &["compare", "cart_pendulum", "--t-end", "0.1", "--engine", "cartesian"],
+        &["simulate", "kepler", "--t-end", "1"],
+    ];
+    for args in commands {
+        let full = std::fs::OpenOptions::new().write(true).open("/dev/full").expect("/dev/full");
+        let output = Command::new(env!("CARGO_BIN_EXE_lagrange"))
+            .args(args)
+            .stdout(full)
+            .stderr(Stdio::piped())
+            .output()
+            .expect("the binary runs");
+        let err = stderr(&output);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
+        assert!(err.starts_with("error: cannot write to standard output: No space left on device"), "{args:?}: {err}");
+    }
+}
+
+// Item: `accel` against the closed form, from the default state, with unambiguous labels.
+
+#[test]
+fn accel_flags_a_disagreement_with_the_closed_form_and_fails_with_check() {
+    // Kepler at r < 0: the engine's potential is −k/|position| = −k/|r|, the closed form's
+    // −k/r, so r̈ is 0 against −2: far beyond the round-off bound.
+    let at = ["accel", "kepler", "--q", "-1,0", "--qdot", "0,1"];
+    let output = lagrange(&at);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(stdout(&output).contains("q̈[r] = 0.0    (closed form -2.0)"), "{}", stdout(&output));
+    let warning = stderr(&output);
+    assert_eq!(warning.trim_end().lines().count(), 1, "{warning}");
+    assert!(warning.starts_with("warning: the engine's q̈ differs from the closed form by 1 "), "{warning}");
+    assert!(warning.contains("round-off bound 1e-12"), "{warning}");
+    let (code, err) = one_line_error(&[&at[..], &["--check"]].concat());
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.starts_with("error: the engine's q̈ differs from the closed form"), "{err}");
+    let out = json(&lagrange(&[&at[..], &["--json"]].concat()));
+    assert_eq!(out["agreement"]["agrees"], false, "{out}");
+    assert_eq!(out["agreement"]["difference"].as_f64(), Some(1.0), "{out}");
+    // Where the two agree (every scene at its default state), --check passes silently.
+    let scenes = json(&lagrange(&["scenes", "--json"]));
+    for scene in scenes.as_array().expect("a list") {
+        let id = scene["id"].as_str().expect("an id");
+        let output = lagrange(&["accel", id, "--check", "--json"]);
+        let out = json(&output);
+        assert!(stderr(&output).is_empty(), "{id}: {}", stderr(&output));
+        let agreement = &out["agreement"];
+        assert_eq!(agreement["agrees"], true, "{id}: {out}");
+        let (difference, bound) = (agreement["difference"].as_f64().unwrap(), agreement["bound"].as_f64().unwrap());
+        assert!(difference <= bound && bound >= 1e-12, "{id}: {agreement}");
+    }
+}
+
+#[test]
+fn accel_runs_from_the_default_state_and_names_each_acceleration() {
+    let scenes = json(&lagrange(&["scenes", "--json"]));
+    let wedge = scenes.as_array().unwrap().iter().find(|s| s["id"] == "wedge").expect("the wedge");
+    let join = |v: &serde_json::Value| numbers(v).iter().map(|x| format!("{x:?}")).collect::<Vec<_>>().join(",");
+    let (q, qdot) = (join(&wedge["initial_state"]["q"]), join(&wedge["initial_state"]["qdot"]));
+    let default = json(&lagrange(&["accel", "wedge", "--json"]));
+    let explicit = json(&lagrange(&["accel", "wedge", "--q", &q, "--qdot", &qdot, "--t", "0", "--json"]));
+    assert_eq!(default, explicit);
+    // The wedge's coordinates are `x` and `x'`: q̈ of `x'` is `q̈[x']`, never `x'''`.
+    let text = stdout(&lagrange(&["accel", "wedge"]));
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    assert!(lines[0].starts_with("q̈[x] = ") && lines[1].starts_with("q̈[x'] = "), "{text}");
+    assert!(!text.contains("x'''") && !text.contains("x'' ="), "{text}");
+    let accelerations = default["accelerations"].as_array().expect("named accelerations");
+    let names: Vec<&str> = accelerations.iter().map(|a| a["coordinate"].as_str().unwrap()).collect();
+    assert_eq!(names, ["x", "x'"]);
+    let engine: Vec<f64> = accelerations.iter().map(|a| a["engine"].as_f64().unwrap()).collect();
+    assert_eq!(engine, numbers(&default["qddot"]));
+}
+
+// Item: messages that name the right input.
+
+#[test]
+fn negative_numbers_reach_the_range_checks() {
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["simulate", "wedge", "--t-end", "1", "--integrator", "rk4", "--dt", "-1e-3"],
+            "--dt must be positive and finite, got -0.001",
+        ),
+        (&["simulate", "wedge", "--t-end", "-1e-3"], "--t-end must be positive and finite, got -0.001"),
+        (&["simulate", "wedge", "--t-end", "1", "--every", "-1e-3"], "--every must be positive and finite, got -0.001"),
+        (&["compare", "wedge", "--t-end", "1", "--dt", "-1e-3"], "--dt must be positive and finite, got -0.001"),
+        (&["compare", "wedge", "--substeps", "-1"], "invalid value '-1' for '--substeps"),
+    ];
+    for (args, message) in cases {
+        let (code, err) = one_line_error(args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains(message), "{args:?}: `{err}` does not say `{message}`");
+    }
+}
+
+#[test]
+fn a_step_below_the_resolution_of_time_blames_the_step() {
+    let (code, err) = one_line_error(&["simulate", "wedge", "--t-end", "1", "--integrator", "rk4", "--dt", "1e-320"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.starts_with("error: --dt 1e-320 is below the resolution of the time at t = 1"), "{err}");
+    assert!(!err.contains("--every"), "{err}");
+    let (code, err) = one_line_error(&["compare", "wedge", "--t-end", "1", "--dt", "1e-320"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.starts_with("error: --dt 1e-320 is below the resolution"), "{err}");
+}
+
+#[test]
+fn numbers_in_messages_are_compact() {
+    let (_, err) = one_line_error(&["simulate", "wedge", "--t-end", "1", "--integrator", "rk4", "--dt=-1e-20"]);
+    assert!(err.contains("got -1e-20"), "{err}");
+    let (_, err) = one_line_error(&["simulate", "wedge", "--t-end", "1", "--tol", "1e-20"]);
+    assert!(err.contains("1e-20") && !err.contains("0.0000"), "{err}");
+    let (_, err) = one_line_error(&["compare", "wedge", "--t-end", "1", "--tol", "1e-20", "--engine", "cartesian"]);
+    assert!(err.contains("1e-20") && !err.contains("0.0000"), "{err}");
+}
+
+#[test]
+fn a_failed_reference_run_is_not_blamed_on_the_engine() {
+    // m1 = 1e-12: the reduced double pendulum's mass matrix is singular to round-off at t = 0.
+    let (code, err) = one_line_error(&["compare", "double_pendulum", "--param", "m1=1e-12", "--t-end", "0.1"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.starts_with("error: double_pendulum: the reduced reference run"), "{err}");
+    assert!(err.contains("singular mass matrix"), "{err}");
+}
+
+#[test]
+fn non_finite_accelerations_name_the_extreme_inputs() {
+    let (code, err) =
+        one_line_error(&["accel", "harmonic_oscillator", "--param", "m=1e-320", "--q", "0.1", "--qdot", "0"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("non-finite") && err.contains("--param mass = 1e-320"), "{err}");
+    let (code, err) = one_line_error(&["accel", "double_pendulum", "--q", "0.5,0.5", "--qdot", "1e200,0"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("non-finite") && err.contains("--qdot θ1 = 1e200"), "{err}");
+    assert!(!err.contains("--param"), "only the extreme input is named: {err}");
+}
+
+#[test]
+fn no_arguments_is_a_usage_error_with_the_help_on_stderr() {
+    let output = lagrange(&[]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stdout(&output).is_empty(), "{}", stdout(&output));
+    let help = stderr(&output);
+    assert!(help.contains("Usage: lagrange <COMMAND>") && help.contains("simulate"), "{help}");
+    // Asked for, the help is a success on standard output.
+    let output = lagrange(&["--help"]);
+    assert_eq!(output.status.code(), Some(0));
+    assert!(stdout(&output).contains("Usage: lagrange <COMMAND>"));
+}
+
+#[test]
+fn a_parameter_given_twice_is_an_error_naming_it() {
+    for (first, second) in [("m=2", "m=3"), ("m=2", "block_mass=2"), ("alpha=0.3", "α=0.3"), ("angle=0.3", "alpha=0.4")]
+    {
+        let (code, err) =
+            one_line_error(&["accel", "wedge", "--param", first, "--param", second, "--q", "0,0", "--qdot", "0,0"]);
+        assert_eq!(code, Some(2), "{err}");
+        assert!(err.contains("given twice") && err.contains(first) && err.contains(second), "{err}");
+    }
+    // Different parameters, once each, are fine.
+    let output = lagrange(&["accel", "wedge", "--param", "m=2", "--param", "M=3", "--q", "0,0", "--qdot", "0,0"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+}
+
+#[test]
+fn greek_symbols_have_ascii_spellings() {
+    let cases = [("wedge", "α=0.3", "alpha=0.3", "0,0"), ("driven_pendulum", "ω=2.5", "omega=2.5", "0.2")];
+    for (scene, greek, ascii, state) in cases {
+        // At t = 0.3: the drive a sin(ω t) of the pendulum's pivot is still at rest at t = 0.
+        let at = ["--q", state, "--qdot", state, "--t", "0.3", "--json"];
+        let by_symbol = json(&lagrange(&[&["accel", scene, "--param", greek][..], &at].concat()));
+        let by_ascii = json(&lagrange(&[&["accel", scene, "--param", ascii][..], &at].concat()));
+        let default = json(&lagrange(&[&["accel", scene][..], &at].concat()));
+        assert_eq!(by_symbol, by_ascii, "{scene}");
+        assert_ne!(by_symbol["qddot"], default["qddot"], "{scene}: the parameter changed");
+    }
+    let scenes = stdout(&lagrange(&["scenes"]));
+    assert!(scenes.contains("α (alpha)") && scenes.contains("ω (omega)"), "{scenes}");
+}
+
+// Item: `scenes` shows each scene's default initial state.
+
+#[test]
+fn scenes_show_the_default_initial_state() {
+    let scenes = json(&lagrange(&["scenes", "--json"]));
+    for scene in scenes.as_array().expect("a list") {
+        let id = scene["id"].as_str().unwrap();
+        let n = scene["coordinates"].as_array().unwrap().len();
+        let initial = &scene["initial_state"];
+        let (q, qdot) = (numbers(&initial["q"]), numbers(&initial["qdot"]));
+        assert_eq!((q.len(), qdot.len(), initial["t"].as_f64()), (n, n, Some(0.0)), "{id}: {initial}");
+        // It is the state `simulate` starts from when --q and --qdot are omitted.
+        let output = lagrange(&["simulate", id, "--t-end", "0.01", "--integrator", "rk4", "--dt", "0.01"]);
+        assert!(output.status.success(), "{id}: {}", stderr(&output));
+        let text = stdout(&output);
+        let first: Vec<f64> = text.lines().nth(1).unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+        assert_eq!(first[1..=2 * n], [q, qdot].concat()[..], "{id}");
+    }
+    let text = stdout(&lagrange(&["scenes"]));
+    assert!(text.contains("  initial state: t = 0.0; q[X] = 0.0, q[θ] = 0.5; q̇[X] = 0.0, q̇[θ] = 0.0"), "{text}");
+}
