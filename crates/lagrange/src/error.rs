@@ -135,11 +135,21 @@ pub enum Error {
     /// The state lies outside the region where the mechanism's model holds, as the mechanism
     /// declares it ([`Mechanism::admissible`](crate::Mechanism::admissible)): a polar radius
     /// through zero, a mass pulled through its pulley, a block past the end of its incline.
-    /// The integrators check the initial state and the state after every accepted step.
-    #[error("{quantity} = {} is outside the admissible region {bound} at t = {} s", compact(.value), compact(.t))]
+    /// The integrators check the initial state and the state after every accepted step, so
+    /// the boundary was crossed between `inside_until` and `t`.
+    #[error(
+        "{quantity} = {} is outside the admissible region {bound} at t = {} s{}",
+        compact(.value),
+        compact(.t),
+        InsideUntil(*.inside_until)
+    )]
     Inadmissible {
         /// Time of the state.
         t: f64,
+        /// The last time at which the run found the state inside (the previous accepted step
+        /// or sample): the boundary was crossed in `(inside_until, t]`. `None` for a single
+        /// state or an initial state outside.
+        inside_until: Option<f64>,
         /// The bounded quantity, as the mechanism names it (`r`, `rope length l − x`).
         quantity: String,
         /// The bound that failed, written out (`r > 0`).
@@ -324,6 +334,18 @@ impl fmt::Display for Compact {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = self.0;
         if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) { write!(f, "{v}") } else { write!(f, "{v:e}") }
+    }
+}
+
+/// Where an [`Error::Inadmissible`] run was last inside, for its message.
+struct InsideUntil(Option<f64>);
+
+impl fmt::Display for InsideUntil {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Some(t) => write!(f, " (inside at t = {} s)", Compact(t)),
+            None => Ok(()),
+        }
     }
 }
 

@@ -234,7 +234,13 @@ pub fn track(
         advance_time += start.elapsed().as_secs_f64();
         let bodies = simulation.bodies();
         let (q, qdot) = maps::generalized(scene, params, t, &bodies, &q_previous)?;
-        reduced.check_admissible(t, &q, &qdot)?;
+        match reduced.check_admissible(t, &q, &qdot) {
+            Err(lagrange::Error::Inadmissible { t, quantity, bound, value, limit, .. }) => {
+                let inside_until = k.checked_sub(1).map(|previous| times[previous]);
+                return Err(lagrange::Error::Inadmissible { t, inside_until, quantity, bound, value, limit }.into());
+            }
+            result => result?,
+        };
         errors.push(error(k, &q));
         if conserves_energy {
             let energy = maps::energy(scene, params, t, &bodies)?;

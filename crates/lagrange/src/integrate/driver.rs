@@ -221,6 +221,18 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
     }
     let (mut q, mut qdot) = (vec![0.0; n], vec![0.0; n]);
     let mut steps = 0;
+    // The last time the state was found inside: the crossing of a boundary is bracketed.
+    let mut inside = t0;
+    let mut check = |t: f64, q: &[f64], qdot: &[f64]| match Bounds::check(system, t, q, qdot) {
+        Err(Error::Inadmissible { t, quantity, bound, value, limit, .. }) => {
+            Err(Error::Inadmissible { t, inside_until: Some(inside), quantity, bound, value, limit })
+        }
+        result => {
+            // A sample read back inside the last step is earlier than that step's end.
+            inside = inside.max(t);
+            result.map(drop)
+        }
+    };
     for (index, &t_out) in times.iter().enumerate() {
         while !integrator.reached(t_out) {
             if steps >= MAX_STEPS {
@@ -234,12 +246,12 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
             steps += 1;
             if region {
                 let (q, qdot) = integrator.current();
-                Bounds::check(system, integrator.t(), q, qdot)?;
+                check(integrator.t(), q, qdot)?;
             }
         }
         integrator.read(system, &mut ws, t_out, &mut q, &mut qdot)?;
         if region {
-            Bounds::check(system, t_out, &q, &qdot)?;
+            check(t_out, &q, &qdot)?;
         }
         let energy =
             if sink.wants_energy() { Some(energy(system, &mut ws, t_out, &q, &qdot, index, steps)?) } else { None };

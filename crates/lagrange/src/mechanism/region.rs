@@ -111,7 +111,14 @@ impl Bounds {
     pub fn error(&self, t: f64) -> Option<Error> {
         let Failed { quantity, side, value, limit } = self.failed.as_ref()?;
         let bound = format!("{quantity} {side} {}", crate::error::compact(limit));
-        Some(Error::Inadmissible { t, quantity: quantity.clone(), bound, value: *value, limit: *limit })
+        Some(Error::Inadmissible {
+            t,
+            inside_until: None,
+            quantity: quantity.clone(),
+            bound,
+            value: *value,
+            limit: *limit,
+        })
     }
 
     /// Check `(t, q, q̇)` against the admissible region of `system`: `Ok(false)` when it
@@ -148,6 +155,7 @@ mod tests {
             error,
             Error::Inadmissible {
                 t: 1.5,
+                inside_until: None,
                 quantity: "rope length l − x".into(),
                 bound: "rope length l − x ≥ 0".into(),
                 value: -0.25,
