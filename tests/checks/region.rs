@@ -37,7 +37,8 @@ fn every_method() -> [Method; 5] {
 
 /// Straight at the origin from r = 1 at 1 m/s (`r = 1 − t`, every method exact up to
 /// round-off): each method stops at the first step that ends at r ≤ 0 — the fixed-step ones at
-/// t = 1.2 (r = −0.2), the adaptive ones wherever their step lands past t = 1 — never later.
+/// t = 1.2 (r = −0.2), the adaptive ones wherever their step lands past t = 1 — never later,
+/// and brackets the crossing with the last state it found inside (t = 0.9 for the fixed steps).
 #[test]
 fn every_integrator_stops_at_the_first_step_outside_the_region() {
     let model = polar();
@@ -45,13 +46,17 @@ fn every_integrator_stops_at_the_first_step_outside_the_region() {
     let initial = State::new(0.0, [1.0, 0.0], [-1.0, 0.0]);
     for method in every_method() {
         let run = lagrange::simulate(&model, &initial, 3.0, method, &Output::Ends);
-        let Err(Error::Inadmissible { t, quantity, bound, value, limit }) = run else { panic!("{method:?}: {run:?}") };
+        let Err(Error::Inadmissible { t, inside_until: Some(inside), quantity, bound, value, limit }) = run else {
+            panic!("{method:?}: {run:?}")
+        };
         assert_eq!((quantity.as_str(), bound.as_str(), limit), ("r", "r > 0", 0.0), "{method:?}");
-        // The state at the failing step is on the line r = 1 − t, at or past r = 0.
+        // The state at the failing step is on the line r = 1 − t, at or past r = 0; the last
+        // state found inside is before the crossing at t = 1.
         assert!(t >= 1.0 && value <= 0.0 && (value - (1.0 - t)).abs() <= 1e-9, "{method:?}: t = {t}, r = {value}");
+        assert!(inside < 1.0, "{method:?}: inside until {inside}");
         match method {
             Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
-                assert!((t - 4.0 * dt).abs() <= 1e-12, "{method:?}: t = {t}")
+                assert!((t - 4.0 * dt).abs() <= 1e-12 && (inside - 3.0 * dt).abs() <= 1e-12, "{method:?}: t = {t}")
             }
             _ => assert!(t < 3.0, "{method:?}: t = {t}"),
         }
@@ -66,7 +71,14 @@ fn an_initial_state_outside_the_region_is_refused_before_any_step() {
         let run = lagrange::simulate(&model, &initial, 1.0, method, &Output::Ends);
         assert_eq!(
             run,
-            Err(Error::Inadmissible { t: 0.5, quantity: "r".into(), bound: "r > 0".into(), value: -0.25, limit: 0.0 }),
+            Err(Error::Inadmissible {
+                t: 0.5,
+                inside_until: None,
+                quantity: "r".into(),
+                bound: "r > 0".into(),
+                value: -0.25,
+                limit: 0.0
+            }),
             "{method:?}"
         );
     }
@@ -116,11 +128,23 @@ fn scene_run(
     system.simulate(&initial, t_end, method, &Output::Every(t_end / 200.0))
 }
 
-fn expect_inadmissible(what: &str, run: Result<lagrange::Trajectory, Error>, quantity: &str) -> f64 {
+/// The run's `Inadmissible` for `quantity`: `(last time inside, time found outside)`.
+fn expect_inadmissible(what: &str, run: Result<lagrange::Trajectory, Error>, quantity: &str) -> (Option<f64>, f64) {
     match run {
-        Err(Error::Inadmissible { quantity: q, t, .. }) if q == quantity => t,
+        Err(Error::Inadmissible { quantity: q, t, inside_until, .. }) if q == quantity => (inside_until, t),
         other => panic!("{what}: expected Inadmissible for {quantity}, got {other:?}"),
     }
+}
+
+/// The run left through `quantity` and brackets the exact crossing time `crossing`.
+fn expect_crossing(what: &str, run: Result<lagrange::Trajectory, Error>, quantity: &str, crossing: f64) {
+    let (inside, t) = expect_inadmissible(what, run, quantity);
+    let inside = inside.unwrap_or_else(|| panic!("{what}: the initial state is inside"));
+    // 1e-9: the adaptive runs' position error at tol 1e-10 over ≈ 11 s, far below a step.
+    assert!(
+        inside <= crossing + 1e-9 && crossing - 1e-9 <= t,
+        "{what}: crossing at {crossing}, bracket [{inside}, {t}]"
+    );
 }
 
 /// Kepler's radial infall from rest at r = 1 reaches r = 0 at t_c = (π/2)√(1/2) = 1.1107 s;
@@ -128,24 +152,29 @@ fn expect_inadmissible(what: &str, run: Result<lagrange::Trajectory, Error>, qua
 #[test]
 fn kepler_stepped_through_r_0_by_rk4_ends_in_inadmissible() {
     let infall = Some(State::new(0.0, [1.0, 0.0], [0.0, 0.0]));
-    let t = expect_inadmissible("kepler", scene_run("kepler", &[], infall, Method::Rk4 { dt: 1e-3 }, 2.0), "r");
+    let run = scene_run("kepler", &[], infall, Method::Rk4 { dt: 1e-3 }, 2.0);
+    let (inside, t) = expect_inadmissible("kepler", run, "r");
     let collision = std::f64::consts::FRAC_PI_2 * 0.5_f64.sqrt();
     assert!((collision - 0.01..=collision + 0.01).contains(&t), "stopped at {t}, collision at {collision}");
+    assert_eq!(inside.map(|inside| ((t - inside) * 1e3).round()), Some(1.0), "one step before");
 }
 
-/// The pulley machines and the wedge leave their regions from their defaults on long runs
-/// (masses pulled through pulleys, the block off the end of its incline).
+/// The pulley machines and the wedge leave their regions from their defaults on runs longer
+/// than the report's 10 s (masses pulled through pulleys, the block off the end of its incline),
+/// and the error brackets the exact crossing time.
 #[test]
 fn scenes_leave_their_regions_with_a_typed_error() {
     let adaptive = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
-    // Atwood: x = 1 + ẍ t²/2 with ẍ = 2.885 m/s² reaches l − πa = 8.43 m at t = 2.27 s.
-    let t = expect_inadmissible("atwood", scene_run("atwood", &[], None, adaptive, 100.0), "rope to m2, l − πa − x");
-    assert!(t >= 2.26, "atwood stopped at {t}");
-    // Wedge: x' = ẍ' t²/2 with ẍ' = 6.04 m/s² reaches L = 2 m at t = 0.81 s.
-    let t = expect_inadmissible("wedge", scene_run("wedge", &[], None, adaptive, 100.0), "block on the incline x'");
-    assert!(t >= 0.81, "wedge stopped at {t}");
-    // Double Atwood with l' = 0.001 < x' = 1: outside from the start.
-    let t = expect_inadmissible(
+    // Atwood: x = 6 − 2t + ẍ t²/2 with ẍ = 0.1 g/2.5 = 0.3924 m/s² reaches l − πa = 8.4292 m at
+    // t = (2 + √(4 + 2ẍ · 2.4292))/ẍ = 11.2903 s.
+    let run = scene_run("atwood", &[], None, adaptive, 100.0);
+    expect_crossing("atwood", run, "rope to m2, l − πa − x", 11.290_305_967_762_47);
+    // Wedge: x' = 9 − 3.2t + ẍ' t²/2 with ẍ' = 4g sin 0.05/(3 + sin² 0.05) = 0.653184 m/s²
+    // reaches L = 10 m at t = 10.1013 s.
+    let run = scene_run("wedge", &[], None, adaptive, 100.0);
+    expect_crossing("wedge", run, "block on the incline x'", 10.101_285_335_807_05);
+    // Double Atwood with l' = 0.001 < x' = 0.5: outside from the start.
+    let (_, t) = expect_inadmissible(
         "double_atwood",
         scene_run("double_atwood", &[("lower_rope_length", 0.001)], None, adaptive, 10.0),
         "lower rope to m3, l' − x'",
@@ -177,6 +206,21 @@ fn default_states_are_admissible_and_unbounded_scenes_declare_no_region() {
         let system = scene.build(&params).expect("valid");
         let region = system.check_admissible(initial.t, &initial.q, &initial.qdot);
         assert_eq!(region, Ok(bounded.contains(&scene.id())), "{}", scene.id());
+    }
+}
+
+/// Every scene's default state stays inside its region over the report's full horizon: the
+/// report, `simulate` and `compare` with their defaults never end in `Inadmissible`.
+#[test]
+fn default_states_stay_inside_over_the_full_horizon() {
+    let horizon = lagrange_validation::plan::FULL_HORIZON;
+    for scene in lagrange_scenes::all() {
+        let params = scene.default_params();
+        let initial = scene.default_state(&params).expect("valid");
+        let system = scene.build(&params).expect("valid");
+        let method = Method::Adaptive { tol: Tolerances::uniform(1e-8) };
+        let run = system.simulate(&initial, horizon, method, &Output::Every(horizon / 1000.0));
+        assert!(run.is_ok(), "{}: {:?}", scene.id(), run.err());
     }
 }
 
@@ -213,15 +257,16 @@ fn tolerances_outside_ten_epsilon_to_one_are_refused() {
 }
 
 /// The maximal engines are checked in their measurement loop: read back into the wedge's
-/// coordinates, the block leaves the incline (x' = 2 m at t = 0.81 s) between the samples at
-/// 0.80 and 0.85 s, and the pass ends there.
+/// coordinates, the block sent down from x' = 9 m at 1 m/s leaves the incline (x' = L = 10 m at
+/// t = (−1 + √(1 + 2ẍ'))/ẍ' = 0.7941 s, ẍ' = 0.653184 m/s²) between the samples at 0.75 and
+/// 0.80 s, and the pass ends there.
 #[test]
 fn maximal_engines_read_back_outside_the_region_end_in_inadmissible() {
     use lagrange_maximal::{Engine, Settings, build};
     use lagrange_validation::measure::{Problem, track};
     let scene = find("wedge").expect("registered");
     let params = scene.default_params();
-    let initial = scene.default_state(&params).expect("valid");
+    let initial = State::new(0.0, [0.0, 9.0], [0.0, 1.0]);
     let times: Vec<f64> = (0..=40).map(|k| k as f64 * 0.05).collect();
     for engine in [Engine::Cartesian, Engine::RapierMultibody] {
         let mut built = build(engine, "wedge", &params, &initial, &Settings::default()).expect("buildable");
@@ -229,9 +274,12 @@ fn maximal_engines_read_back_outside_the_region_end_in_inadmissible() {
             Problem { scene: "wedge", params: &built.params, initial: &initial, times: &times, conserves_energy: true };
         let result = track(built.simulation.as_mut(), &problem, |_, _| 0.0, |_| Ok(()));
         match result {
-            Err(lagrange_validation::Error::Engine(Error::Inadmissible { quantity, t, value, .. })) => {
+            Err(lagrange_validation::Error::Engine(Error::Inadmissible {
+                quantity, t, inside_until, value, ..
+            })) => {
                 assert_eq!(quantity, "block on the incline x'", "{engine}");
-                assert!((t - 0.85).abs() < 1e-9 && value > 2.0, "{engine}: t = {t}, x' = {value}");
+                assert!((t - 0.80).abs() < 1e-9 && value > 10.0, "{engine}: t = {t}, x' = {value}");
+                assert_eq!(inside_until, Some(times[15]), "{engine}");
             }
             other => panic!("{engine}: {:?}", other.map(|pass| pass.errors.len())),
         }

@@ -14,7 +14,7 @@ scene_params! {
     /// below the axle, measured downward (docs/scenes.md#atwood).
     pub struct Atwood {
         /// Mass `m₁` (kg) on the left, at depth `x`.
-        pub mass_1: f64 = ["m1", "kg", 2.0, Domain::Positive, "mass on the left end of the rope"],
+        pub mass_1: f64 = ["m1", "kg", 1.1, Domain::Positive, "mass on the left end of the rope"],
         /// Mass `m₂` (kg) on the right, at depth `l − πa − x`.
         pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on the right end of the rope"],
         /// Pulley moment of inertia `I` (kg m²); 0 for the ideal machine.
@@ -105,9 +105,11 @@ impl SceneType for Atwood {
         "docs/scenes.md#atwood; the lecture (docs/scenes.md#the-lecture), example: Atwood machine";
     param_table!();
 
-    /// `x = 1`, at rest.
+    /// `x = 6`, `ẋ = −2`: `m1` thrown upward. With the default parameters (`ẍ = 0.39`) it rises
+    /// to `x = 0.90` at `t = 5.1` s and is back at `x = 5.6` at 10 s, inside
+    /// `0 ≤ x ≤ l − πa = 8.43` throughout.
     fn default_state(&self) -> State {
-        State::new(0.0, [1.0], [0.0])
+        State::new(0.0, [6.0], [-2.0])
     }
 
     constant_force_scene!();

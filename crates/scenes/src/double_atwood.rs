@@ -15,15 +15,15 @@ scene_params! {
     /// (docs/scenes.md#double_atwood). The movable pulley is a point body of mass `m_p` (0 in the lecture).
     pub struct DoubleAtwood {
         /// Mass `m₁` (kg) on the upper rope.
-        pub mass_1: f64 = ["m1", "kg", 3.0, Domain::Positive, "mass on the upper rope"],
+        pub mass_1: f64 = ["m1", "kg", 2.0, Domain::Positive, "mass on the upper rope"],
         /// Mass `m₂` (kg) on the lower rope, at `x'` below the movable pulley.
         pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on the lower rope, side x'"],
         /// Mass `m₃` (kg) on the lower rope, at `l' − x'` below the movable pulley.
-        pub mass_3: f64 = ["m3", "kg", 1.5, Domain::Positive, "mass on the lower rope, other side"],
+        pub mass_3: f64 = ["m3", "kg", 1.05, Domain::Positive, "mass on the lower rope, other side"],
         /// Upper rope length `l` (m).
         pub rope_length: f64 = ["l", "m", 5.0, Domain::Positive, "length of the upper rope"],
         /// Lower rope length `l'` (m).
-        pub lower_rope_length: f64 = ["l'", "m", 2.0, Domain::Positive, "length of the lower rope"],
+        pub lower_rope_length: f64 = ["l'", "m", 4.0, Domain::Positive, "length of the lower rope"],
         /// Movable pulley mass `m_p` (kg); 0 for the lecture's massless pulley.
         pub lower_pulley_mass: f64 = ["m_p", "kg", 0.0, Domain::NonNegative, "mass of the movable pulley (0: the lecture's massless pulley)"],
         /// Gravitational acceleration `g` (m/s²).
@@ -130,9 +130,12 @@ impl SceneType for DoubleAtwood {
     const REFERENCE: &'static str = "docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture), example: double Atwood machine (massive pulley beyond the lecture)";
     param_table!();
 
-    /// `x = 2`, `x' = 1`, at rest.
+    /// `x = 2`, `x' = 0.5`, `ẋ = 0.6`, `ẋ' = 1.2`: both ropes set moving against their constant
+    /// accelerations (`ẍ = −0.12`, `ẍ' = −0.24` with the default parameters), so that each turns
+    /// back near `t = 5` s (`x ≤ 3.5`, `x' ≤ 3.6`) and every rope segment stays positive for the
+    /// report's 10 s.
     fn default_state(&self) -> State {
-        State::new(0.0, [2.0, 1.0], [0.0, 0.0])
+        State::new(0.0, [2.0, 0.5], [0.6, 1.2])
     }
 
     constant_force_scene!();

@@ -18,17 +18,17 @@ scene_params! {
         /// Mass `m₂` (kg), at `x'` below pulley B.
         pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on pulley B's rope, side x'"],
         /// Mass `m₃` (kg), at `l' − x'` below pulley B.
-        pub mass_3: f64 = ["m3", "kg", 1.5, Domain::Positive, "mass on pulley B's rope, other side"],
+        pub mass_3: f64 = ["m3", "kg", 1.05, Domain::Positive, "mass on pulley B's rope, other side"],
         /// Mass `m₄` (kg), at `x''` below pulley A.
-        pub mass_4: f64 = ["m4", "kg", 2.0, Domain::Positive, "mass on pulley A's rope, side x''"],
+        pub mass_4: f64 = ["m4", "kg", 1.1, Domain::Positive, "mass on pulley A's rope, side x''"],
         /// Mass `m₅` (kg), at `l'' − x''` below pulley A.
-        pub mass_5: f64 = ["m5", "kg", 0.5, Domain::Positive, "mass on pulley A's rope, other side"],
+        pub mass_5: f64 = ["m5", "kg", 1.05, Domain::Positive, "mass on pulley A's rope, other side"],
         /// Upper rope length `l` (m).
         pub rope_length: f64 = ["l", "m", 5.0, Domain::Positive, "length of the upper rope"],
         /// Pulley B's rope length `l'` (m).
-        pub rope_length_b: f64 = ["l'", "m", 2.0, Domain::Positive, "length of pulley B's rope"],
+        pub rope_length_b: f64 = ["l'", "m", 4.0, Domain::Positive, "length of pulley B's rope"],
         /// Pulley A's rope length `l''` (m).
-        pub rope_length_a: f64 = ["l''", "m", 2.0, Domain::Positive, "length of pulley A's rope"],
+        pub rope_length_a: f64 = ["l''", "m", 4.0, Domain::Positive, "length of pulley A's rope"],
         /// Pulley A's mass `m_A` (kg).
         pub pulley_a_mass: f64 = ["m_A", "kg", 0.0, Domain::NonNegative, "mass of movable pulley A (0: massless)"],
         /// Pulley B's mass `m_B` (kg).
@@ -173,9 +173,11 @@ impl SceneType for DoubleDoubleAtwood {
     const REFERENCE: &'static str = "docs/scenes.md#double_double_atwood; the lecture (docs/scenes.md#the-lecture), homework remark (massive pulleys beyond the lecture)";
     param_table!();
 
-    /// `x = 2`, `x' = 1`, `x'' = 1`, at rest.
+    /// `x = 3.5`, `x' = 0.5`, `x'' = 3.3`, `q̇ = (−1.2, 1.2, −1.1)`: each rope set moving against
+    /// its constant acceleration (`q̈ = (0.23, −0.24, 0.22)` with the default parameters), so that
+    /// each turns back near `t = 5` s and every rope segment stays positive for the report's 10 s.
     fn default_state(&self) -> State {
-        State::new(0.0, [2.0, 1.0, 1.0], [0.0, 0.0, 0.0])
+        State::new(0.0, [3.5, 0.5, 3.3], [-1.2, 1.2, -1.1])
     }
 
     constant_force_scene!();
@@ -239,7 +241,8 @@ mod tests {
         let nearly = DoubleDoubleAtwood::from_params(&with_pulley_masses(1e-300, 0.0)).unwrap();
         assert_close("m_A → 0", &massless.acceleration(), &nearly.acceleration(), 1e-14);
         // docs/scenes.md#double_double_atwood sympy form of ẍ'.
-        let (m2, m3, m4, m5, g) = (1.0, 1.5, 2.0, 0.5, 9.81);
+        let (m2, m3, m4, m5, g) =
+            (massless.mass_2, massless.mass_3, massless.mass_4, massless.mass_5, massless.gravity);
         let denominator = m2 * m3 * m4 + m2 * m3 * m5 + m2 * m4 * m5 + m3 * m4 * m5;
         let x_prime_ddot = 2.0 * g * m4 * m5 * (m2 - m3) / denominator;
         let x_second_ddot = 2.0 * g * m2 * m3 * (m4 - m5) / denominator;

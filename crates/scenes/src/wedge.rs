@@ -5,7 +5,7 @@ use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
 use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_6};
+use std::f64::consts::FRAC_PI_2;
 
 scene_params! {
     /// A wedge of mass `M` sliding on a frictionless floor, its top corner at `(x, 0)`, and a block
@@ -18,9 +18,9 @@ scene_params! {
         /// Block mass `m` (kg).
         pub block_mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the block"],
         /// Incline angle `α` (rad), `0 < α < π/2`.
-        pub angle: f64 = ["α", "rad", FRAC_PI_6, Domain::OpenInterval(0.0, FRAC_PI_2), "angle of the incline"],
+        pub angle: f64 = ["α", "rad", 0.05, Domain::OpenInterval(0.0, FRAC_PI_2), "angle of the incline"],
         /// Incline length `L` (m).
-        pub incline_length: f64 = ["L", "m", 2.0, Domain::Positive, "length of the incline"],
+        pub incline_length: f64 = ["L", "m", 10.0, Domain::Positive, "length of the incline"],
         /// Gravitational acceleration `g` (m/s²).
         pub gravity: f64 = [GRAVITY],
     }
@@ -102,9 +102,11 @@ impl SceneType for Wedge {
         "docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture), example: block on a movable wedge";
     param_table!();
 
-    /// `x = 0`, `x' = 0` (block at the top corner), at rest.
+    /// `x = 0`, `x' = 9` (block 1 m from the foot), `ẋ = 0.8`, `ẋ' = −3.2`: the block pushed up
+    /// the incline. With the default parameters (`ẍ' = 0.65`) it turns back at `x' = 1.2` near
+    /// `t = 4.9` s and is at `x' = 9.6` at 10 s, on the incline throughout.
     fn default_state(&self) -> State {
-        State::new(0.0, [0.0, 0.0], [0.0, 0.0])
+        State::new(0.0, [0.0, 9.0], [0.8, -3.2])
     }
 
     constant_force_scene!();
