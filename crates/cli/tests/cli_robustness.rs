@@ -113,19 +113,30 @@ fn a_full_disk_is_a_one_line_error_with_exit_1() {
 
 #[test]
 fn accel_flags_a_disagreement_with_the_closed_form_and_fails_with_check() {
-    // Kepler at r < 0: the engine's potential is −k/|position| = −k/|r|, the closed form's
+    // Kepler at r < 0 lies outside the scene's region r > 0: refused, naming the bound.
+    let outside = ["accel", "kepler", "--q", "-1,0", "--qdot", "0,1"];
+    let (code, err) = one_line_error(&outside);
+    assert_eq!(code, Some(1), "{err}");
+    assert_eq!(err.trim_end(), "error: r = -1 is outside the admissible region r > 0 at t = 0 s");
+    // Evaluated anyway: the engine's potential is −k/|position| = −k/|r|, the closed form's
     // −k/r, so r̈ is 0 against −2: far beyond the round-off bound.
-    let at = ["accel", "kepler", "--q", "-1,0", "--qdot", "0,1"];
+    let at = ["accel", "kepler", "--q", "-1,0", "--qdot", "0,1", "--ignore-region"];
     let output = lagrange(&at);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     assert!(stdout(&output).contains("q̈[r] = 0.0    (closed form -2.0)"), "{}", stdout(&output));
-    let warning = stderr(&output);
-    assert_eq!(warning.trim_end().lines().count(), 1, "{warning}");
-    assert!(warning.starts_with("warning: the engine's q̈ differs from the closed form by 1 "), "{warning}");
-    assert!(warning.contains("round-off bound 1e-12"), "{warning}");
-    let (code, err) = one_line_error(&[&at[..], &["--check"]].concat());
-    assert_eq!(code, Some(1), "{err}");
-    assert!(err.starts_with("error: the engine's q̈ differs from the closed form"), "{err}");
+    let warnings = stderr(&output);
+    let warnings: Vec<&str> = warnings.trim_end().lines().collect();
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    assert!(warnings[0].starts_with("warning: r = -1 is outside the admissible region r > 0"), "{warnings:?}");
+    assert!(warnings[1].starts_with("warning: the engine's q̈ differs from the closed form by 1 "), "{warnings:?}");
+    assert!(warnings[1].contains("round-off bound 1e-12"), "{warnings:?}");
+    let checked = lagrange(&[&at[..], &["--check"]].concat());
+    assert_eq!(checked.status.code(), Some(1), "{}", stderr(&checked));
+    let err = stderr(&checked);
+    assert!(
+        err.lines().nth(1).is_some_and(|l| l.starts_with("error: the engine's q̈ differs from the closed form")),
+        "{err}"
+    );
     let out = json(&lagrange(&[&at[..], &["--json"]].concat()));
     assert_eq!(out["agreement"]["agrees"], false, "{out}");
     assert_eq!(out["agreement"]["difference"].as_f64(), Some(1.0), "{out}");
@@ -209,6 +220,13 @@ fn numbers_in_messages_are_compact() {
 
 #[test]
 fn a_failed_reference_run_is_not_blamed_on_the_engine() {
+    // Kepler at r < 0: the reference run is refused at its initial state, and says why.
+    let (code, err) = one_line_error(&["compare", "kepler", "--q", "-1,0", "--qdot", "0,1", "--t-end", "1"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("the reduced reference run") && err.contains("r = -1 is outside the admissible region"),
+        "{err}"
+    );
     // m1 = 1e-12: the reduced double pendulum's mass matrix is singular to round-off at t = 0.
     let (code, err) = one_line_error(&["compare", "double_pendulum", "--param", "m1=1e-12", "--t-end", "0.1"]);
     assert_eq!(code, Some(1), "{err}");
@@ -291,4 +309,31 @@ fn scenes_show_the_default_initial_state() {
     }
     let text = stdout(&lagrange(&["scenes"]));
     assert!(text.contains("  initial state: t = 0.0; q[X] = 0.0, q[θ] = 0.5; q̇[X] = 0.0, q̇[θ] = 0.0"), "{text}");
+}
+
+// Items 1–3: runs that leave the scene's admissible region, and tolerances without a correct digit.
+
+#[test]
+fn simulate_stops_where_the_state_leaves_the_admissible_region() {
+    // RK4 used to step Kepler's radial infall through r = 0 (at t = 1.1107 s) to r(2) = −19.9.
+    let (code, err) =
+        one_line_error(&["simulate", "kepler", "--q", "1,0", "--qdot", "0,0", "--t-end", "2", "--integrator", "rk4"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.starts_with("error: r = -") && err.contains("outside the admissible region r > 0 at t = 1.11"),
+        "{err}"
+    );
+    // The Atwood machine's m2 reaches the pulley at t = 11.29 s from the default state.
+    let (code, err) = one_line_error(&["simulate", "atwood", "--t-end", "100"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("rope to m2, l − πa − x ≥ 0") && err.contains("(inside at t = "), "{err}");
+    // A lower rope shorter than the default x' = 0.5: outside before the first step.
+    let (code, err) = one_line_error(&["simulate", "double_atwood", "--param", "l'=0.001", "--t-end", "1"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("lower rope to m3, l' − x' ≥ 0 at t = 0 s"), "{err}");
+    for tol in ["10", "1", "1e-20"] {
+        let (code, err) = one_line_error(&["simulate", "harmonic_oscillator", "--t-end", "10", "--tol", tol]);
+        assert_eq!(code, Some(2), "{tol}: a bad argument value is a usage error: {err}");
+        assert!(err.contains("invalid tolerance") && err.contains("[2.2e-15, 1)"), "{tol}: {err}");
+    }
 }

@@ -1,5 +1,9 @@
 //! `lagrange accel`: generalized accelerations at one state, beside the scene's closed form.
 //!
+//! A state outside the scene's admissible region (docs/method.md#admissible-regions) is refused
+//! with exit 1, as `simulate` refuses to step there; `--ignore-region` evaluates it anyway with a
+//! warning, to look at where the models part.
+//!
 //! The two are exact formulas for the same `q̈` and differ by round-off only: at most
 //! `max(1e-12, 64 ε κ(M))` relative to the largest `|q̈_i|` (`lagrange_validation::tolerance::conditioned`,
 //! the bound the integration tests hold every scene to at random states and parameters). A
@@ -35,6 +39,9 @@ pub struct Args {
     /// Fail (exit 1) when the engine and the closed form differ beyond round-off.
     #[arg(long)]
     check: bool,
+    /// Evaluate a state outside the scene's admissible region (a warning instead of exit 1).
+    #[arg(long)]
+    ignore_region: bool,
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
@@ -100,6 +107,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let mut system = scene.build(&params)?;
     let coordinates: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
     let explain = |error| args::explain(error, &params, &coordinates, &state);
+    match system.check_admissible(state.t, &state.q, &state.qdot) {
+        Err(error) if args.ignore_region => warn(&format!("warning: {error}; evaluated anyway (--ignore-region)")),
+        region => drop(region.map_err(explain)?),
+    }
     let qddot = system.accelerations(state.t, &state.q, &state.qdot).map_err(explain)?.to_vec();
     let closed_form = scene.closed_form_accelerations(&params, state.t, &state.q, &state.qdot).map_err(explain)?;
     let agreement = match &closed_form {
