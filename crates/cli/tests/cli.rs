@@ -213,11 +213,15 @@ fn a_bad_argument_exits_2_and_a_failure_at_run_time_exits_1() {
     let (status, err) = code(&["simulate", "kepler", "--t-end", "1", "--tol", "0"]);
     assert_eq!(status, Some(2), "{err}");
     assert!(err.contains("invalid tolerance = 0"), "{err}");
-    // A valid request the engine cannot carry out: polar coordinates at r = 0 make the Kepler
-    // mass matrix singular (no mass moves with θ), a typed engine error naming the coordinate.
+    // A valid request the engine cannot carry out: a double pendulum whose upper bob weighs
+    // 1e-12 kg has a mass matrix singular to round-off, a typed engine error naming the coordinate.
+    let (status, err) = code(&["accel", "double_pendulum", "--param", "m1=1e-12"]);
+    assert_eq!(status, Some(1), "{err}");
+    assert!(err.starts_with("error: singular mass matrix") && err.contains("`θ1`"), "{err}");
+    // A state outside the scene's admissible region: Kepler at r = 0.
     let (status, err) = code(&["accel", "kepler", "--q", "0,0", "--qdot", "0,0"]);
     assert_eq!(status, Some(1), "{err}");
-    assert!(err.starts_with("error: singular mass matrix") && err.contains("`θ`"), "{err}");
+    assert_eq!(err.trim_end(), "error: r = 0 is outside the admissible region r > 0 at t = 0 s");
     // A file that cannot be written is a failure at run time too, naming the path.
     let missing = std::env::temp_dir().join(format!("lagrange-cli-missing-{}", std::process::id())).join("run.csv");
     let (status, err) = code(&["simulate", "kepler", "--t-end", "1", "--out", missing.to_str().unwrap()]);
