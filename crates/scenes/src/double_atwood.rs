@@ -15,13 +15,13 @@ scene_params! {
     /// (docs/scenes.md#double_atwood). The movable pulley is a point body of mass `m_p` (0 in the lecture).
     pub struct DoubleAtwood {
         /// Mass `m₁` (kg) on the upper rope.
-        pub mass_1: f64 = ["m1", "kg", 2.0, Domain::Positive, "mass on the upper rope"],
+        pub mass_1: f64 = ["m1", "kg", 20.6, Domain::Positive, "mass on the upper rope"],
         /// Mass `m₂` (kg) on the lower rope, at `x'` below the movable pulley.
-        pub mass_2: f64 = ["m2", "kg", 1.0, Domain::Positive, "mass on the lower rope, side x'"],
+        pub mass_2: f64 = ["m2", "kg", 10.0, Domain::Positive, "mass on the lower rope, side x'"],
         /// Mass `m₃` (kg) on the lower rope, at `l' − x'` below the movable pulley.
-        pub mass_3: f64 = ["m3", "kg", 1.05, Domain::Positive, "mass on the lower rope, other side"],
+        pub mass_3: f64 = ["m3", "kg", 10.5, Domain::Positive, "mass on the lower rope, other side"],
         /// Upper rope length `l` (m).
-        pub rope_length: f64 = ["l", "m", 5.0, Domain::Positive, "length of the upper rope"],
+        pub rope_length: f64 = ["l", "m", 10.0, Domain::Positive, "length of the upper rope"],
         /// Lower rope length `l'` (m).
         pub lower_rope_length: f64 = ["l'", "m", 4.0, Domain::Positive, "length of the lower rope"],
         /// Movable pulley mass `m_p` (kg); 0 for the lecture's massless pulley.
@@ -130,12 +130,13 @@ impl SceneType for DoubleAtwood {
     const REFERENCE: &'static str = "docs/scenes.md#double_atwood; the lecture (docs/scenes.md#the-lecture), example: double Atwood machine (massive pulley beyond the lecture)";
     param_table!();
 
-    /// `x = 2`, `x' = 0.5`, `ẋ = 0.6`, `ẋ' = 1.2`: both ropes set moving against their constant
-    /// accelerations (`ẍ = −0.12`, `ẍ' = −0.24` with the default parameters), so that each turns
-    /// back near `t = 5` s (`x ≤ 3.5`, `x' ≤ 3.6`) and every rope segment stays positive for the
-    /// report's 10 s.
+    /// `x = 2.5`, `x' = 0.5`, `ẋ = 0.5`, `ẋ' = 1.2`: `m1` nearly balances the lower pulley
+    /// (`ẍ = 0.027`, so `x ≤ 8.9`), and the lower rope is set moving against its acceleration
+    /// (`ẍ' = −0.24`), so that it turns back near `t = 5` s (`x' ≤ 3.5`): every rope segment
+    /// stays positive for the report's 10 s, also with the 0.5 kg movable pulley of the rapier
+    /// multibody build (`ẍ = −0.091`, `2.5 ≤ x ≤ 3.9`).
     fn default_state(&self) -> State {
-        State::new(0.0, [2.0, 0.5], [0.6, 1.2])
+        State::new(0.0, [2.5, 0.5], [0.5, 1.2])
     }
 
     constant_force_scene!();
