@@ -4,8 +4,8 @@
 //! inconsistent constraints.
 
 use lagrange::{
-    Body, Coordinate, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances, accelerations, assemble,
-    constraint_multipliers,
+    Body, Coordinate, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances, accelerations,
+    assemble, constraint_multipliers,
 };
 
 const G: f64 = 9.81;
@@ -67,12 +67,17 @@ fn cartesian_pendulum_matches_the_pendulum_in_its_angle() {
         let (q, qdot) = cartesian(length, theta, theta_dot);
         let theta_ddot = -G / length * theta.sin();
         let (s, c) = theta.sin_cos();
-        let expected =
-            [length * (c * theta_ddot - s * theta_dot * theta_dot), length * (s * theta_ddot + c * theta_dot * theta_dot)];
+        let expected = [
+            length * (c * theta_ddot - s * theta_dot * theta_dot),
+            length * (s * theta_ddot + c * theta_dot * theta_dot),
+        ];
         let got = accelerations(&model, &mut ws, 0.0, &q, &qdot).expect("evaluates").to_vec();
         let scale = expected.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
         for i in 0..2 {
-            assert!((got[i] - expected[i]).abs() <= 64.0 * f64::EPSILON * scale, "θ = {theta}: {got:?} vs {expected:?}");
+            assert!(
+                (got[i] - expected[i]).abs() <= 64.0 * f64::EPSILON * scale,
+                "θ = {theta}: {got:?} vs {expected:?}"
+            );
         }
         let lambda = constraint_multipliers(&model, &mut ws, 0.0, &q, &qdot).expect("evaluates")[0];
         let tension = mass * (G * c + length * theta_dot * theta_dot);
@@ -116,10 +121,15 @@ fn every_integrator_keeps_the_cartesian_pendulum_on_its_circle() {
         for k in 0..run.len() {
             let (x, _) = cartesian(length, exact.q(k)[0], exact.qdot(k)[0]);
             worst = worst.max((run.q(k)[0] - x[0]).abs()).max((run.q(k)[1] - x[1]).abs());
-            let [position, velocity] = lagrange::Dynamics::constraint_violation(&model, &mut ws, run.t[k], run.q(k), run.qdot(k))
-                .expect("evaluates")
-                .expect("constrained");
-            assert!(position <= 32.0 * f64::EPSILON && velocity <= 1e-13, "{method:?} at {}: {position:e}, {velocity:e}", run.t[k]);
+            let [position, velocity] =
+                lagrange::Dynamics::constraint_violation(&model, &mut ws, run.t[k], run.q(k), run.qdot(k))
+                    .expect("evaluates")
+                    .expect("constrained");
+            assert!(
+                position <= 32.0 * f64::EPSILON && velocity <= 1e-13,
+                "{method:?} at {}: {position:e}, {velocity:e}",
+                run.t[k]
+            );
         }
         eprintln!("{method:?}: largest position error {worst:.2e}");
         assert!(worst <= bound, "{method:?}: {worst:e} > {bound:e}");
@@ -235,7 +245,10 @@ fn four_bar_with_constraints_matches_the_closed_form_position_analysis() {
         assert!(wrap(state.q[1] - theta3).abs() < 1e-12 && wrap(state.q[2] - theta4).abs() < 1e-12, "{state:?}");
         let full = accelerations(&constrained, &mut wc, 0.0, &state.q, &state.qdot).expect("evaluates")[0];
         let one = accelerations(&reduced, &mut wr, 0.0, &[theta2], &[rate]).expect("evaluates")[0];
-        eprintln!("θ2 = {theta2}: crank q̈ differs by {:.1} ε relative", (full - one).abs() / (f64::EPSILON * one.abs().max(1.0)));
+        eprintln!(
+            "θ2 = {theta2}: crank q̈ differs by {:.1} ε relative",
+            (full - one).abs() / (f64::EPSILON * one.abs().max(1.0))
+        );
         assert!((full - one).abs() <= 1e3 * f64::EPSILON * one.abs().max(1.0), "θ2 = {theta2}: {full} vs {one}");
     }
 }

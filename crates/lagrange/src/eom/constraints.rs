@@ -105,6 +105,7 @@ impl<S: Scalar> ConstraintBuffers<S> {
 /// `Φ` (seed `q_j`), one second-order pass of `Φ` along `(q̇, 1)`; for the velocity rows `n`
 /// passes seeding `q̇_j` (the columns of `A`) and one pass along `(q̇, 1)` with `q̇` held
 /// (the convective term `∂(A q̇ + b)/∂q · q̇ + ∂(A q̇ + b)/∂t`).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
     mechanism: &M,
     (holonomic, velocity): (usize, usize),
@@ -116,8 +117,9 @@ pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
     qdot: &[S],
 ) {
     let n = q.len();
-    let ConstraintBuffers { jacobian, convective, residual, rate, qdot_dual, phi_dual, phi_dual2, velocity_dual, .. } =
-        buffers;
+    let ConstraintBuffers {
+        jacobian, convective, residual, rate, qdot_dual, phi_dual, phi_dual2, velocity_dual, ..
+    } = buffers;
     if holonomic > 0 {
         let t_dual = Dual::from_re(t);
         seed::constant(q_dual, q);
@@ -222,7 +224,9 @@ fn schur_solve<M: Mechanism, S: Scalar>(
                 d -= l * l * b.schur[k * c + k];
             }
         }
-        b.dependent[j] = !(d.re() > DEPENDENT * diagonal.abs()) || diagonal == 0.0;
+        // A NaN pivot counts as dependent too (then the consistency check names the rows).
+        b.dependent[j] =
+            d.re().partial_cmp(&(DEPENDENT * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
         b.schur[j * c + j] = d;
         for i in j + 1..c {
             if b.dependent[j] {
@@ -381,7 +385,8 @@ fn min_norm_step(b: &mut ConstraintBuffers<f64>, n: usize, rows: usize, rhs: Rhs
                 d -= gram[j * rows + l] * gram[j * rows + l] * gram[l * rows + l];
             }
         }
-        dependent[j] = !(d > DEPENDENT * diagonal.abs()) || diagonal == 0.0;
+        dependent[j] =
+            d.partial_cmp(&(DEPENDENT * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
         gram[j * rows + j] = d;
         for i in j + 1..rows {
             if dependent[j] {
@@ -486,7 +491,11 @@ pub fn project<M: Mechanism>(
 /// [`Error::DimensionMismatch`] for a `held` of the wrong length; [`Error::AssemblyFailed`]
 /// naming the constraint that cannot be met (links that cannot close, or a guess outside the
 /// basin of Gauss–Newton); [`Error::NonFinite`].
-pub fn assemble<M: Mechanism>(model: &Model<M>, approximate: &crate::State, held: &[bool]) -> Result<crate::State, Error> {
+pub fn assemble<M: Mechanism>(
+    model: &Model<M>,
+    approximate: &crate::State,
+    held: &[bool],
+) -> Result<crate::State, Error> {
     if held.len() != model.n {
         return Err(Error::DimensionMismatch { what: "held", expected: model.n, got: held.len() });
     }

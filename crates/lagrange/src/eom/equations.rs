@@ -104,7 +104,13 @@ pub trait Equations: sealed::Sealed {
     }
 
     #[doc(hidden)]
-    fn eval_project(&self, ws: &mut Self::Workspace<f64>, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+    fn eval_project(
+        &self,
+        ws: &mut Self::Workspace<f64>,
+        t: f64,
+        q: &mut [f64],
+        qdot: &mut [f64],
+    ) -> Result<(), Error> {
         let _ = (ws, t, q, qdot);
         Ok(())
     }
@@ -314,7 +320,13 @@ impl<M: Mechanism> Equations for Model<M> {
         super::constraints::project(self, ws, t, q, qdot)
     }
 
-    fn eval_violation(&self, ws: &mut Workspace<f64>, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<[f64; 2]>, Error> {
+    fn eval_violation(
+        &self,
+        ws: &mut Workspace<f64>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<[f64; 2]>, Error> {
         if !self.is_constrained() {
             return Ok(None);
         }

@@ -528,8 +528,11 @@ pub(crate) fn check_constraints<M: Mechanism>(
                 let v: Vec<Dual64> = qdot.iter().map(|&v| Dual64::from(scale * v)).collect();
                 mechanism.velocity_constraint(Dual64::from(t), &q_dual, &v, out);
             };
-            let (mut c0, mut c1, mut c2) =
-                (vec![Dual64::from(0.0); velocity], vec![Dual64::from(0.0); velocity], vec![Dual64::from(0.0); velocity]);
+            let (mut c0, mut c1, mut c2) = (
+                vec![Dual64::from(0.0); velocity],
+                vec![Dual64::from(0.0); velocity],
+                vec![Dual64::from(0.0); velocity],
+            );
             at(0.0, &mut c0);
             at(1.0, &mut c1);
             at(2.0, &mut c2);
