@@ -4,6 +4,7 @@
 mod analytic;
 mod bad_input;
 mod constant_mass;
+mod constraints;
 mod derivatives;
 mod identities;
 mod integrators;

@@ -24,6 +24,9 @@ pub enum Stage {
     Accelerations,
     /// The derivatives of the accelerations, `∂q̈/∂(q, q̇)` (implicit integrators).
     Jacobian,
+    /// The constraints among the coordinates, their Jacobian or convective terms
+    /// ([`Mechanism::constraints`](crate::Mechanism::constraints)).
+    Constraints,
 }
 
 impl fmt::Display for Stage {
@@ -37,6 +40,7 @@ impl fmt::Display for Stage {
             Stage::Lagrangian => "Lagrangian",
             Stage::Accelerations => "accelerations",
             Stage::Jacobian => "acceleration Jacobian",
+            Stage::Constraints => "constraints",
         })
     }
 }
@@ -260,6 +264,38 @@ pub enum Error {
         exact: f64,
         /// The central difference.
         finite_difference: f64,
+    },
+    /// Constraints among the coordinates that contradict each other here: a row of
+    /// `G q̈ = −γ` that depends on the rows before it but asks for a different `q̈`.
+    #[error(
+        "inconsistent constraints at t = {}, q = {}: {} cannot all hold (residual {} after elimination)",
+        compact(.t), compact_all(.q), .constraints.join(", "), compact(.residual)
+    )]
+    InconsistentConstraints {
+        /// Time.
+        t: f64,
+        /// Coordinates.
+        q: Vec<f64>,
+        /// The names of the contradicting constraints ([`Mechanism::constraint_name`](crate::Mechanism::constraint_name)).
+        constraints: Vec<String>,
+        /// The dependent row's residual after elimination.
+        residual: f64,
+    },
+    /// A consistent state could not be found: Gauss–Newton on `Φ(t, q) = 0` (with the held
+    /// coordinates fixed) did not converge, e.g. a four-bar whose links cannot close.
+    #[error(
+        "cannot assemble at t = {}: {} = {} after {iterations} Gauss–Newton iterations (the constraints cannot be met with the held coordinates, or not near this guess)",
+        compact(.t), .constraint, compact(.residual)
+    )]
+    AssemblyFailed {
+        /// Time.
+        t: f64,
+        /// The constraint with the largest residual.
+        constraint: String,
+        /// Its residual.
+        residual: f64,
+        /// Iterations taken.
+        iterations: usize,
     },
     /// A mechanism declared a property that its functions contradict.
     #[error("inconsistent mechanism: {what}")]

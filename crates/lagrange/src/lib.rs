@@ -226,6 +226,7 @@ mod system;
 mod test_support;
 
 pub use dynamics::Dynamics;
+pub use eom::constraints::{assemble, constraint_multipliers, project};
 pub use eom::energy::{kinetic_energy, potential_energy, total_energy};
 pub use eom::equations::{Equations, accelerations, energy_function, lagrangian, mass_matrix, momenta};
 pub use eom::raw::{RawModel, RawWorkspace};

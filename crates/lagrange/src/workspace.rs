@@ -1,6 +1,7 @@
 //! Every buffer an evaluation of a body model needs, allocated once.
 
 use crate::eom::articulated::ArticulatedBody;
+pub use crate::eom::constraints::ConstraintBuffers;
 use crate::mechanism::Mechanism;
 use crate::model::Model;
 use crate::pose::Pose;
@@ -75,6 +76,9 @@ pub struct Workspace<S> {
     /// up front by [`Dynamics::new_workspace`](crate::Dynamics::new_workspace), otherwise by the
     /// first Jacobian (`None` until then).
     pub(crate) tangent: Option<Box<Tangent<Workspace<Dual64>>>>,
+    /// The constrained solve's buffers (`None` for a model without constraints): `G`, `γ`,
+    /// the residuals and the multipliers `λ`, filled by [`accelerations`](crate::accelerations).
+    pub constraints: Option<ConstraintBuffers<S>>,
 }
 
 impl<S: Scalar> Workspace<S> {
@@ -115,6 +119,10 @@ impl<S: Scalar> Workspace<S> {
             constant_gravity,
             articulated: if model.tree.is_some() { vec![ArticulatedBody::zero(); b] } else { Vec::new() },
             tangent: None,
+            constraints: model.is_constrained().then(|| {
+                let (m, k) = model.constraint_counts();
+                ConstraintBuffers::new(n, m, k)
+            }),
         }
     }
 }

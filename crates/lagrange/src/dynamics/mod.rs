@@ -107,6 +107,39 @@ pub trait Dynamics: LagrangianFunction {
         jacobian::finite_differences(self, ws, t, q, qdot, jacobian)
     }
 
+    /// The numbers of holonomic and velocity constraints among the coordinates `(m, k)`;
+    /// `(0, 0)` (the default) for independent coordinates.
+    fn constraint_counts(&self) -> (usize, usize) {
+        (0, 0)
+    }
+
+    /// Project `(q, q̇)` at time `t` onto the constraints, by the smallest change: Gauss–Newton
+    /// on `Φ(t, q) = 0`, then `q̇` onto `G q̇ + Φ_t = 0` and `A q̇ + b = 0`
+    /// ([`project`](crate::project)). Does nothing (the default) without constraints.
+    ///
+    /// # Errors
+    /// [`Error::AssemblyFailed`] when the positions cannot be brought onto `Φ = 0`.
+    fn project(&self, ws: &mut Self::Workspace, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        let _ = (ws, t, q, qdot);
+        Ok(())
+    }
+
+    /// The constraint violation `[max |Φ|, max |G q̇ + Φ_t, A q̇ + b|]` at `(t, q, q̇)`, `None`
+    /// (the default) without constraints.
+    ///
+    /// # Errors
+    /// On a malformed or non-finite state.
+    fn constraint_violation(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<[f64; 2]>, Error> {
+        let _ = (ws, t, q, qdot);
+        Ok(None)
+    }
+
     /// Which coordinates are cyclic.
     fn cyclic_coordinates(&self) -> &[bool];
 
@@ -193,6 +226,24 @@ impl<E: Equations + LagrangianFunction> Dynamics for E {
 
     fn cyclic_coordinates(&self) -> &[bool] {
         self.cyclic()
+    }
+
+    fn constraint_counts(&self) -> (usize, usize) {
+        self.constraints_of()
+    }
+
+    fn project(&self, ws: &mut Self::Workspace, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        self.eval_project(ws, t, q, qdot)
+    }
+
+    fn constraint_violation(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<[f64; 2]>, Error> {
+        self.eval_violation(ws, t, q, qdot)
     }
 
     fn has_generalized_force(&self) -> bool {

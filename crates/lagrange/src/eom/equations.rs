@@ -97,6 +97,36 @@ pub trait Equations: sealed::Sealed {
         &[]
     }
 
+    /// `(m, k)`: holonomic and velocity constraints.
+    #[doc(hidden)]
+    fn constraints_of(&self) -> (usize, usize) {
+        (0, 0)
+    }
+
+    #[doc(hidden)]
+    fn eval_project(
+        &self,
+        ws: &mut Self::Workspace<f64>,
+        t: f64,
+        q: &mut [f64],
+        qdot: &mut [f64],
+    ) -> Result<(), Error> {
+        let _ = (ws, t, q, qdot);
+        Ok(())
+    }
+
+    #[doc(hidden)]
+    fn eval_violation(
+        &self,
+        ws: &mut Self::Workspace<f64>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<[f64; 2]>, Error> {
+        let _ = (ws, t, q, qdot);
+        Ok(None)
+    }
+
     /// The reaction forces into `reaction`, `false` for a model without bodies.
     #[doc(hidden)]
     fn eval_reaction_forces(
@@ -280,6 +310,27 @@ impl<M: Mechanism> Equations for Model<M> {
 
     fn body_list(&self) -> &[Body] {
         self.mechanism.bodies()
+    }
+
+    fn constraints_of(&self) -> (usize, usize) {
+        self.constraint_counts
+    }
+
+    fn eval_project(&self, ws: &mut Workspace<f64>, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+        super::constraints::project(self, ws, t, q, qdot)
+    }
+
+    fn eval_violation(
+        &self,
+        ws: &mut Workspace<f64>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<[f64; 2]>, Error> {
+        if !self.is_constrained() {
+            return Ok(None);
+        }
+        super::constraints::violation(self, ws, t, q, qdot).map(Some)
     }
 
     fn eval_reaction_forces(

@@ -7,6 +7,7 @@
 pub(crate) mod applied;
 pub(crate) mod articulated;
 pub(crate) mod bias;
+pub(crate) mod constraints;
 pub(crate) mod energy;
 pub(crate) mod equations;
 pub(crate) mod kinematics;
@@ -43,8 +44,18 @@ pub(crate) fn accelerations<'w, M: Mechanism, S: Scalar>(
     check_state(model.n, t, q, Some(qdot))?;
     if let Some(tree) = &model.tree {
         articulated::solve(model, tree, ws, t, q, qdot)?;
+        if model.is_constrained() {
+            // The articulated-body pass has no factor of M: the constrained solve needs one.
+            factor_mass_matrix(model, ws, t, q)?;
+        }
     } else {
         size::with_size!(model.n, n => solve_sized(model, ws, n, t, q, qdot))?;
+    }
+    if model.is_constrained() {
+        constraints::solve(model, ws, t, q, qdot)?;
+        if !all_finite(&ws.qddot) {
+            return Err(non_finite(Stage::Constraints, t, q));
+        }
     }
     Ok(&ws.qddot)
 }
@@ -88,6 +99,25 @@ fn solve_sized<M: Mechanism, S: Scalar, N: size::Size>(
     }
     if !all_finite(&ws.qddot) {
         return Err(diagnose(model, ws, t, q));
+    }
+    Ok(())
+}
+
+/// Assemble `M` and factor it into `ws.factor` (for the constrained solve on the tree path).
+fn factor_mass_matrix<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+) -> Result<(), Error> {
+    kinematics::jacobian_pass(model, ws, t, q, false);
+    mass_matrix::assemble(model, ws, size::Dynamic(model.n));
+    ws.factor.copy_from_slice(&ws.mass_matrix);
+    if let Err(bad) = linalg::ldlt_factor(model.n, &mut ws.factor) {
+        if !all_finite(&ws.mass_matrix) {
+            return Err(non_finite(Stage::Kinematics, t, q));
+        }
+        return Err(bad_pivot(t, q, &model.coordinates()[bad.index].name, bad.pivot, bad.diagonal));
     }
     Ok(())
 }

@@ -369,6 +369,16 @@ impl<D: Dynamics> Integrator<D> for Dopri5 {
         (Self::q(self), Self::qdot(self))
     }
 
+    fn project(&mut self, system: &D, ws: &mut D::Workspace) -> Result<(), Error> {
+        let n = self.n;
+        let (q, qdot) = self.y.split_at_mut(n);
+        system.project(ws, self.t, q, qdot)?;
+        let [k1, ..] = &mut self.k;
+        rhs(system, ws, n, self.t, &self.y, k1)?;
+        self.stats.evaluations += 1;
+        Ok(())
+    }
+
     fn stats(&self) -> Stats {
         Self::stats(self)
     }

@@ -203,6 +203,10 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
     // Asked once: a system without a region is never checked again.
     let region = non_finite_quantity(&[], &initial.q, &initial.qdot).is_none()
         && Bounds::check(system, t0, &initial.q, &initial.qdot)?;
+    let constrained = system.constraint_counts() != (0, 0);
+    if constrained {
+        check_consistent(system, &mut ws, initial)?;
+    }
     integrator.begin(system, &mut ws, initial, t_end)?;
     if let Some(dt) = integrator.fixed_step() {
         for (index, &t_out) in times.iter().enumerate() {
@@ -244,12 +248,19 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
             }
             integrator.advance(system, &mut ws, t_out, t_end)?;
             steps += 1;
+            if constrained {
+                integrator.project(system, &mut ws)?;
+            }
             if region {
                 let (q, qdot) = integrator.current();
                 check(integrator.t(), q, qdot)?;
             }
         }
         integrator.read(system, &mut ws, t_out, &mut q, &mut qdot)?;
+        if constrained {
+            // A dense-output sample inside the last step is not on the constraints by itself.
+            system.project(&mut ws, t_out, &mut q, &mut qdot)?;
+        }
         if region {
             check(t_out, &q, &qdot)?;
         }
@@ -260,6 +271,33 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
     let stats = integrator.stats();
     sink.finish(stats);
     Ok(stats)
+}
+
+/// An initial state must satisfy the constraints to `CONSISTENT_START` relative to its size:
+/// the integrators keep a run on them, but do not choose the user's starting point.
+const CONSISTENT_START: f64 = 1e-10;
+
+fn check_consistent<D: Dynamics>(system: &D, ws: &mut D::Workspace, initial: &State) -> Result<(), Error> {
+    let Some([position, velocity]) = system.constraint_violation(ws, initial.t, &initial.q, &initial.qdot)? else {
+        return Ok(());
+    };
+    let largest = |v: &[f64]| 1.0 + v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let (q_scale, v_scale) = (largest(&initial.q), largest(&initial.qdot));
+    if position > CONSISTENT_START * q_scale {
+        return Err(Error::InvalidSetting {
+            what: "initial constraint residual max |Φ|",
+            value: position,
+            why: "the initial positions do not satisfy the constraints; make them consistent with lagrange::assemble",
+        });
+    }
+    if velocity > CONSISTENT_START * v_scale.max(q_scale) {
+        return Err(Error::InvalidSetting {
+            what: "initial velocity-constraint residual",
+            value: velocity,
+            why: "the initial velocities do not satisfy the constraints; make them consistent with lagrange::assemble",
+        });
+    }
+    Ok(())
 }
 
 /// The energy function at a sample; after the first sample a finite state whose energy

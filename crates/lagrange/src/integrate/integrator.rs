@@ -91,6 +91,15 @@ pub trait Integrator<D: Dynamics> {
 
     /// Work done since [`begin`](Self::begin).
     fn stats(&self) -> Stats;
+
+    /// Project the held state onto the system's constraints
+    /// ([`Dynamics::project`]) and refresh what the method derives from it (an `f` carried
+    /// over from the step). The driver calls it after every accepted step of a constrained
+    /// system.
+    ///
+    /// # Errors
+    /// Any error of the projection or of the equations of motion.
+    fn project(&mut self, system: &D, ws: &mut D::Workspace) -> Result<(), Error>;
 }
 
 /// A fixed-step method that holds its own [`State`] on a [`Grid`] ([`Rk4`](super::Rk4),
@@ -162,6 +171,11 @@ impl<D: Dynamics, M: OnGrid> Integrator<D> for M {
     fn current(&self) -> (&[f64], &[f64]) {
         let state = self.grid().0;
         (&state.q, &state.qdot)
+    }
+
+    fn project(&mut self, system: &D, ws: &mut D::Workspace) -> Result<(), Error> {
+        let state = self.grid_mut().0;
+        system.project(ws, state.t, &mut state.q, &mut state.qdot)
     }
 
     fn stats(&self) -> Stats {

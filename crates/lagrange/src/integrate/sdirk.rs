@@ -504,6 +504,15 @@ impl<D: Dynamics> Integrator<D> for Sdirk4 {
         (Self::q(self), Self::qdot(self))
     }
 
+    fn project(&mut self, system: &D, ws: &mut D::Workspace) -> Result<(), Error> {
+        let n = self.n;
+        let (q, qdot) = self.y.split_at_mut(n);
+        system.project(ws, self.t, q, qdot)?;
+        rhs(system, ws, n, self.t, &self.y, &mut self.derivative)?;
+        self.stats.evaluations += 1;
+        Ok(())
+    }
+
     fn stats(&self) -> Stats {
         Self::stats(self)
     }

@@ -482,6 +482,15 @@ impl<F: LagrangianFunction> Variational<F> {
 impl<D: Dynamics> Integrator<D> for Variational<D> {
     fn begin(&mut self, system: &D, _: &mut D::Workspace, initial: &State, _: f64) -> Result<(), Error> {
         check_step(self.grid.dt)?;
+        if system.constraint_counts() != (0, 0) {
+            return Err(Error::InvalidSetting {
+                what: "method",
+                value: f64::NAN,
+                why: "the variational integrator does not take constraints among the coordinates yet \
+                      (its constrained discrete Euler–Lagrange equations are not written); use rk4, \
+                      adaptive, implicit or gauss, which project onto the constraints after every step",
+            });
+        }
         self.grid = Grid::new(initial.t, self.grid.dt);
         self.start(system, initial.t, &initial.q, &initial.qdot)
     }
@@ -533,6 +542,12 @@ impl<D: Dynamics> Integrator<D> for Variational<D> {
 
     fn current(&self) -> (&[f64], &[f64]) {
         (&self.q, &self.velocity)
+    }
+
+    /// Not reached: [`begin`](Integrator::begin) refuses a constrained system (the constrained
+    /// discrete Euler–Lagrange equations are not written yet).
+    fn project(&mut self, _: &D, _: &mut D::Workspace) -> Result<(), Error> {
+        Ok(())
     }
 
     fn stats(&self) -> Stats {

@@ -227,6 +227,43 @@ pub trait Mechanism {
         false
     }
 
+    /// The number `m` of holonomic constraints `Φ(t, q) = 0` among the coordinates (closed
+    /// kinematic loops, a Cartesian coordinate tied to a circle). Default 0: the coordinates
+    /// are independent. Like every count, it must not depend on the state.
+    fn holonomic_constraints(&self) -> usize {
+        0
+    }
+
+    /// Write the residuals `Φ(t, q)` of the [`holonomic_constraints`](Self::holonomic_constraints)
+    /// into `phi` (`m` entries). Generic over the scalar like [`poses`](Self::poses): the engine
+    /// differentiates it exactly, `G = ∂Φ/∂q` by first-order dual passes and the convective
+    /// term `γ = d²/ds² Φ(t + s, q + s q̇)` by one second-order pass. Never called when the
+    /// count is 0.
+    fn constraints<S: Scalar>(&self, t: S, q: &[S], phi: &mut [S]) {
+        let _ = (t, q, phi);
+    }
+
+    /// The number `k` of velocity (non-holonomic) constraints `A(t, q) q̇ + b(t, q) = 0`
+    /// (a knife edge, rolling). Default 0.
+    fn velocity_constraints(&self) -> usize {
+        0
+    }
+
+    /// Write the residuals `A(t, q) q̇ + b(t, q)` of the
+    /// [`velocity_constraints`](Self::velocity_constraints) into `residual` (`k` entries). They
+    /// must be linear (affine) in `q̇`, which [`Model::new`](crate::Model::new) checks at its
+    /// probe states. Never called when the count is 0.
+    fn velocity_constraint<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], residual: &mut [S]) {
+        let _ = (t, q, qdot, residual);
+    }
+
+    /// The name of constraint `i` for messages: holonomic constraints first (`0 ≤ i < m`),
+    /// then velocity constraints. Default: `Φ1`, `Φ2`, … and `A1`, `A2`, ….
+    fn constraint_name(&self, i: usize) -> String {
+        let m = self.holonomic_constraints();
+        if i < m { format!("Φ{}", i + 1) } else { format!("A{}", i - m + 1) }
+    }
+
     /// Declare that every pose is affine in `q` with constant coefficients and independent of
     /// `t` (Atwood machines, wedge, oscillator). Then `M` is constant and the convective term
     /// vanishes: the engine factors `M` once and skips the convective pass.

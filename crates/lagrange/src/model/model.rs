@@ -44,6 +44,8 @@ pub struct Model<M> {
     pub(crate) autonomous: bool,
     /// The declared kinematic tree, when accelerations run the articulated-body algorithm.
     pub(crate) tree: Option<Tree>,
+    /// Numbers of holonomic and velocity constraints among the coordinates.
+    pub(crate) constraint_counts: (usize, usize),
 }
 
 impl<M: Mechanism> Model<M> {
@@ -103,6 +105,7 @@ impl<M: Mechanism> Model<M> {
             cyclic: vec![false; n],
             autonomous: false,
             tree: None,
+            constraint_counts: (mechanism.holonomic_constraints(), mechanism.velocity_constraints()),
             mechanism,
         };
         let probes = ProbeStates::new(n);
@@ -121,6 +124,11 @@ impl<M: Mechanism> Model<M> {
             return Err(invalid("applied force", body as f64, "names a body the mechanism does not have"));
         }
         model.has_region = model.mechanism.admissible(t, q, qdot, &mut Bounds::new());
+        let constraint_structure = if model.is_constrained() {
+            Some(probe::check_constraints(&model.mechanism, model.constraint_counts, &probes)?)
+        } else {
+            None
+        };
         if model.mechanism.constant_mass_matrix() {
             model.constant = Some(probe::constant_terms(&model.mechanism, &probes)?);
         }
@@ -131,7 +139,14 @@ impl<M: Mechanism> Model<M> {
                 model.tree = Some(tree.clone());
             }
         }
-        let (cyclic, autonomous) = probes.lagrangian_structure(&model);
+        let (mut cyclic, mut autonomous) = probes.lagrangian_structure(&model);
+        if let Some(structure) = constraint_structure {
+            // A constraint force along q_j moves p_j; a moving constraint does work.
+            for (c, involved) in cyclic.iter_mut().zip(&structure.involves) {
+                *c &= !involved;
+            }
+            autonomous &= structure.autonomous;
+        }
         model.cyclic = cyclic;
         model.autonomous = autonomous;
         Ok(model)
@@ -193,6 +208,17 @@ impl<M: Mechanism> Model<M> {
     /// constant mass matrix).
     pub fn uses_tree_path(&self) -> bool {
         self.tree.is_some()
+    }
+
+    /// Whether the coordinates are related by constraints ([`Mechanism::holonomic_constraints`],
+    /// [`Mechanism::velocity_constraints`]).
+    pub fn is_constrained(&self) -> bool {
+        self.constraint_counts != (0, 0)
+    }
+
+    /// The numbers of holonomic and of velocity constraints `(m, k)`.
+    pub fn constraint_counts(&self) -> (usize, usize) {
+        self.constraint_counts
     }
 
     /// Which coordinates are cyclic (`∂L/∂q_j = 0`): their momenta `p_j` are conserved when

@@ -459,3 +459,97 @@ pub(crate) fn check_lagrangian<F: LagrangianFunction>(f: &F, probes: &ProbeState
     }
     Ok(())
 }
+
+/// What the constraints among the coordinates reveal at the probe states: which coordinates
+/// they involve (column `j` of `G` not exactly zero at some probe: a constraint force can act
+/// along `q_j`, so its momentum is not conserved even when `q_j` is cyclic in `L`), and whether
+/// they are free of explicit time (`∂Φ/∂t` and `b` exactly time-independent; a moving
+/// constraint does work, so `h` is not conserved).
+pub(crate) struct ConstraintStructure {
+    pub(crate) involves: Vec<bool>,
+    pub(crate) autonomous: bool,
+}
+
+/// Check the declared constraints at the probe states: every residual finite, every velocity
+/// constraint affine in `q̇` (`c(2q̇) − 2c(q̇) + c(0) = 0` to round-off), and find their
+/// [`ConstraintStructure`].
+///
+/// # Errors
+/// [`Error::NonFinite`] (stage [`Constraints`](Stage::Constraints)) for a non-finite residual;
+/// [`Error::Inconsistent`] for a velocity constraint that is not linear in `q̇`.
+pub(crate) fn check_constraints<M: Mechanism>(
+    mechanism: &M,
+    (holonomic, velocity): (usize, usize),
+    probes: &ProbeStates,
+) -> Result<ConstraintStructure, Error> {
+    let n = probes.n;
+    let mut structure = ConstraintStructure { involves: vec![false; n], autonomous: true };
+    let mut phi = vec![Dual64::from(0.0); holonomic];
+    let mut residual = vec![Dual64::from(0.0); velocity];
+    let mut q_dual = vec![Dual64::from(0.0); n];
+    let mut qdot_dual = vec![Dual64::from(0.0); n];
+    for k in 0..probes.len() {
+        let (q, qdot, t) = probes.state(k);
+        // Time derivatives, then one column of G per coordinate.
+        seed::constant(&mut q_dual, q);
+        seed::constant(&mut qdot_dual, qdot);
+        for j in 0..=n {
+            let t_dual = if j == n { Dual64::new(t, 1.0) } else { Dual64::from(t) };
+            if j < n {
+                q_dual[j].eps = 1.0;
+            }
+            if holonomic > 0 {
+                mechanism.constraints(t_dual, &q_dual, &mut phi);
+            }
+            if velocity > 0 {
+                mechanism.velocity_constraint(t_dual, &q_dual, &qdot_dual, &mut residual);
+            }
+            if phi.iter().chain(&residual).any(|v| !(v.re.is_finite() && v.eps.is_finite())) {
+                return Err(non_finite(Stage::Constraints, t, q));
+            }
+            let moves = phi.iter().chain(&residual).any(|v| v.eps != 0.0);
+            if j < n {
+                q_dual[j].eps = 0.0;
+                structure.involves[j] |= moves;
+            } else if moves {
+                structure.autonomous = false;
+            }
+        }
+        if velocity > 0 {
+            // Velocity rows: A q̇ itself moves the momenta of the coordinates it names.
+            for j in 0..n {
+                qdot_dual[j].eps = 1.0;
+                mechanism.velocity_constraint(Dual64::from(t), &q_dual, &qdot_dual, &mut residual);
+                structure.involves[j] |= residual.iter().any(|v| v.eps != 0.0);
+                qdot_dual[j].eps = 0.0;
+            }
+            // Affine in q̇: c(2q̇) − 2 c(q̇) + c(0) = 0 up to round-off of the three evaluations.
+            let at = |scale: f64, out: &mut [Dual64]| {
+                let v: Vec<Dual64> = qdot.iter().map(|&v| Dual64::from(scale * v)).collect();
+                mechanism.velocity_constraint(Dual64::from(t), &q_dual, &v, out);
+            };
+            let (mut c0, mut c1, mut c2) = (
+                vec![Dual64::from(0.0); velocity],
+                vec![Dual64::from(0.0); velocity],
+                vec![Dual64::from(0.0); velocity],
+            );
+            at(0.0, &mut c0);
+            at(1.0, &mut c1);
+            at(2.0, &mut c2);
+            for i in 0..velocity {
+                let (a, b, c) = (c0[i].re, c1[i].re, c2[i].re);
+                let scale = a.abs().max(b.abs()).max(c.abs()).max(1.0);
+                if (c - 2.0 * b + a).abs() > 1e3 * f64::EPSILON * scale {
+                    return Err(Error::Inconsistent {
+                        what: format!(
+                            "velocity constraint {} is not linear in q̇ (c(2q̇) − 2c(q̇) + c(0) = {:e})",
+                            mechanism.constraint_name(holonomic + i),
+                            c - 2.0 * b + a
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    Ok(structure)
+}

@@ -1,0 +1,526 @@
+//! Constraints among the coordinates: holonomic `Φ(t, q) = 0` (m) and velocity constraints
+//! `A(t, q) q̇ + b(t, q) = 0` (k), with multipliers.
+//!
+//! With `c = m + k` constraint rows `G = [Φ_q; A]` and convective terms
+//! `γ = [d²/ds² Φ(t + s, q + s q̇); ∂(A q̇ + b)/∂q · q̇ + ∂(A q̇ + b)/∂t]`, the equations of
+//! motion are
+//!
+//! ```text
+//! M q̈ + Gᵀ λ = f,      G q̈ = −γ,
+//! ```
+//!
+//! solved by the Schur complement on the factor of `M` the unconstrained solve already has:
+//! `q̈_u = M⁻¹ f`, `Y = M⁻¹ Gᵀ`, `S = G Y` (c × c, symmetric positive semi-definite),
+//! `S λ = G q̈_u + γ`, `q̈ = q̈_u − Y λ`. The Schur complement reuses the unconstrained path
+//! unchanged (one factorization of `M`, `c` extra solves, a c × c factorization): for a loop
+//! closed on a tree of `n` coordinates with a few constraints it costs little more than the
+//! tree itself, where a null-space method would need a basis of `ker G` (an n × (n − c)
+//! QR) at every evaluation.
+//!
+//! Redundant constraints (a parallelogram with a third parallel link) make `S` singular but
+//! leave `q̈` unique: `S` is factored as LDLᵀ in the order the constraints are written, and a
+//! row whose pivot falls below `DEPENDENT` times its diagonal is dependent on the rows before
+//! it. Its multiplier is 0 (the *basic* solution: the earlier of two redundant constraints
+//! carries the force), and its equation must then hold by itself — the forward-substituted
+//! residual within `CONSISTENT` of the scale of the right-hand side — or the constraints are
+//! inconsistent, [`Error::InconsistentConstraints`] naming them.
+
+use crate::error::{Error, Stage};
+use crate::mechanism::Mechanism;
+use crate::model::Model;
+use crate::scalar::Scalar;
+use crate::seed;
+use crate::workspace::Workspace;
+use num_dual::{Dual, Dual2};
+
+/// A constraint row is dependent on the rows before it when its LDLᵀ pivot of `S = G M⁻¹ Gᵀ`
+/// falls below this fraction of its diagonal: 1e-10 leaves about 6 correct digits of the
+/// remaining rows' multipliers at the worst accepted conditioning, and is far above the
+/// round-off (≈ n ε) that an exactly dependent row leaves in its pivot.
+pub(crate) const DEPENDENT: f64 = 1e-10;
+
+/// A dependent row's own residual after elimination must be below this fraction of the
+/// right-hand side's scale `max |G q̈_u + γ|` (plus an absolute `ε`): what exactly consistent
+/// rows leave is round-off, ≈ 1e-15 relative.
+pub(crate) const CONSISTENT: f64 = 1e-8;
+
+/// The buffers of the constrained solve in scalar `S` (`c = m + k` rows, `n` coordinates).
+#[derive(Clone, Debug)]
+pub struct ConstraintBuffers<S> {
+    /// Constraint Jacobian `G = [Φ_q; A]` (c × n, row-major).
+    pub jacobian: Vec<S>,
+    /// Convective terms `γ` (c): `G q̈ + γ = 0` along every motion.
+    pub convective: Vec<S>,
+    /// Holonomic residuals `Φ(t, q)` (m).
+    pub residual: Vec<S>,
+    /// Velocity residuals (c): `Φ̇ = G_Φ q̇ + Φ_t` for the holonomic rows, `A q̇ + b` for the
+    /// velocity rows.
+    pub rate: Vec<S>,
+    /// Multipliers `λ` (c): the generalized constraint force is `−Gᵀ λ`.
+    pub multipliers: Vec<S>,
+    /// Whether each row was found dependent on the rows before it (its `λ` is 0).
+    pub dependent: Vec<bool>,
+    /// `Y = M⁻¹ Gᵀ`, stored by rows: row `i` is `M⁻¹ g_i` (c × n).
+    pub(crate) mobility: Vec<S>,
+    /// `S = G M⁻¹ Gᵀ` and its LDLᵀ factor (c × c).
+    pub(crate) schur: Vec<S>,
+    /// Seeded copies of `q̇` (n), the holonomic residuals (m) and the velocity residuals (k).
+    pub(crate) qdot_dual: Vec<Dual<S>>,
+    pub(crate) phi_dual: Vec<Dual<S>>,
+    pub(crate) phi_dual2: Vec<Dual2<S>>,
+    pub(crate) velocity_dual: Vec<Dual<S>>,
+    /// Projection scratch: `G Gᵀ` and its factor (c × c), its solution (c), a step (n).
+    pub(crate) gram: Vec<S>,
+    pub(crate) gram_solution: Vec<S>,
+    pub(crate) step: Vec<S>,
+    pub(crate) gram_dependent: Vec<bool>,
+}
+
+impl<S: Scalar> ConstraintBuffers<S> {
+    pub(crate) fn new(n: usize, holonomic: usize, velocity: usize) -> Self {
+        let zero = S::zero();
+        let c = holonomic + velocity;
+        Self {
+            jacobian: vec![zero; c * n],
+            convective: vec![zero; c],
+            residual: vec![zero; holonomic],
+            rate: vec![zero; c],
+            multipliers: vec![zero; c],
+            dependent: vec![false; c],
+            mobility: vec![zero; c * n],
+            schur: vec![zero; c * c],
+            qdot_dual: vec![Dual::from_re(zero); n],
+            phi_dual: vec![Dual::from_re(zero); holonomic],
+            phi_dual2: vec![Dual2::from_re(zero); holonomic],
+            velocity_dual: vec![Dual::from_re(zero); velocity],
+            gram: vec![zero; c * c],
+            gram_solution: vec![zero; c],
+            step: vec![zero; n],
+            gram_dependent: vec![false; c],
+        }
+    }
+}
+
+/// Fill `G`, `γ`, `Φ` and the velocity residuals at `(t, q, q̇)`: `n` first-order passes of
+/// `Φ` (seed `q_j`), one second-order pass of `Φ` along `(q̇, 1)`; for the velocity rows `n`
+/// passes seeding `q̇_j` (the columns of `A`) and one pass along `(q̇, 1)` with `q̇` held
+/// (the convective term `∂(A q̇ + b)/∂q · q̇ + ∂(A q̇ + b)/∂t`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
+    mechanism: &M,
+    (holonomic, velocity): (usize, usize),
+    q_dual: &mut [Dual<S>],
+    q_dual2: &mut [Dual2<S>],
+    buffers: &mut ConstraintBuffers<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) {
+    let n = q.len();
+    let ConstraintBuffers {
+        jacobian, convective, residual, rate, qdot_dual, phi_dual, phi_dual2, velocity_dual, ..
+    } = buffers;
+    if holonomic > 0 {
+        let t_dual = Dual::from_re(t);
+        seed::constant(q_dual, q);
+        for j in 0..n {
+            q_dual[j].eps = S::one();
+            mechanism.constraints(t_dual, q_dual, phi_dual);
+            for (i, phi) in phi_dual.iter().enumerate() {
+                jacobian[i * n + j] = phi.eps;
+            }
+            q_dual[j].eps = S::zero();
+        }
+        for (r, phi) in residual.iter_mut().zip(phi_dual.iter()) {
+            *r = phi.re;
+        }
+        seed::along2(q_dual2, q, qdot);
+        mechanism.constraints(Dual2::new(t, S::one(), S::zero()), q_dual2, phi_dual2);
+        for (i, phi) in phi_dual2.iter().enumerate() {
+            rate[i] = phi.v1;
+            convective[i] = phi.v2;
+        }
+    }
+    if velocity > 0 {
+        let t_dual = Dual::from_re(t);
+        seed::constant(q_dual, q);
+        seed::constant(qdot_dual, qdot);
+        for j in 0..n {
+            qdot_dual[j].eps = S::one();
+            mechanism.velocity_constraint(t_dual, q_dual, qdot_dual, velocity_dual);
+            for (i, r) in velocity_dual.iter().enumerate() {
+                jacobian[(holonomic + i) * n + j] = r.eps;
+            }
+            qdot_dual[j].eps = S::zero();
+        }
+        seed::along(q_dual, q, qdot);
+        mechanism.velocity_constraint(Dual::new(t, S::one()), q_dual, qdot_dual, velocity_dual);
+        for (i, r) in velocity_dual.iter().enumerate() {
+            rate[holonomic + i] = r.re;
+            convective[holonomic + i] = r.eps;
+        }
+    }
+}
+
+/// Turn the unconstrained `q̈_u` in `ws.qddot` into the constrained `q̈` and fill the
+/// multipliers, with the LDLᵀ factor of `M` of the unconstrained solve (`ws.factor`, or the
+/// stored factor of a constant `M`).
+pub(crate) fn solve<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<(), Error> {
+    let n = model.n;
+    let counts = model.constraint_counts;
+    let c = counts.0 + counts.1;
+    let mut buffers = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
+    evaluate(&model.mechanism, counts, &mut ws.q_dual, &mut ws.q_dual2, &mut buffers, t, q, qdot);
+    let factor = if model.constant.is_some() { &ws.constant_factor } else { &ws.factor };
+    let result = schur_solve(model, &mut buffers, &mut ws.qddot, factor, n, c, t, q);
+    ws.constraints = Some(buffers);
+    result
+}
+
+#[allow(clippy::too_many_arguments)]
+fn schur_solve<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    b: &mut ConstraintBuffers<S>,
+    qddot: &mut [S],
+    factor: &[S],
+    n: usize,
+    c: usize,
+    t: S,
+    q: &[S],
+) -> Result<(), Error> {
+    if !(crate::eom::all_finite(&b.jacobian) && crate::eom::all_finite(&b.convective)) {
+        return Err(crate::eom::non_finite(Stage::Constraints, t, q));
+    }
+    // Y = M⁻¹ Gᵀ, row by row.
+    b.mobility.copy_from_slice(&b.jacobian);
+    for row in b.mobility.chunks_mut(n) {
+        crate::linalg::ldlt_solve(n, factor, row);
+    }
+    // S = G Y (symmetric), right-hand side G q̈_u + γ in λ.
+    for i in 0..c {
+        let g = &b.jacobian[i * n..(i + 1) * n];
+        for k in 0..=i {
+            let y = &b.mobility[k * n..(k + 1) * n];
+            let s = dot(g, y);
+            b.schur[i * c + k] = s;
+            b.schur[k * c + i] = s;
+        }
+        b.multipliers[i] = dot(g, qddot) + b.convective[i];
+    }
+    let scale = b.multipliers.iter().fold(0.0_f64, |m, v| m.max(v.re().abs()));
+    // LDLᵀ of S in place (lower triangle), skipping dependent rows.
+    for j in 0..c {
+        let diagonal = b.schur[j * c + j].re();
+        let mut d = b.schur[j * c + j];
+        for k in 0..j {
+            if !b.dependent[k] {
+                let l = b.schur[j * c + k];
+                d -= l * l * b.schur[k * c + k];
+            }
+        }
+        // A NaN pivot counts as dependent too (then the consistency check names the rows).
+        b.dependent[j] =
+            d.re().partial_cmp(&(DEPENDENT * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
+        b.schur[j * c + j] = d;
+        for i in j + 1..c {
+            if b.dependent[j] {
+                b.schur[i * c + j] = S::zero();
+                continue;
+            }
+            let mut l = b.schur[i * c + j];
+            for k in 0..j {
+                if !b.dependent[k] {
+                    l -= b.schur[i * c + k] * b.schur[j * c + k] * b.schur[k * c + k];
+                }
+            }
+            b.schur[i * c + j] = l / d;
+        }
+    }
+    // Forward substitution; a dependent row's eliminated residual must vanish.
+    for i in 0..c {
+        let mut z = b.multipliers[i];
+        for k in 0..i {
+            if !b.dependent[k] {
+                z -= b.schur[i * c + k] * b.multipliers[k];
+            }
+        }
+        b.multipliers[i] = z;
+        if b.dependent[i] && z.re().abs() > CONSISTENT * scale + f64::EPSILON {
+            let names = (0..c)
+                .filter(|&k| k == i || !b.dependent[k] && b.schur[i * c + k].re() != 0.0)
+                .map(|k| model.mechanism.constraint_name(k))
+                .collect();
+            return Err(Error::InconsistentConstraints {
+                t: t.re(),
+                q: q.iter().map(|v| v.re()).collect(),
+                constraints: names,
+                residual: z.re().abs(),
+            });
+        }
+    }
+    // Diagonal and back substitution; dependent rows carry no multiplier.
+    for i in (0..c).rev() {
+        if b.dependent[i] {
+            b.multipliers[i] = S::zero();
+            continue;
+        }
+        let mut z = b.multipliers[i] / b.schur[i * c + i];
+        for k in i + 1..c {
+            if !b.dependent[k] {
+                z -= b.schur[k * c + i] * b.multipliers[k];
+            }
+        }
+        b.multipliers[i] = z;
+    }
+    // q̈ = q̈_u − Y λ.
+    for i in 0..c {
+        let lambda = b.multipliers[i];
+        if b.dependent[i] {
+            continue;
+        }
+        for (a, y) in qddot.iter_mut().zip(&b.mobility[i * n..(i + 1) * n]) {
+            *a -= *y * lambda;
+        }
+    }
+    Ok(())
+}
+
+fn dot<S: Scalar>(a: &[S], b: &[S]) -> S {
+    a.iter().zip(b).fold(S::zero(), |sum, (&x, &y)| sum + x * y)
+}
+
+/// Iterations of Gauss–Newton before [`Error::AssemblyFailed`]: quadratic convergence from any
+/// guess within the basin needs a handful; 50 leaves room for guesses far from the manifold.
+const ASSEMBLY_ITERATIONS: usize = 50;
+
+/// The positions are on `Φ = 0` when `max |Φ| ≤ POSITION_TOLERANCE · (1 + max |q|)`: a few ε of
+/// the coordinates' own round-off (what Gauss–Newton reaches in one or two iterations from a
+/// step's `O(tol)` drift), well above it so that round-off cannot stall the loop.
+pub(crate) const POSITION_TOLERANCE: f64 = 16.0 * f64::EPSILON;
+
+/// [`project`] with some coordinates held: `held[j]` keeps `q_j` and `q̇_j` as given.
+pub(crate) fn project_holding<M: Mechanism>(
+    model: &Model<M>,
+    ws: &mut Workspace<f64>,
+    t: f64,
+    q: &mut [f64],
+    qdot: &mut [f64],
+    held: Option<&[bool]>,
+) -> Result<(), Error> {
+    crate::eom::check_state(model.n, t, q, Some(qdot))?;
+    let n = model.n;
+    let (m, k) = model.constraint_counts;
+    let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
+    let result = (|| {
+        if m > 0 {
+            let scale = 1.0 + q.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+            let mut iterations = 0;
+            loop {
+                evaluate(&model.mechanism, (m, 0), &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
+                let (worst, value) = largest(&b.residual);
+                if !value.is_finite() {
+                    return Err(crate::eom::non_finite(Stage::Constraints, t, q));
+                }
+                if value <= POSITION_TOLERANCE * scale {
+                    break;
+                }
+                if iterations == ASSEMBLY_ITERATIONS {
+                    return Err(Error::AssemblyFailed {
+                        t,
+                        constraint: model.mechanism.constraint_name(worst),
+                        residual: value,
+                        iterations,
+                    });
+                }
+                // Smallest step: Δq = −Gᵀ (G Gᵀ)⁻¹ Φ over the free coordinates.
+                min_norm_step(&mut b, n, m, Rhs::Residual, held);
+                for (qi, d) in q.iter_mut().zip(&b.step) {
+                    *qi -= d;
+                }
+                iterations += 1;
+            }
+        }
+        // Velocities: one exact linear step onto G q̇ + Φ_t = 0 and A q̇ + b = 0.
+        evaluate(&model.mechanism, (m, k), &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
+        min_norm_step(&mut b, n, m + k, Rhs::Rate, held);
+        for (v, d) in qdot.iter_mut().zip(&b.step) {
+            *v -= d;
+        }
+        Ok(())
+    })();
+    ws.constraints = Some(b);
+    result
+}
+
+/// `step = Gᵀ μ` with `(G Gᵀ) μ = rhs` over the first `rows` rows of `G`, the held columns
+/// removed: the smallest change (in the free coordinates) that moves the first-order residual
+/// by `rhs`. Dependent rows (pivot below [`DEPENDENT`] of the diagonal) are skipped.
+fn min_norm_step(b: &mut ConstraintBuffers<f64>, n: usize, rows: usize, rhs: Rhs, held: Option<&[bool]>) {
+    let free = |j: usize| held.is_none_or(|h| !h[j]);
+    let ConstraintBuffers {
+        jacobian: g, gram, gram_solution: mu, gram_dependent: dependent, residual, rate, step, ..
+    } = b;
+    let rhs: &[f64] = match rhs {
+        Rhs::Residual => residual,
+        Rhs::Rate => rate,
+    };
+    for i in 0..rows {
+        for l in 0..=i {
+            let s: f64 = (0..n).filter(|&j| free(j)).map(|j| g[i * n + j] * g[l * n + j]).sum();
+            gram[i * rows + l] = s;
+        }
+    }
+    // LDLᵀ (lower triangle), skipping dependent rows.
+    for j in 0..rows {
+        let diagonal = gram[j * rows + j];
+        let mut d = diagonal;
+        for l in 0..j {
+            if !dependent[l] {
+                d -= gram[j * rows + l] * gram[j * rows + l] * gram[l * rows + l];
+            }
+        }
+        dependent[j] =
+            d.partial_cmp(&(DEPENDENT * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
+        gram[j * rows + j] = d;
+        for i in j + 1..rows {
+            if dependent[j] {
+                gram[i * rows + j] = 0.0;
+                continue;
+            }
+            let mut l = gram[i * rows + j];
+            for p in 0..j {
+                if !dependent[p] {
+                    l -= gram[i * rows + p] * gram[j * rows + p] * gram[p * rows + p];
+                }
+            }
+            gram[i * rows + j] = l / d;
+        }
+    }
+    for i in 0..rows {
+        let mut z = rhs[i];
+        for l in 0..i {
+            if !dependent[l] {
+                z -= gram[i * rows + l] * mu[l];
+            }
+        }
+        mu[i] = z;
+    }
+    for i in (0..rows).rev() {
+        if dependent[i] {
+            mu[i] = 0.0;
+            continue;
+        }
+        let mut z = mu[i] / gram[i * rows + i];
+        for l in i + 1..rows {
+            if !dependent[l] {
+                z -= gram[l * rows + i] * mu[l];
+            }
+        }
+        mu[i] = z;
+    }
+    for j in 0..n {
+        step[j] = if free(j) { (0..rows).map(|i| g[i * n + j] * mu[i]).sum() } else { 0.0 };
+    }
+}
+
+/// Which residual a projection step removes.
+#[derive(Clone, Copy)]
+enum Rhs {
+    /// `Φ` (positions).
+    Residual,
+    /// `G q̇ + Φ_t`, `A q̇ + b` (velocities).
+    Rate,
+}
+
+/// The index and size of the largest `|v_i|`.
+fn largest(v: &[f64]) -> (usize, f64) {
+    v.iter().enumerate().fold((0, 0.0), |(i, m), (j, x)| if x.abs() > m || x.is_nan() { (j, x.abs()) } else { (i, m) })
+}
+
+/// `[max |Φ|, max |rate|]` at `(t, q, q̇)`.
+pub(crate) fn violation<M: Mechanism>(
+    model: &Model<M>,
+    ws: &mut Workspace<f64>,
+    t: f64,
+    q: &[f64],
+    qdot: &[f64],
+) -> Result<[f64; 2], Error> {
+    crate::eom::check_state(model.n, t, q, Some(qdot))?;
+    let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
+    evaluate(&model.mechanism, model.constraint_counts, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
+    let result = [largest(&b.residual).1, largest(&b.rate).1];
+    ws.constraints = Some(b);
+    Ok(result)
+}
+
+/// Project `(q, q̇)` at time `t` onto the constraints of a constrained [`Model`], in place, by
+/// the smallest change: Gauss–Newton `q ← q − Gᵀ (G Gᵀ)⁻¹ Φ` until
+/// `max |Φ| ≤ 16 ε (1 + max |q|)`, then one exact step `q̇ ← q̇ − Gᵀ (G Gᵀ)⁻¹ r` with `r` the
+/// velocity residuals `G q̇ + Φ_t` and `A q̇ + b`. A model without constraints is left as it is.
+/// The integrators call it after every step.
+///
+/// # Errors
+/// [`Error::AssemblyFailed`] when Gauss–Newton does not reach `Φ = 0` in 50 iterations;
+/// [`Error::NonFinite`] for a bad state or non-finite constraints.
+pub fn project<M: Mechanism>(
+    model: &Model<M>,
+    ws: &mut Workspace<f64>,
+    t: f64,
+    q: &mut [f64],
+    qdot: &mut [f64],
+) -> Result<(), Error> {
+    if !model.is_constrained() {
+        return Ok(());
+    }
+    project_holding(model, ws, t, q, qdot, None)
+}
+
+/// A consistent initial state from an approximate one: the coordinates marked in `held` keep
+/// their given values (and velocities), the others are moved as little as possible onto
+/// `Φ(t, q) = 0`, and the free velocities onto `G q̇ + Φ_t = 0`, `A q̇ + b = 0`. For a four-bar,
+/// hold the crank angle and its rate: the coupler and rocker angles and rates follow, on the
+/// branch nearest the guess.
+///
+/// # Errors
+/// [`Error::DimensionMismatch`] for a `held` of the wrong length; [`Error::AssemblyFailed`]
+/// naming the constraint that cannot be met (links that cannot close, or a guess outside the
+/// basin of Gauss–Newton); [`Error::NonFinite`].
+pub fn assemble<M: Mechanism>(
+    model: &Model<M>,
+    approximate: &crate::State,
+    held: &[bool],
+) -> Result<crate::State, Error> {
+    if held.len() != model.n {
+        return Err(Error::DimensionMismatch { what: "held", expected: model.n, got: held.len() });
+    }
+    let mut state = approximate.clone();
+    if model.is_constrained() {
+        let mut ws = model.workspace();
+        project_holding(model, &mut ws, state.t, &mut state.q, &mut state.qdot, Some(held))?;
+    }
+    Ok(state)
+}
+
+/// The multipliers `λ` of the constraints at `(t, q, q̇)` (holonomic rows, then velocity rows),
+/// borrowed from the workspace: `−Gᵀ λ` is the generalized constraint force, so that
+/// `M q̈ = f − Gᵀ λ`. Empty for a model without constraints. A row dependent on the rows
+/// before it carries `λ = 0`.
+///
+/// # Errors
+/// As [`accelerations`](crate::accelerations).
+pub fn constraint_multipliers<'w, M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &'w mut Workspace<S>,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) -> Result<&'w [S], Error> {
+    crate::eom::accelerations(model, ws, t, q, qdot)?;
+    Ok(ws.constraints.as_ref().map_or(&[][..], |b| &b.multipliers))
+}
