@@ -361,3 +361,69 @@ fn redundant_constraints_are_resolved_and_contradictory_ones_named() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A knife edge (Chaplygin sleigh, no gravity): the velocity constraint
+/// `−sin φ ẋ + cos φ ẏ + a φ̇ = 0` keeps the point `C + a e` moving along `e`. The constraint
+/// force does no work, so `E = T` is conserved; it acts along every coordinate (none is cyclic) and
+/// the run stays on the constraint after every projection.
+#[test]
+fn a_velocity_constraint_holds_and_does_no_work() {
+    struct Sleigh {
+        coordinates: [Coordinate; 3],
+        bodies: [Body; 1],
+        a: f64,
+    }
+    impl Mechanism for Sleigh {
+        fn coordinates(&self) -> &[Coordinate] {
+            &self.coordinates
+        }
+        fn bodies(&self) -> &[Body] {
+            &self.bodies
+        }
+        fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
+            p[0] = Pose::new(q[0], q[1], q[2]);
+        }
+        fn velocity_constraints(&self) -> usize {
+            1
+        }
+        fn velocity_constraint<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S], r: &mut [S]) {
+            r[0] = -q[2].sin() * qdot[0] + q[2].cos() * qdot[1] + qdot[2] * self.a;
+        }
+    }
+    let sleigh = Sleigh {
+        coordinates: [Coordinate::length("x"), Coordinate::length("y"), Coordinate::angle("φ")],
+        bodies: [Body::rigid("sleigh", 1.0, 0.1)],
+        a: 0.5,
+    };
+    let model = Model::new(sleigh).expect("valid");
+    assert_eq!(model.constraint_counts(), (0, 1));
+    // x and y are cyclic in L, but the knife edge's force −Aᵀλ acts along both (and along φ):
+    // no momentum is conserved.
+    assert_eq!(model.cyclic_coordinates(), &[false, false, false]);
+    assert!(model.conserves_energy());
+    let initial = State::new(0.0, [0.0, 0.0, 0.0], [1.0, -1.0, 2.0]);
+    let mut ws = model.workspace();
+    let energy = |ws: &mut lagrange::Workspace<f64>, q: &[f64], v: &[f64]| {
+        lagrange::energy_function(&model, ws, 0.0, q, v).expect("evaluates")
+    };
+    let e0 = energy(&mut ws, &initial.q, &initial.qdot);
+    let run = lagrange::simulate(
+        &model,
+        &initial,
+        3.0,
+        Method::Adaptive { tol: Tolerances::uniform(1e-12) },
+        &Output::Every(0.1),
+    )
+    .expect("runs");
+    for k in 0..run.len() {
+        let [_, velocity] = lagrange::Dynamics::constraint_violation(&model, &mut ws, run.t[k], run.q(k), run.qdot(k))
+            .expect("evaluates")
+            .expect("constrained");
+        assert!(velocity <= 1e-14, "violation {velocity:e} at {}", run.t[k]);
+        // Energy: the integrator's error at tol 1e-12 over ≈ 100 steps, plus the projection's
+        // removal of the velocity drift (second order in it); 1e-10 relative is 100× the
+        // per-step tolerance.
+        let e = energy(&mut ws, run.q(k), run.qdot(k));
+        assert!((e - e0).abs() <= 1e-10 * e0, "E = {e}, E₀ = {e0} at {}", run.t[k]);
+    }
+}

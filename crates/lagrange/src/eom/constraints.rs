@@ -101,14 +101,27 @@ impl<S: Scalar> ConstraintBuffers<S> {
     }
 }
 
+/// Which constraint rows [`evaluate`] fills.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Rows {
+    /// Holonomic and velocity rows.
+    All,
+    /// The holonomic rows only (`G_Φ`, `Φ`, `Φ̇`, `γ_Φ`).
+    Holonomic,
+    /// The velocity rows only (`A`, `A q̇ + b`, their `γ`).
+    Velocity,
+}
+
 /// Fill `G`, `γ`, `Φ` and the velocity residuals at `(t, q, q̇)`: `n` first-order passes of
 /// `Φ` (seed `q_j`), one second-order pass of `Φ` along `(q̇, 1)`; for the velocity rows `n`
 /// passes seeding `q̇_j` (the columns of `A`) and one pass along `(q̇, 1)` with `q̇` held
-/// (the convective term `∂(A q̇ + b)/∂q · q̇ + ∂(A q̇ + b)/∂t`).
+/// (the convective term `∂(A q̇ + b)/∂q · q̇ + ∂(A q̇ + b)/∂t`). `rows` picks which of the two
+/// kinds to evaluate; the others keep what they hold.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
     mechanism: &M,
     (holonomic, velocity): (usize, usize),
+    rows: Rows,
     q_dual: &mut [Dual<S>],
     q_dual2: &mut [Dual2<S>],
     buffers: &mut ConstraintBuffers<S>,
@@ -120,7 +133,7 @@ pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
     let ConstraintBuffers {
         jacobian, convective, residual, rate, qdot_dual, phi_dual, phi_dual2, velocity_dual, ..
     } = buffers;
-    if holonomic > 0 {
+    if holonomic > 0 && rows != Rows::Velocity {
         let t_dual = Dual::from_re(t);
         seed::constant(q_dual, q);
         for j in 0..n {
@@ -141,7 +154,7 @@ pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
             convective[i] = phi.v2;
         }
     }
-    if velocity > 0 {
+    if velocity > 0 && rows != Rows::Holonomic {
         let t_dual = Dual::from_re(t);
         seed::constant(q_dual, q);
         seed::constant(qdot_dual, qdot);
@@ -176,7 +189,7 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
     let counts = model.constraint_counts;
     let c = counts.0 + counts.1;
     let mut buffers = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
-    evaluate(&model.mechanism, counts, &mut ws.q_dual, &mut ws.q_dual2, &mut buffers, t, q, qdot);
+    evaluate(&model.mechanism, counts, Rows::All, &mut ws.q_dual, &mut ws.q_dual2, &mut buffers, t, q, qdot);
     let factor = if model.constant.is_some() { &ws.constant_factor } else { &ws.factor };
     let result = schur_solve(model, &mut buffers, &mut ws.qddot, factor, n, c, t, q);
     ws.constraints = Some(buffers);
@@ -214,70 +227,24 @@ fn schur_solve<M: Mechanism, S: Scalar>(
         b.multipliers[i] = dot(g, qddot) + b.convective[i];
     }
     let scale = b.multipliers.iter().fold(0.0_f64, |m, v| m.max(v.re().abs()));
-    // LDLᵀ of S in place (lower triangle), skipping dependent rows.
-    for j in 0..c {
-        let diagonal = b.schur[j * c + j].re();
-        let mut d = b.schur[j * c + j];
-        for k in 0..j {
-            if !b.dependent[k] {
-                let l = b.schur[j * c + k];
-                d -= l * l * b.schur[k * c + k];
-            }
-        }
-        // A NaN pivot counts as dependent too (then the consistency check names the rows).
-        b.dependent[j] =
-            d.re().partial_cmp(&(DEPENDENT * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
-        b.schur[j * c + j] = d;
-        for i in j + 1..c {
-            if b.dependent[j] {
-                b.schur[i * c + j] = S::zero();
-                continue;
-            }
-            let mut l = b.schur[i * c + j];
-            for k in 0..j {
-                if !b.dependent[k] {
-                    l -= b.schur[i * c + k] * b.schur[j * c + k] * b.schur[k * c + k];
-                }
-            }
-            b.schur[i * c + j] = l / d;
-        }
+    factor_skipping(c, &mut b.schur, &mut b.dependent);
+    forward_skipping(c, &b.schur, &b.dependent, &mut b.multipliers);
+    // A dependent row's residual after elimination must vanish.
+    if let Some(i) = (0..c).find(|&i| b.dependent[i] && b.multipliers[i].re().abs() > CONSISTENT * scale + f64::EPSILON)
+    {
+        let names = (0..c)
+            .filter(|&k| k == i || !b.dependent[k] && b.schur[i * c + k].re() != 0.0)
+            .map(|k| model.mechanism.constraint_name(k))
+            .collect();
+        return Err(Error::InconsistentConstraints {
+            t: t.re(),
+            q: q.iter().map(|v| v.re()).collect(),
+            constraints: names,
+            residual: b.multipliers[i].re().abs(),
+        });
     }
-    // Forward substitution; a dependent row's eliminated residual must vanish.
-    for i in 0..c {
-        let mut z = b.multipliers[i];
-        for k in 0..i {
-            if !b.dependent[k] {
-                z -= b.schur[i * c + k] * b.multipliers[k];
-            }
-        }
-        b.multipliers[i] = z;
-        if b.dependent[i] && z.re().abs() > CONSISTENT * scale + f64::EPSILON {
-            let names = (0..c)
-                .filter(|&k| k == i || !b.dependent[k] && b.schur[i * c + k].re() != 0.0)
-                .map(|k| model.mechanism.constraint_name(k))
-                .collect();
-            return Err(Error::InconsistentConstraints {
-                t: t.re(),
-                q: q.iter().map(|v| v.re()).collect(),
-                constraints: names,
-                residual: z.re().abs(),
-            });
-        }
-    }
-    // Diagonal and back substitution; dependent rows carry no multiplier.
-    for i in (0..c).rev() {
-        if b.dependent[i] {
-            b.multipliers[i] = S::zero();
-            continue;
-        }
-        let mut z = b.multipliers[i] / b.schur[i * c + i];
-        for k in i + 1..c {
-            if !b.dependent[k] {
-                z -= b.schur[k * c + i] * b.multipliers[k];
-            }
-        }
-        b.multipliers[i] = z;
-    }
+    // Dependent rows carry no multiplier.
+    backward_skipping(c, &b.schur, &b.dependent, &mut b.multipliers);
     // q̈ = q̈_u − Y λ.
     for i in 0..c {
         let lambda = b.multipliers[i];
@@ -289,6 +256,60 @@ fn schur_solve<M: Mechanism, S: Scalar>(
         }
     }
     Ok(())
+}
+
+/// LDLᵀ of the symmetric `c × c` matrix `a` in place (lower triangle; unit `L` below the
+/// diagonal, `D` on it), rows in the order given. A row whose pivot is not above
+/// [`DEPENDENT`] times its diagonal (zero, negative or NaN) depends on the rows before it: it
+/// is marked in `dependent` and its column of `L` is zero.
+fn factor_skipping<S: Scalar>(c: usize, a: &mut [S], dependent: &mut [bool]) {
+    for j in 0..c {
+        let diagonal = a[j * c + j].re();
+        let mut d = a[j * c + j];
+        for k in (0..j).filter(|&k| !dependent[k]) {
+            d -= a[j * c + k] * a[j * c + k] * a[k * c + k];
+        }
+        dependent[j] =
+            d.re().partial_cmp(&(DEPENDENT * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
+        a[j * c + j] = d;
+        for i in j + 1..c {
+            if dependent[j] {
+                a[i * c + j] = S::zero();
+                continue;
+            }
+            let mut l = a[i * c + j];
+            for k in (0..j).filter(|&k| !dependent[k]) {
+                l -= a[i * c + k] * a[j * c + k] * a[k * c + k];
+            }
+            a[i * c + j] = l / d;
+        }
+    }
+}
+
+/// `z ← L⁻¹ z` with the factor of [`factor_skipping`]: a dependent row is left holding its
+/// residual after elimination (zero when it is consistent with the rows before it).
+fn forward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool], z: &mut [S]) {
+    for i in 0..c {
+        for k in (0..i).filter(|&k| !dependent[k]) {
+            let l = a[i * c + k] * z[k];
+            z[i] -= l;
+        }
+    }
+}
+
+/// `z ← D⁻¹ Lᵀ⁻¹ z` after [`forward_skipping`]: the basic solution, 0 on the dependent rows.
+fn backward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool], z: &mut [S]) {
+    for i in (0..c).rev() {
+        if dependent[i] {
+            z[i] = S::zero();
+            continue;
+        }
+        let mut v = z[i] / a[i * c + i];
+        for k in (i + 1..c).filter(|&k| !dependent[k]) {
+            v -= a[k * c + i] * z[k];
+        }
+        z[i] = v;
+    }
 }
 
 fn dot<S: Scalar>(a: &[S], b: &[S]) -> S {
@@ -322,7 +343,17 @@ pub(crate) fn project_holding<M: Mechanism>(
             let scale = 1.0 + q.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
             let mut iterations = 0;
             loop {
-                evaluate(&model.mechanism, (m, 0), &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
+                evaluate(
+                    &model.mechanism,
+                    (m, k),
+                    Rows::Holonomic,
+                    &mut ws.q_dual,
+                    &mut ws.q_dual2,
+                    &mut b,
+                    t,
+                    q,
+                    qdot,
+                );
                 let (worst, value) = largest(&b.residual);
                 if !value.is_finite() {
                     return Err(crate::eom::non_finite(Stage::Constraints, t, q));
@@ -346,8 +377,9 @@ pub(crate) fn project_holding<M: Mechanism>(
                 iterations += 1;
             }
         }
-        // Velocities: one exact linear step onto G q̇ + Φ_t = 0 and A q̇ + b = 0.
-        evaluate(&model.mechanism, (m, k), &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
+        // Velocities: one exact linear step onto G q̇ + Φ_t = 0 and A q̇ + b = 0. The holonomic
+        // rows (G and Φ̇) are those of the last Gauss–Newton evaluation, at the final q.
+        evaluate(&model.mechanism, (m, k), Rows::Velocity, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
         min_norm_step(&mut b, n, m + k, Rhs::Rate, held);
         for (v, d) in qdot.iter_mut().zip(&b.step) {
             *v -= d;
@@ -376,54 +408,10 @@ fn min_norm_step(b: &mut ConstraintBuffers<f64>, n: usize, rows: usize, rhs: Rhs
             gram[i * rows + l] = s;
         }
     }
-    // LDLᵀ (lower triangle), skipping dependent rows.
-    for j in 0..rows {
-        let diagonal = gram[j * rows + j];
-        let mut d = diagonal;
-        for l in 0..j {
-            if !dependent[l] {
-                d -= gram[j * rows + l] * gram[j * rows + l] * gram[l * rows + l];
-            }
-        }
-        dependent[j] =
-            d.partial_cmp(&(DEPENDENT * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
-        gram[j * rows + j] = d;
-        for i in j + 1..rows {
-            if dependent[j] {
-                gram[i * rows + j] = 0.0;
-                continue;
-            }
-            let mut l = gram[i * rows + j];
-            for p in 0..j {
-                if !dependent[p] {
-                    l -= gram[i * rows + p] * gram[j * rows + p] * gram[p * rows + p];
-                }
-            }
-            gram[i * rows + j] = l / d;
-        }
-    }
-    for i in 0..rows {
-        let mut z = rhs[i];
-        for l in 0..i {
-            if !dependent[l] {
-                z -= gram[i * rows + l] * mu[l];
-            }
-        }
-        mu[i] = z;
-    }
-    for i in (0..rows).rev() {
-        if dependent[i] {
-            mu[i] = 0.0;
-            continue;
-        }
-        let mut z = mu[i] / gram[i * rows + i];
-        for l in i + 1..rows {
-            if !dependent[l] {
-                z -= gram[l * rows + i] * mu[l];
-            }
-        }
-        mu[i] = z;
-    }
+    factor_skipping(rows, gram, dependent);
+    mu[..rows].copy_from_slice(&rhs[..rows]);
+    forward_skipping(rows, gram, dependent, mu);
+    backward_skipping(rows, gram, dependent, mu);
     for j in 0..n {
         step[j] = if free(j) { (0..rows).map(|i| g[i * n + j] * mu[i]).sum() } else { 0.0 };
     }
@@ -453,7 +441,7 @@ pub(crate) fn violation<M: Mechanism>(
 ) -> Result<[f64; 2], Error> {
     crate::eom::check_state(model.n, t, q, Some(qdot))?;
     let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
-    evaluate(&model.mechanism, model.constraint_counts, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
+    evaluate(&model.mechanism, model.constraint_counts, Rows::All, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
     let result = [largest(&b.residual).1, largest(&b.rate).1];
     ws.constraints = Some(b);
     Ok(result)
