@@ -427,3 +427,50 @@ fn a_velocity_constraint_holds_and_does_no_work() {
         assert!((e - e0).abs() <= 1e-10 * e0, "E = {e}, E₀ = {e0} at {}", run.t[k]);
     }
 }
+
+/// The loop-closing pin's force is `λ`, and the bodies' reaction forces include it: with
+/// `Φ = B_coupler − B_rocker`, `−Gᵀ λ = Gᵀ F` makes `F = −λ` the force of the rocker on the
+/// coupler at `B` (and `+λ` on the rocker). The rocker's other joint is the ground pivot `O4`,
+/// the coupler's the crank pin `A` (both eliminated by the coordinates), so the moment of each
+/// body's reaction wrench about that joint is the moment of the pin force alone:
+/// `R_τ + (C − P) × R_F = (B − P) × F`. Both sides are sums of a few products of size
+/// `|λ| l`; the bound `1e-12` relative to that size leaves ~4500 ε for the multiplier's and the
+/// reaction's own round-off (measured below 1e-14).
+#[test]
+fn the_loop_pin_force_is_the_multiplier_and_the_reactions_include_it() {
+    let model = Model::new(FourBar::new(LENGTHS, MASSES, false)).unwrap();
+    let [a, b, c, d] = LENGTHS;
+    let mut ws = model.workspace();
+    for (theta2, rate) in [(1.0, 6.0), (2.5, -3.0), (4.4, 10.0)] {
+        let state = four_bar_state(&model, theta2, rate);
+        let (q, qdot) = (&state.q, &state.qdot);
+        let lambda = constraint_multipliers(&model, &mut ws, 0.0, q, qdot).unwrap().to_vec();
+        let reactions = lagrange::reaction_forces(&model, &mut ws, 0.0, q, qdot).unwrap().to_vec();
+        let point = |angle: f64, length: f64| [angle.cos() * length, angle.sin() * length];
+        let [ax, ay] = point(q[0], a);
+        let (pin_a, pin_o4) = ([ax, ay], [d, 0.0]);
+        let [ex, ey] = point(q[1], b);
+        let pin_b = [ax + ex, ay + ey];
+        let cross = |r: [f64; 2], f: [f64; 2]| r[0] * f[1] - r[1] * f[0];
+        let sub = |u: [f64; 2], v: [f64; 2]| [u[0] - v[0], u[1] - v[1]];
+        let [half_ex, half_ey] = point(q[1], b / 2.0);
+        let [half_rx, half_ry] = point(q[2], c / 2.0);
+        let centres = [[ax + half_ex, ay + half_ey], [d + half_rx, half_ry]];
+        let on_rocker = [lambda[0], lambda[1]];
+        let on_coupler = [-lambda[0], -lambda[1]];
+        let scale = (lambda[0].abs() + lambda[1].abs()) * (a + b + c + d);
+        for (body, joint, force) in [(1, pin_a, on_coupler), (2, pin_o4, on_rocker)] {
+            let r = &reactions[3 * body..3 * body + 3];
+            let moment = r[2] + cross(sub(centres[body - 1], joint), [r[0], r[1]]);
+            let expected = cross(sub(pin_b, joint), force);
+            eprintln!(
+                "body {body} at θ2 = {theta2}: moment balance to {:.1e} relative",
+                (moment - expected).abs() / scale
+            );
+            assert!(
+                (moment - expected).abs() <= 1e-12 * scale,
+                "body {body} at θ2 = {theta2}: reaction moment {moment:e}, pin force moment {expected:e}"
+            );
+        }
+    }
+}

@@ -132,3 +132,50 @@ pub fn state(
     }
     Ok(state)
 }
+
+/// The residual, relative to the state's size, above which a given state is not on the
+/// constraints: the engine's own test of a consistent start (1e-10).
+const INCONSISTENT: f64 = 1e-10;
+
+/// The state `initial` brought onto the scene's constraints among its coordinates, keeping the
+/// coordinates named in `hold` (comma-separated names, e.g. `θ2`) and their rates
+/// ([`lagrange::assemble`]); `initial` itself without `--hold`, if it is already on
+/// them.
+///
+/// # Errors
+/// [`CliError::Hold`] for an unknown name, a scene without constraints, or an inconsistent
+/// state without `--hold`; the engine's
+/// [`lagrange::Error::AssemblyFailed`] when the links cannot close from there.
+pub fn hold(system: &mut dyn lagrange::System, initial: State, hold: Option<&str>) -> Result<State, CliError> {
+    let Some(hold) = hold else {
+        // The engine refuses an inconsistent start too; here the message can name the flag.
+        if let Some([position, velocity]) = system.constraint_violation(initial.t, &initial.q, &initial.qdot)? {
+            let scale = 1.0 + initial.q.iter().chain(&initial.qdot).fold(0.0_f64, |m, v| m.max(v.abs()));
+            if position.max(velocity) > INCONSISTENT * scale {
+                let first = system.coordinates().first().map_or(String::new(), |c| c.name.to_string());
+                return Err(CliError::Hold {
+                    why: format!(
+                        "the initial state does not satisfy the scene's constraints (max |Φ| = {position:e}, \
+                         velocity residual {velocity:e}); name the coordinates to keep, e.g. --hold {first}, \
+                         and the others are moved onto the constraints"
+                    ),
+                });
+            }
+        }
+        return Ok(initial);
+    };
+    if system.constraint_counts() == (0, 0) {
+        return Err(CliError::Hold { why: "this scene has no constraints among its coordinates".into() });
+    }
+    let names: Vec<&str> = system.coordinates().iter().map(|c| c.name.as_ref()).collect();
+    let mut held = vec![false; names.len()];
+    for name in hold.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+        let Some(i) = names.iter().position(|n| *n == name) else {
+            return Err(CliError::Hold {
+                why: format!("no coordinate `{name}`; the coordinates are {}", names.join(", ")),
+            });
+        };
+        held[i] = true;
+    }
+    Ok(system.assemble(&initial, &held)?)
+}

@@ -40,6 +40,13 @@ pub enum CliError {
         /// How many values were given.
         got: usize,
     },
+    /// `--hold` naming a coordinate the scene does not have, or given for a scene without
+    /// constraints among its coordinates.
+    #[error("--hold: {why}")]
+    Hold {
+        /// What is wrong.
+        why: String,
+    },
     /// A value that is NaN or infinite.
     #[error("{flag}: {} is not finite", compact(*.value))]
     NotFinite {
@@ -236,6 +243,7 @@ impl CliError {
             CliError::ParamForm(_)
             | CliError::NotANumber { .. }
             | CliError::Arity { .. }
+            | CliError::Hold { .. }
             | CliError::NotFinite { .. }
             | CliError::NotPositive { .. }
             | CliError::StepBelowResolution { .. }

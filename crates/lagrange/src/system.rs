@@ -55,6 +55,32 @@ pub trait System {
     /// As [`reaction_forces`](crate::reaction_forces).
     fn reaction_forces(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error>;
 
+    /// The numbers of holonomic and velocity constraints among the coordinates `(m, k)`;
+    /// `(0, 0)` for independent coordinates.
+    fn constraint_counts(&self) -> (usize, usize);
+
+    /// The constraint violation `[max |Φ|, max |G q̇ + Φ_t, A q̇ + b|]` at `(t, q, q̇)`, `None`
+    /// without constraints.
+    ///
+    /// # Errors
+    /// On a malformed or non-finite state.
+    fn constraint_violation(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<[f64; 2]>, Error>;
+
+    /// The constraint multipliers `λ` (`m + k`, with `M q̈ + Gᵀ λ = f`), or `None` without
+    /// constraints; see [`constraint_multipliers`](crate::constraint_multipliers).
+    ///
+    /// # Errors
+    /// As [`accelerations`](Self::accelerations).
+    fn constraint_multipliers(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error>;
+
+    /// A state on the constraints near `approximate`, the coordinates marked in `held` (and
+    /// their rates) kept; see [`assemble`](crate::assemble). The state itself without
+    /// constraints.
+    ///
+    /// # Errors
+    /// As [`assemble`](crate::assemble).
+    fn assemble(&self, approximate: &State, held: &[bool]) -> Result<State, Error>;
+
     /// Which coordinates are cyclic.
     fn cyclic_coordinates(&self) -> &[bool];
 
@@ -105,6 +131,8 @@ pub struct Buffered<D: Dynamics> {
     mass: Vec<f64>,
     /// Reaction forces (3B).
     reaction: Vec<f64>,
+    /// Constraint multipliers (m + k).
+    multipliers: Vec<f64>,
     /// Acceleration Jacobian (n × 2n).
     jacobian: Vec<f64>,
 }
@@ -117,7 +145,9 @@ impl<D: Dynamics> Buffered<D> {
         let mass = vec![0.0; system.dof() * system.dof()];
         let reaction = vec![0.0; 3 * system.bodies().len()];
         let jacobian = vec![0.0; 2 * system.dof() * system.dof()];
-        Self { system, ws, out, mass, reaction, jacobian }
+        let (m, k) = system.constraint_counts();
+        let multipliers = vec![0.0; m + k];
+        Self { system, ws, out, mass, reaction, multipliers, jacobian }
     }
 
     /// The wrapped system.
@@ -165,6 +195,26 @@ impl<D: Dynamics> System for Buffered<D> {
         } else {
             Ok(None)
         }
+    }
+
+    fn constraint_counts(&self) -> (usize, usize) {
+        self.system.constraint_counts()
+    }
+
+    fn constraint_violation(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<[f64; 2]>, Error> {
+        self.system.constraint_violation(&mut self.ws, t, q, qdot)
+    }
+
+    fn constraint_multipliers(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error> {
+        if self.system.constraint_multipliers(&mut self.ws, t, q, qdot, &mut self.multipliers)? {
+            Ok(Some(&self.multipliers))
+        } else {
+            Ok(None)
+        }
+    }
+
+    fn assemble(&self, approximate: &State, held: &[bool]) -> Result<State, Error> {
+        self.system.assemble(approximate, held)
     }
 
     fn cyclic_coordinates(&self) -> &[bool] {

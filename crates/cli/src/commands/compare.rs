@@ -30,6 +30,12 @@ pub struct Args {
     /// Initial velocities (default: the scene's initial state).
     #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
     qdot: Option<String>,
+    /// For a mechanism with constraints among its coordinates (a four-bar): bring the initial
+    /// state onto them, keeping these coordinates and their rates (comma-separated names, e.g.
+    /// `θ2`); the others move as little as possible. Without it, a given state must already
+    /// satisfy the constraints.
+    #[arg(long, value_name = "NAME,..")]
+    hold: Option<String>,
     /// Engine: cartesian, rapier-impulse, rapier-multibody, rapier-impulse-f32,
     /// rapier-multibody-f32, or all.
     #[arg(long, default_value = "all")]
@@ -192,7 +198,8 @@ fn cell(value: Option<f64>) -> String {
 pub fn run(args: &Args) -> Result<(), CliError> {
     let scene = args::scene(&args.scene)?;
     let params = args::params(scene, &args.params)?;
-    let initial = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), None)?;
+    let given = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), None)?;
+    let initial = args::hold(scene.build(&params)?.as_mut(), given, args.hold.as_deref())?;
     let engines: Vec<Engine> = if args.engine == "all" {
         Engine::ALL.to_vec()
     } else {

@@ -51,6 +51,12 @@ pub struct Args {
     /// Initial velocities, comma-separated (default: the scene's initial state).
     #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
     qdot: Option<String>,
+    /// For a mechanism with constraints among its coordinates (a four-bar): bring the initial
+    /// state onto them, keeping these coordinates and their rates (comma-separated names, e.g.
+    /// `θ2`); the others move as little as possible. Without it, a given state must already
+    /// satisfy the constraints.
+    #[arg(long, value_name = "NAME,..")]
+    hold: Option<String>,
     /// End time (s).
     #[arg(long, allow_negative_numbers = true)]
     t_end: f64,
@@ -129,24 +135,34 @@ fn describe(method: Method) -> String {
     }
 }
 
-/// The CSV header: `t [s]`, each coordinate and its velocity (`_dot`) with their SI units, and
-/// the energy function `h [J]`.
-fn header(coordinates: &[Coordinate]) -> String {
+/// The CSV header: `t [s]`, each coordinate and its velocity (`_dot`) with their SI units, the
+/// energy function `h [J]` and, for a mechanism with constraints among its coordinates, the
+/// largest constraint residuals of each sample: `max|Phi|` (positions) and `max|Phi_dot|`
+/// (velocities, the velocity constraints included), in the units of the constraints as
+/// written.
+fn header(coordinates: &[Coordinate], constrained: bool) -> String {
     let mut header = vec!["t [s]".to_string()];
     header.extend(coordinates.iter().map(|c| format!("{} [{}]", c.name, c.unit())));
     header.extend(coordinates.iter().map(|c| format!("{}_dot [{}/s]", c.name, c.unit())));
     header.push("h [J]".into());
+    if constrained {
+        header.extend(["max|Phi|".into(), "max|Phi_dot|".into()]);
+    }
     header.join(",")
 }
 
 /// Write the trajectory as CSV.
 fn write_csv(out: &mut dyn Write, coordinates: &[Coordinate], trajectory: &Trajectory) -> std::io::Result<()> {
-    writeln!(out, "{}", header(coordinates))?;
+    let constrained = !trajectory.violation.is_empty();
+    writeln!(out, "{}", header(coordinates, constrained))?;
     for k in 0..trajectory.len() {
         let mut row = vec![trajectory.t[k].to_string()];
         row.extend(trajectory.q(k).iter().map(f64::to_string));
         row.extend(trajectory.qdot(k).iter().map(f64::to_string));
         row.push(trajectory.energy[k].to_string());
+        if let Some(violation) = trajectory.violation.get(k) {
+            row.extend(violation.iter().map(f64::to_string));
+        }
         writeln!(out, "{}", row.join(","))?;
     }
     Ok(())
@@ -222,6 +238,10 @@ impl Sink for Progress<'_> {
         self.trajectory.wants_energy()
     }
 
+    fn wants_violation(&self) -> bool {
+        self.trajectory.wants_violation()
+    }
+
     fn record(&mut self, sample: Sample<'_>) {
         self.bar.set_position(((sample.t - self.t0) / self.span * 1e3) as u64);
         self.trajectory.record(sample);
@@ -261,21 +281,23 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(start) = args.start.filter(|s| !s.is_finite()) {
         return Err(CliError::NotFinite { flag: "--start", value: start });
     }
-    let initial = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), args.start)?;
-    if !args.t_end.is_finite() || (args.start.is_none() && args.t_end <= initial.t) {
+    let given = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), args.start)?;
+    if !args.t_end.is_finite() || (args.start.is_none() && args.t_end <= given.t) {
         return Err(CliError::NotPositive { flag: "--t-end", value: args.t_end });
     }
-    if args.t_end <= initial.t {
-        return Err(CliError::EndBeforeStart { start: initial.t, t_end: args.t_end });
+    if args.t_end <= given.t {
+        return Err(CliError::EndBeforeStart { start: given.t, t_end: args.t_end });
     }
-    let span = args.t_end - initial.t;
+    let span = args.t_end - given.t;
     let (method, every) = method_and_every(args, span)?;
     let mut system = scene.build(&params)?;
+    let initial = args::hold(system.as_mut(), given, args.hold.as_deref())?;
     let coordinates = system.coordinates().to_vec();
     // Refuse an absurd request before running it: the output's size first (known exactly),
     // then the wall time, measured on the run's own beginning.
     let rows = (span / every).floor() + 2.0;
-    long_work::check_output(rows, 2 * coordinates.len() + 2, args.force, "--every")?;
+    let violation_columns = if system.constraint_counts() == (0, 0) { 0 } else { 2 };
+    long_work::check_output(rows, 2 * coordinates.len() + 2 + violation_columns, args.force, "--every")?;
     let (first, flag) = match method {
         Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => (dt, "--t-end or --dt"),
         Method::Adaptive { .. } | Method::Implicit { .. } => (0.0, "--t-end or --tol"),

@@ -21,7 +21,7 @@ pub(crate) mod jacobian;
 pub(crate) mod tests;
 
 use crate::eom::equations::{self, Equations};
-use crate::{Body, Error, LagrangianFunction};
+use crate::{Body, Error, LagrangianFunction, State};
 
 /// A system whose equations of motion `q̈ = a(t, q, q̇)` can be evaluated in `f64`, with its
 /// energy function and momenta: a body [`Model`](crate::Model), a [`RawModel`](crate::RawModel),
@@ -140,6 +140,35 @@ pub trait Dynamics: LagrangianFunction {
         Ok(None)
     }
 
+    /// The constraint multipliers `λ` at `(t, q, q̇)` into `multipliers` (`m + k`: holonomic
+    /// rows, then velocity rows), with `M q̈ + Gᵀ λ = f` ([`constraint_multipliers`](crate::constraint_multipliers));
+    /// `false` (the default) without constraints.
+    ///
+    /// # Errors
+    /// As [`accelerations`](Dynamics::accelerations).
+    fn constraint_multipliers(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        multipliers: &mut [f64],
+    ) -> Result<bool, Error> {
+        let _ = (ws, t, q, qdot, multipliers);
+        Ok(false)
+    }
+
+    /// A consistent state near `approximate`, the coordinates marked in `held` (and their
+    /// rates) kept ([`assemble`](crate::assemble)); the state itself (the default) without
+    /// constraints.
+    ///
+    /// # Errors
+    /// [`Error::AssemblyFailed`], [`Error::DimensionMismatch`] for a `held` of the wrong length.
+    fn assemble(&self, approximate: &State, held: &[bool]) -> Result<State, Error> {
+        let _ = held;
+        Ok(approximate.clone())
+    }
+
     /// Which coordinates are cyclic.
     fn cyclic_coordinates(&self) -> &[bool];
 
@@ -244,6 +273,21 @@ impl<E: Equations + LagrangianFunction> Dynamics for E {
         qdot: &[f64],
     ) -> Result<Option<[f64; 2]>, Error> {
         self.eval_violation(ws, t, q, qdot)
+    }
+
+    fn constraint_multipliers(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        multipliers: &mut [f64],
+    ) -> Result<bool, Error> {
+        self.eval_multipliers(ws, t, q, qdot, multipliers)
+    }
+
+    fn assemble(&self, approximate: &State, held: &[bool]) -> Result<State, Error> {
+        self.eval_assemble(approximate, held)
     }
 
     fn has_generalized_force(&self) -> bool {

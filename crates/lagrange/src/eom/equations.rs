@@ -127,6 +127,27 @@ pub trait Equations: sealed::Sealed {
         Ok(None)
     }
 
+    /// The constraint multipliers into `multipliers` (`m + k`), `false` without constraints.
+    #[doc(hidden)]
+    fn eval_multipliers(
+        &self,
+        ws: &mut Self::Workspace<f64>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        multipliers: &mut [f64],
+    ) -> Result<bool, Error> {
+        let _ = (ws, t, q, qdot, multipliers);
+        Ok(false)
+    }
+
+    /// A consistent state near `approximate`, the `held` coordinates kept.
+    #[doc(hidden)]
+    fn eval_assemble(&self, approximate: &crate::State, held: &[bool]) -> Result<crate::State, Error> {
+        let _ = held;
+        Ok(approximate.clone())
+    }
+
     /// The reaction forces into `reaction`, `false` for a model without bodies.
     #[doc(hidden)]
     fn eval_reaction_forces(
@@ -331,6 +352,26 @@ impl<M: Mechanism> Equations for Model<M> {
             return Ok(None);
         }
         super::constraints::violation(self, ws, t, q, qdot).map(Some)
+    }
+
+    fn eval_multipliers(
+        &self,
+        ws: &mut Workspace<f64>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+        multipliers: &mut [f64],
+    ) -> Result<bool, Error> {
+        if !self.is_constrained() {
+            return Ok(false);
+        }
+        let lambda = super::constraints::constraint_multipliers(self, ws, t, q, qdot)?;
+        multipliers.copy_from_slice(lambda);
+        Ok(true)
+    }
+
+    fn eval_assemble(&self, approximate: &crate::State, held: &[bool]) -> Result<crate::State, Error> {
+        super::constraints::assemble(self, approximate, held)
     }
 
     fn eval_reaction_forces(

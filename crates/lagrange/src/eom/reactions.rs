@@ -13,6 +13,12 @@ use num_dual::Dual;
 /// writes through the body poses in its potential, and its applied forces, are subtracted; the
 /// parts of `V` written directly in `q` and the generalized forces `Q` act along coordinates,
 /// cannot be attributed to one body, and therefore remain in the reaction.
+///
+/// With constraints among the coordinates ([`Mechanism::constraints`]), `q̈` is the constrained
+/// one, so `R_b` also carries the constraints' forces: where a constraint is the coincidence of
+/// a point of one body with a point of another (a four-bar's closing pin `B_coupler − B_rocker
+/// = 0`), its multipliers are that pin's force, `−λ` on the first body and `+λ` on the second
+/// ([`constraint_multipliers`](crate::constraint_multipliers), docs/method.md#constraints).
 pub fn reaction_forces<'w, M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &'w mut Workspace<S>,

@@ -30,6 +30,10 @@ pub struct Trajectory {
     pub qdot: Vec<f64>,
     /// Energy function `h` at each sample.
     pub energy: Vec<f64>,
+    /// Constraint violation `[max |Φ|, max |G q̇ + ∂Φ/∂t|]` (velocity rows included) at each
+    /// sample, for a system with constraints among its coordinates; empty otherwise
+    /// (docs/method.md#constraints).
+    pub violation: Vec<[f64; 2]>,
     /// Work done.
     pub stats: Stats,
 }
@@ -69,6 +73,7 @@ impl Trajectory {
             q: Vec::with_capacity(samples * n),
             qdot: Vec::with_capacity(samples * n),
             energy: Vec::with_capacity(samples),
+            violation: Vec::new(),
             stats: Stats::default(),
         }
     }
@@ -85,12 +90,21 @@ pub struct Sample<'a> {
     pub qdot: &'a [f64],
     /// The energy function `h`, when the sink asked for it ([`Sink::wants_energy`]).
     pub energy: Option<f64>,
+    /// The constraint violation `[max |Φ|, max |G q̇ + ∂Φ/∂t|]` of the recorded state, for a
+    /// constrained system whose sink asked for it ([`Sink::wants_violation`]).
+    pub violation: Option<[f64; 2]>,
 }
 
 /// Where [`run`] writes the samples of a run.
 pub trait Sink {
     /// Whether each sample needs the energy function `h` (computed only then).
     fn wants_energy(&self) -> bool {
+        false
+    }
+
+    /// Whether each sample of a constrained system needs its constraint violation (computed
+    /// only then; never for a system without constraints).
+    fn wants_violation(&self) -> bool {
         false
     }
 
@@ -107,11 +121,18 @@ impl Sink for Trajectory {
         true
     }
 
+    fn wants_violation(&self) -> bool {
+        true
+    }
+
     fn record(&mut self, sample: Sample<'_>) {
         self.t.push(sample.t);
         self.q.extend_from_slice(sample.q);
         self.qdot.extend_from_slice(sample.qdot);
         self.energy.push(sample.energy.unwrap_or(f64::NAN));
+        if let Some(violation) = sample.violation {
+            self.violation.push(violation);
+        }
     }
 
     fn finish(&mut self, stats: Stats) {
@@ -266,7 +287,12 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
         }
         let energy =
             if sink.wants_energy() { Some(energy(system, &mut ws, t_out, &q, &qdot, index, steps)?) } else { None };
-        sink.record(Sample { t: t_out, q: &q, qdot: &qdot, energy });
+        let violation = if constrained && sink.wants_violation() {
+            system.constraint_violation(&mut ws, t_out, &q, &qdot)?
+        } else {
+            None
+        };
+        sink.record(Sample { t: t_out, q: &q, qdot: &qdot, energy, violation });
     }
     let stats = integrator.stats();
     sink.finish(stats);
