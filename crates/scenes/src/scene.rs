@@ -26,6 +26,12 @@ pub trait Scene: Send + Sync {
     /// `beyond the lecture` with the textbook it follows).
     fn reference(&self) -> &'static str;
 
+    /// The span of time over which the scene is meant to be run (s), where it has one of its
+    /// own (Andrews' squeezer: 0.03 s, the span of its published reference solution); `None`
+    /// for scenes that run for any span. The validation report scales its horizon, saved times
+    /// and steps to it.
+    fn horizon(&self) -> Option<f64>;
+
     /// The parameter specifications, in order.
     fn params(&self) -> &'static [ParamSpec];
 
@@ -106,6 +112,8 @@ pub trait SceneType: Clone + Send + Sync + Sized + 'static {
     const TITLE: &'static str;
     /// Where the system and its closed forms come from.
     const REFERENCE: &'static str;
+    /// The scene's own span of time (s), if it has one ([`Scene::horizon`]).
+    const HORIZON: Option<f64> = None;
     /// The parameter specifications, in order.
     const PARAMS: &'static [ParamSpec];
 
@@ -251,6 +259,10 @@ impl<T: SceneType> Scene for Registered<T> {
 
     fn reference(&self) -> &'static str {
         T::REFERENCE
+    }
+
+    fn horizon(&self) -> Option<f64> {
+        T::HORIZON
     }
 
     fn params(&self) -> &'static [ParamSpec] {

@@ -165,6 +165,7 @@ pub fn scene_report(runs: &SceneRuns, plots: Plots, wall_time: f64) -> SceneRepo
         title: runs.scene.title(),
         coordinates: runs.coordinates.iter().map(|c| c.name.clone()).collect(),
         conserves_energy: runs.conserves_energy,
+        horizon_s: runs.scene.horizon(),
         reference: ReferenceReport {
             kind: runs.reference.kind.name(),
             tolerance: runs.reference.kind.tolerance(),

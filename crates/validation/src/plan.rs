@@ -177,6 +177,9 @@ pub struct Plan {
     pub rapier_min_substep: f64,
     /// Timing policy.
     pub timing: Timing,
+    /// The factor every time of the plan was scaled by ([`Plan::scaled_to`]): 1 for the
+    /// report's own horizon.
+    pub time_scale: f64,
 }
 
 impl Plan {
@@ -214,6 +217,7 @@ impl Plan {
                     budget: 0.0,
                     measured_is_timed_above: MEASURED_IS_TIMED_ABOVE,
                 },
+                time_scale: 1.0,
             }
         } else {
             Plan {
@@ -232,8 +236,33 @@ impl Plan {
                     budget: 0.5,
                     measured_is_timed_above: MEASURED_IS_TIMED_ABOVE,
                 },
+                time_scale: 1.0,
             }
         })
+    }
+
+    /// This plan with every time in it (horizon, saved times, fixed steps, rapier steps and
+    /// smallest substep) multiplied by `horizon / self.horizon`: the same sweep, relative to
+    /// the scene's own span of time ([`Scene::horizon`](lagrange_scenes::Scene::horizon)).
+    /// Every saved time stays on every step grid, since all are scaled alike.
+    pub fn scaled_to(&self, horizon: f64) -> Plan {
+        let scale = horizon / self.horizon;
+        let times = |v: &[f64]| v.iter().map(|t| t * scale).collect::<Vec<f64>>();
+        Plan {
+            horizon,
+            times: times(&self.times),
+            rk4_steps: times(&self.rk4_steps),
+            variational_steps: times(&self.variational_steps),
+            rapier: self.rapier.iter().map(|&(dt, substeps)| (dt * scale, substeps)).collect(),
+            rapier_min_substep: self.rapier_min_substep * scale,
+            time_scale: self.time_scale * scale,
+            ..self.clone()
+        }
+    }
+
+    /// The interval between saved times (s): [`SAMPLE_INTERVAL`] for the unscaled plan.
+    pub fn sample_interval(&self) -> f64 {
+        self.times.get(1).map_or(SAMPLE_INTERVAL, |t| t - self.times[0])
     }
 
     /// The sweep of `family`. A rapier build that ignores substeps (scenes driven by per-step
@@ -256,7 +285,7 @@ impl Plan {
             Family::Maximal(engine) => engine,
         };
         let smallest = match engine {
-            Engine::RapierImpulseF32 | Engine::RapierMultibodyF32 => RAPIER_MIN_SUBSTEP_COARSE,
+            Engine::RapierImpulseF32 | Engine::RapierMultibodyF32 => RAPIER_MIN_SUBSTEP_COARSE * self.time_scale,
             _ => self.rapier_min_substep,
         };
         let fine_enough = |h: f64| h >= smallest * (1.0 - 1e-9);
@@ -267,7 +296,7 @@ impl Plan {
                 .map(|&(dt, substeps)| Setting::Rapier { dt, substeps })
                 .collect()
         } else {
-            let steps = std::iter::successors(Some(RAPIER_STEPS[0]), |dt| Some(dt / 4.0));
+            let steps = std::iter::successors(Some(RAPIER_STEPS[0] * self.time_scale), |dt| Some(dt / 4.0));
             steps.take_while(|&dt| fine_enough(dt)).map(|dt| Setting::Rapier { dt, substeps: 1 }).collect()
         }
     }
@@ -293,6 +322,30 @@ mod tests {
             for &t in &plan.times {
                 let k = t / dt;
                 assert!((k - k.round()).abs() <= 1e-9 * k.max(1.0), "t = {t} is off the grid of dt = {dt}");
+            }
+        }
+    }
+
+    /// A plan scaled to a scene's own span keeps every saved time on every step grid and
+    /// sweeps the same substeps relative to its span.
+    #[test]
+    fn a_scaled_plan_is_the_same_sweep_on_the_scenes_span() {
+        for quick in [false, true] {
+            let plan = Plan::new(quick, None).unwrap();
+            let scaled = plan.scaled_to(0.03);
+            assert_eq!(scaled.times.len(), plan.times.len());
+            assert!((scaled.times.last().unwrap() - 0.03).abs() < 1e-15);
+            let rapier: Vec<f64> = (0..6).map(|k| RAPIER_STEPS[0] * scaled.time_scale / f64::powi(4.0, k)).collect();
+            for &dt in scaled.rk4_steps.iter().chain(&scaled.variational_steps).chain(&rapier) {
+                for &t in &scaled.times {
+                    let k = t / dt;
+                    assert!((k - k.round()).abs() <= 1e-9 * k.max(1.0), "t = {t} is off the grid of dt = {dt}");
+                }
+            }
+            for honours in [true, false] {
+                let ours = plan.settings(Family::Maximal(Engine::RapierImpulse), honours);
+                let theirs = scaled.settings(Family::Maximal(Engine::RapierImpulse), honours);
+                assert_eq!(ours.len(), theirs.len(), "quick {quick}, substeps honoured {honours}");
             }
         }
     }

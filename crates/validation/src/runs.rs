@@ -32,6 +32,9 @@ pub struct ScenePlan {
     pub params: Params,
     /// Its default initial state.
     pub initial: State,
+    /// The report's plan on the scene's own span of time, if it has one
+    /// ([`Plan::scaled_to`]), else the report's plan.
+    pub plan: Plan,
     /// Each family with its availability and sweep.
     pub families: Vec<(Family, Availability, Vec<Setting>)>,
 }
@@ -44,6 +47,7 @@ impl ScenePlan {
     pub fn new(scene: &'static dyn Scene, plan: &Plan) -> Result<ScenePlan, Error> {
         let params = scene.default_params();
         let initial = scene.default_state(&params).map_err(|e| Error::scene(scene.id(), e))?;
+        let plan = &scene.horizon().map_or_else(|| plan.clone(), |horizon| plan.scaled_to(horizon));
         let families = Family::ALL
             .into_iter()
             .map(|family| {
@@ -58,7 +62,7 @@ impl ScenePlan {
                 (family, availability, settings)
             })
             .collect();
-        Ok(ScenePlan { scene, params, initial, families })
+        Ok(ScenePlan { scene, params, initial, plan: plan.clone(), families })
     }
 
     /// Number of runs.
@@ -162,8 +166,8 @@ impl SceneRuns {
     ///
     /// # Errors
     /// A failing scene build or reference (runs that fail are recorded, not errors).
-    pub fn execute(scene_plan: &ScenePlan, plan: &Plan, mut progress: impl FnMut(&str)) -> Result<SceneRuns, Error> {
-        let ScenePlan { scene, params, initial, .. } = scene_plan;
+    pub fn execute(scene_plan: &ScenePlan, mut progress: impl FnMut(&str)) -> Result<SceneRuns, Error> {
+        let ScenePlan { scene, params, initial, plan, .. } = scene_plan;
         let scene = *scene;
         let id = scene.id();
         let system = scene.build(params).map_err(|e| Error::scene(id, e))?;
@@ -192,7 +196,7 @@ impl SceneRuns {
                 }
                 let outcome = match *family {
                     Family::Maximal(engine) => {
-                        run_maximal(engine, scene_plan, plan, setting, conserves_energy, &mut references, &mut result)
+                        run_maximal(engine, scene_plan, setting, conserves_energy, &mut references, &mut result)
                     }
                     family => {
                         result.reference = Some(reference.kind);
@@ -215,13 +219,12 @@ impl SceneRuns {
 fn run_maximal(
     engine: Engine,
     scene_plan: &ScenePlan,
-    plan: &Plan,
     setting: Setting,
     conserves_energy: bool,
     references: &mut References,
     result: &mut FamilyRuns,
 ) -> Result<Measured, Error> {
-    let ScenePlan { scene, params, initial, .. } = scene_plan;
+    let ScenePlan { scene, params, initial, plan, .. } = scene_plan;
     let settings = maximal_settings(setting);
     let built = build(engine, scene.id(), params, initial, &settings)?;
     let reference = references.get(*scene, &built.params, initial, &plan.times)?;

@@ -73,6 +73,10 @@ pub struct SceneReport {
     pub coordinates: Vec<String>,
     /// Whether the energy function is a constant of the motion (else every `energy_error` is null).
     pub conserves_energy: bool,
+    /// The scene's own span (s), over which it is run instead of the report's horizon, with
+    /// the saved times and fixed steps scaled alike (null for scenes that run the report's
+    /// horizon).
+    pub horizon_s: Option<f64>,
     /// The reference the errors are measured against.
     pub reference: ReferenceReport,
     /// One entry per method family, in the order of `Family::ALL`.

@@ -44,14 +44,15 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let mut files = 0;
     for scene_plan in &scene_plans {
         let scene_start = Instant::now();
-        let runs = SceneRuns::execute(scene_plan, plan, |label| {
+        let runs = SceneRuns::execute(scene_plan, |label| {
             bar.set_message(label.to_string());
             bar.inc(1);
         })?;
         let id = scene_plan.scene.id();
         let names = Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg") };
-        plots::work_precision(&options.out.join(&names.work_precision), &runs, plan.horizon)?;
-        plots::errors_over_time(&options.out.join(&names.error), &runs, &plan.times)?;
+        let own = &scene_plan.plan;
+        plots::work_precision(&options.out.join(&names.work_precision), &runs, own.horizon)?;
+        plots::errors_over_time(&options.out.join(&names.error), &runs, &own.times)?;
         files += 2;
         scenes.push(scene_report(&runs, names, scene_start.elapsed().as_secs_f64()));
     }

@@ -176,6 +176,13 @@ fn scene_section(md: &mut String, scene: &SceneReport) {
         "the energy function is not conserved (damped, driven or time-dependent): no energy error"
     };
     let _ = writeln!(md, "Energy: {energy}.\n");
+    if let Some(horizon) = scene.horizon_s {
+        let _ = writeln!(
+            md,
+            "Span: the scene's own {horizon} s instead of the report's horizon; saved times, fixed steps and \
+             rapier steps scaled by the same factor.\n"
+        );
+    }
     let _ = writeln!(
         md,
         "| method | setting | error | final | energy | violation | time (s) | steps | front |\n|---|---|---|---|---|---|---|---|---|"
