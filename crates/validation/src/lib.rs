@@ -9,6 +9,7 @@
 //! with their reasons ([`tolerance`]). Rendering (Markdown, SVG plots, the terminal summary) and file
 //! writing stay in the command line.
 
+pub mod andrews;
 pub mod assemble;
 pub mod compare;
 mod error;
