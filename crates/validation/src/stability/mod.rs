@@ -2,7 +2,7 @@
 //! what cost, against theory where theory exists. One file per group of cases:
 //! [`stiff`] (stiff springs, strong damping), [`extreme`] (extreme parameters), [`orbit`]
 //! (Kepler at `e = 0.99`), [`chaos`] (double pendulum), [`singular`] (near-singular
-//! configurations), [`long_run`] (10⁷ steps), [`bad_input`] (random and invalid input); the
+//! configurations), [`constrained`] (closed loops and redundant constraints), [`long_run`] (10⁷ steps), [`bad_input`] (random and invalid input); the
 //! stability functions behind the theory values are in [`theory`], the serialized types here,
 //! and report.md's section and the terminal lines in [`render`].
 //!
@@ -15,6 +15,7 @@ use crate::Error;
 use crate::scene as find;
 mod bad_input;
 mod chaos;
+mod constrained;
 mod extreme;
 mod long_run;
 mod orbit;
@@ -132,6 +133,10 @@ pub enum ErrorKind {
     InvalidSetting,
     /// `Inadmissible`: the state left the scene's admissible region.
     Inadmissible,
+    /// `InconsistentConstraints`: dependent constraint rows that contradict each other.
+    InconsistentConstraints,
+    /// `AssemblyFailed`: the constraints cannot be met from the given positions.
+    AssemblyFailed,
     /// Any other variant (a failing integration: step-size underflow, too many steps, …).
     Other,
 }
@@ -148,6 +153,8 @@ impl ErrorKind {
             E::Diverged { .. } => ErrorKind::Diverged,
             E::InvalidSetting { .. } => ErrorKind::InvalidSetting,
             E::Inadmissible { .. } => ErrorKind::Inadmissible,
+            E::InconsistentConstraints { .. } => ErrorKind::InconsistentConstraints,
+            E::AssemblyFailed { .. } => ErrorKind::AssemblyFailed,
             _ => ErrorKind::Other,
         }
     }
@@ -409,13 +416,14 @@ struct CaseSpec {
 const PARALLEL_CASES: usize = 2;
 
 /// Every case, in report order.
-const CASES: [CaseSpec; 9] = [
+const CASES: [CaseSpec; 10] = [
     stiff::STIFF_SPRING,
     stiff::STIFF_DAMPED,
     extreme::EXTREME,
     orbit::KEPLER,
     chaos::CHAOS,
     singular::SINGULAR,
+    constrained::CONSTRAINED,
     long_run::LONG_RUN,
     long_run::RAPIER_LONG_RUN,
     bad_input::BAD_INPUT,
