@@ -160,6 +160,7 @@ pub fn scene_report(runs: &SceneRuns, plots: Plots, wall_time: f64) -> SceneRepo
         .and_then(|f| f.runs.iter().find(|r| r.setting == Setting::Tolerance { tol: CARTESIAN_CHECK_TOLERANCE }))
         .and_then(|r| r.outcome.as_ref().ok())
         .map(|m| m.max_error());
+    let published = crate::reference::published(runs.scene.id());
     SceneReport {
         scene: runs.scene.id(),
         title: runs.scene.title(),
@@ -171,6 +172,8 @@ pub fn scene_report(runs: &SceneRuns, plots: Plots, wall_time: f64) -> SceneRepo
             tolerance: runs.reference.kind.tolerance(),
             cartesian_tolerance: CARTESIAN_CHECK_TOLERANCE,
             cartesian_agreement,
+            published_source: published.map(|p| p.source),
+            published_agreement: published.and_then(|p| runs.reference.published_agreement(&p, &runs.times)),
         },
         methods,
         summary: Summary {

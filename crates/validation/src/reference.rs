@@ -106,3 +106,33 @@ impl References {
         Ok(&self.known[index])
     }
 }
+
+/// A solution published by others for a scene's default state, at one time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Published {
+    /// Where it is published.
+    pub source: &'static str,
+    /// The time of the published solution (s).
+    pub t: f64,
+    /// The published coordinates.
+    pub q: &'static [f64],
+}
+
+/// The published solution of a scene's default state, where one exists: Andrews' squeezer at
+/// `t = 0.03` (the CWI/Bari IVP test set).
+pub fn published(scene: &str) -> Option<Published> {
+    (scene == "andrews_squeezer").then_some(Published {
+        source: "CWI/Bari IVP test set, problem andrews (PSIDE, tol 1e-14; about 3e-10 relative)",
+        t: crate::andrews::T_END,
+        q: &crate::andrews::REFERENCE_Q,
+    })
+}
+
+impl Reference {
+    /// `max_i |q_i − q_i^pub| / |q_i^pub|` between this reference and the published solution,
+    /// when the published time is one of `times` (to 1e-12 relative).
+    pub fn published_agreement(&self, published: &Published, times: &[f64]) -> Option<f64> {
+        let k = times.iter().position(|&t| (t - published.t).abs() <= 1e-12 * published.t.abs().max(1.0))?;
+        Some(self.q[k].iter().zip(published.q).map(|(a, b)| ((a - b) / b).abs()).fold(0.0, f64::max))
+    }
+}

@@ -157,6 +157,8 @@ pub struct SceneRuns {
     pub conserves_energy: bool,
     /// The scene's own reference.
     pub reference: Reference,
+    /// The saved times (s).
+    pub times: Vec<f64>,
     /// One entry per family.
     pub families: Vec<FamilyRuns>,
 }
@@ -211,7 +213,7 @@ impl SceneRuns {
             }
             families.push(result);
         }
-        Ok(SceneRuns { scene, coordinates, conserves_energy, reference, families })
+        Ok(SceneRuns { scene, coordinates, conserves_energy, reference, times: plan.times.clone(), families })
     }
 }
 

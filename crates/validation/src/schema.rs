@@ -100,6 +100,10 @@ pub struct ReferenceReport {
     pub cartesian_tolerance: f64,
     /// `max ‖q_ref − q_cartesian‖∞` over the saved times (null if that run is missing).
     pub cartesian_agreement: Option<f64>,
+    /// Where a solution of the default state is published (null otherwise).
+    pub published_source: Option<&'static str>,
+    /// `max_i |q_ref,i − q_pub,i| / |q_pub,i|` at the published time (null without one).
+    pub published_agreement: Option<f64>,
 }
 
 /// One method family on one scene.

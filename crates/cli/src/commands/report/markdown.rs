@@ -13,9 +13,13 @@ fn reference(scene: &SceneReport) -> String {
         Some(a) => format!("the Cartesian solver (tol {:.0e}) agrees to {a:.2e}", r.cartesian_tolerance),
         None => "no Cartesian run to check it against".to_string(),
     };
+    let published = match (r.published_source, r.published_agreement) {
+        (Some(source), Some(agreement)) => format!("; the {source} agrees with it to {agreement:.1e} relative"),
+        _ => String::new(),
+    };
     match r.tolerance {
-        Some(tol) => format!("reduced solution, adaptive integrator at tol {tol:.0e}; {check}"),
-        None => format!("closed form (`exact_solution`); {check}"),
+        Some(tol) => format!("reduced solution, adaptive integrator at tol {tol:.0e}; {check}{published}"),
+        None => format!("closed form (`exact_solution`); {check}{published}"),
     }
 }
 
