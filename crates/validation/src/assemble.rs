@@ -54,6 +54,40 @@ fn status(availability: &Availability) -> (&'static str, Option<String>) {
     }
 }
 
+/// Errors outside this range are not used for the observed order: above it the run is not yet
+/// in its asymptotic regime (errors of order the motion itself), below it round-off and the
+/// reference's own error (tolerance 1e-13) take over.
+const ORDER_RANGE: (f64, f64) = (1e-11, 1e-2);
+
+/// The observed order of convergence of a fixed-step sweep in its step (rk4, variational) or
+/// substep `h` (rapier): the median over successive runs of `ln(e₁/e₂) / ln(h₁/h₂)`, with `e` the
+/// largest error over the saved times, using runs whose errors lie in [`ORDER_RANGE`]; `None`
+/// for tolerance sweeps and where fewer than two such runs exist.
+pub fn observed_order(runs: &[crate::runs::Run]) -> Option<f64> {
+    let points: Vec<(f64, f64)> = runs
+        .iter()
+        .filter_map(|run| {
+            let h = match run.setting {
+                Setting::Step { dt } => dt,
+                Setting::Rapier { dt, substeps } => dt / substeps as f64,
+                Setting::Tolerance { .. } => return None,
+            };
+            let error = run.outcome.as_ref().ok()?.max_error();
+            (error > ORDER_RANGE.0 && error < ORDER_RANGE.1).then_some((h, error))
+        })
+        .collect();
+    let mut slopes: Vec<f64> = points
+        .windows(2)
+        .filter(|w| (w[0].0 / w[1].0) > 1.0 + 1e-9)
+        .map(|w| (w[0].1 / w[1].1).ln() / (w[0].0 / w[1].0).ln())
+        .collect();
+    if slopes.is_empty() {
+        return None;
+    }
+    slopes.sort_by(f64::total_cmp);
+    Some(slopes[slopes.len() / 2])
+}
+
 fn method_report(index: usize, family: &FamilyRuns, own_front: &Front) -> MethodReport {
     let (status, reason) = status(&family.availability);
     let on_front = |j: usize| own_front.points.iter().any(|p| p.family == index && p.run == j);
@@ -83,6 +117,7 @@ fn method_report(index: usize, family: &FamilyRuns, own_front: &Front) -> Method
         deviations: family.deviations.clone(),
         reference: family.reference.map(|k| k.name()),
         note,
+        observed_order: observed_order(&family.runs),
         runs: family
             .runs
             .iter()
@@ -183,5 +218,34 @@ pub fn scene_report(runs: &SceneRuns, plots: Plots, wall_time: f64) -> SceneRepo
         },
         plots,
         scene_wall_time_s: wall_time,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::measure::Measured;
+    use crate::runs::Run;
+
+    fn run(dt: f64, error: f64) -> Run {
+        let measured = Measured {
+            errors: vec![0.0, error],
+            energy_error: None,
+            constraint_violation: None,
+            steps: 1,
+            wall_time: 0.0,
+            timed_repetitions: 1,
+        };
+        Run { setting: Setting::Step { dt }, outcome: Ok(measured) }
+    }
+
+    /// Fourth order: the error falls 16× per halving; the saturated coarse run and the
+    /// round-off floor are left out.
+    #[test]
+    fn the_observed_order_is_the_median_slope_in_the_asymptotic_range() {
+        let runs = [run(0.1, 0.5), run(0.05, 1.6e-4), run(0.025, 1e-5), run(0.0125, 6.25e-7), run(0.00625, 3e-12)];
+        let order = observed_order(&runs).expect("three runs in range");
+        assert!((order - 4.0).abs() < 1e-9, "{order}");
+        assert_eq!(observed_order(&runs[..1]), None);
     }
 }

@@ -125,6 +125,10 @@ pub struct MethodReport {
     pub reference: Option<&'static str>,
     /// Remarks on the sweep (e.g. substeps the build does not honour).
     pub note: Option<String>,
+    /// The observed order of convergence in the step or rapier substep
+    /// ([`observed_order`](crate::assemble::observed_order)); null for tolerance sweeps or
+    /// too few runs in the asymptotic range.
+    pub observed_order: Option<f64>,
     /// The sweep, in order.
     pub runs: Vec<RunReport>,
 }

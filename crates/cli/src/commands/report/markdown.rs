@@ -215,6 +215,11 @@ fn scene_section(md: &mut String, scene: &SceneReport) {
             let _ = writeln!(md, "- {}: {note}", method.method);
         }
     }
+    let orders: Vec<String> =
+        scene.methods.iter().filter_map(|m| m.observed_order.map(|p| format!("{} {p:.2}", m.method))).collect();
+    if !orders.is_empty() {
+        let _ = writeln!(md, "- observed order in the step (rapier: substep): {}", orders.join(", "));
+    }
     for v in &scene.summary.versus {
         ratio_lines(md, v);
     }
