@@ -164,6 +164,53 @@
 //! # Ok::<(), lagrange::Error>(())
 //! ```
 //!
+//! # Constraints among the coordinates: closed loops and rolling
+//!
+//! Coordinates may be related by holonomic constraints `Φ(t, q) = 0`
+//! ([`Mechanism::holonomic_constraints`], [`Mechanism::constraints`]: a four-bar's loop, a bob
+//! on a circle) and by velocity constraints `A(t, q) q̇ + b(t, q) = 0`
+//! ([`Mechanism::velocity_constraints`], [`Mechanism::velocity_constraint`]: a knife edge,
+//! rolling). The engine then solves `M q̈ + Gᵀ λ = f`, `G q̈ = −γ` with `G = [Φ_q; A]` and `γ` the
+//! constraints' convective term, by the Schur complement on the factor of `M`;
+//! [`constraint_multipliers`] gives `λ` (`−Gᵀ λ` is the generalized constraint force), [`assemble`]
+//! makes a consistent state from an approximate one, and every integrator keeps a run on the
+//! constraints (docs/method.md#constraints).
+//!
+//! ```
+//! use lagrange::{Described, Model, Pose, Poses, Scalar, State, accelerations, assemble, constraint_multipliers};
+//!
+//! /// A bob at (x, y) held on the circle x² + y² = l² (a pendulum in Cartesian coordinates).
+//! struct Bob { l: f64 }
+//!
+//! impl Poses for Bob {
+//!     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
+//!         world_from_body[0] = Pose::point(q[0], q[1]);
+//!     }
+//!     fn holonomic_constraints(&self) -> usize { 1 }
+//!     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
+//!         phi[0] = q[0] * q[0] + q[1] * q[1] - self.l * self.l;
+//!     }
+//! }
+//!
+//! let (m, l, g) = (1.0, 2.0, 9.81);
+//! let model = Model::new(Described::new(Bob { l }).length("x").length("y").point("bob", m).gravity(g))?;
+//! // A rough start, moved onto the circle with x held.
+//! let state = assemble(&model, &State::new(0.0, [1.0, -1.5], [0.5, 0.0]), &[true, false])?;
+//! let theta = state.q[0].atan2(-state.q[1]);
+//! approx::assert_relative_eq!(state.q[1], -(l * l - 1.0_f64).sqrt(), max_relative = 1e-14);
+//!
+//! let mut ws = model.workspace();
+//! let qddot = accelerations(&model, &mut ws, 0.0, &state.q, &state.qdot)?.to_vec();
+//! // The pendulum in its angle: θ̈ = −(g/l) sinθ, and ẍ = l (θ̈ cosθ − θ̇² sinθ).
+//! let theta_dot = (state.q[0] * state.qdot[1] - state.q[1] * state.qdot[0]) / (l * l);
+//! let theta_ddot = -g / l * theta.sin();
+//! approx::assert_relative_eq!(qddot[0], l * (theta_ddot * theta.cos() - theta_dot * theta_dot * theta.sin()), max_relative = 1e-12);
+//! // λ is the rod's tension over 2l (Φ_q = 2 (x, y)): T = m (g cosθ + l θ̇²).
+//! let lambda = constraint_multipliers(&model, &mut ws, 0.0, &state.q, &state.qdot)?[0];
+//! approx::assert_relative_eq!(2.0 * l * lambda, m * (g * theta.cos() + l * theta_dot * theta_dot), max_relative = 1e-12);
+//! # Ok::<(), lagrange::Error>(())
+//! ```
+//!
 //! # Constants in generic code
 //!
 //! For a generic scalar `S`, `S * f64`, `S + f64` and `S - f64` compile but `f64 * S` and

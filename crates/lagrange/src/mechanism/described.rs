@@ -45,6 +45,26 @@ pub trait Poses {
         let _ = (t, q, qdot, bounds);
         false
     }
+
+    /// The number of holonomic constraints ([`Mechanism::holonomic_constraints`]); default 0.
+    fn holonomic_constraints(&self) -> usize {
+        0
+    }
+
+    /// The holonomic constraints' residuals ([`Mechanism::constraints`]).
+    fn constraints<S: Scalar>(&self, t: S, q: &[S], phi: &mut [S]) {
+        let _ = (t, q, phi);
+    }
+
+    /// The number of velocity constraints ([`Mechanism::velocity_constraints`]); default 0.
+    fn velocity_constraints(&self) -> usize {
+        0
+    }
+
+    /// The velocity constraints' residuals ([`Mechanism::velocity_constraint`]).
+    fn velocity_constraint<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], residual: &mut [S]) {
+        let _ = (t, q, qdot, residual);
+    }
 }
 
 /// A [`Mechanism`] built from a [`Poses`] implementation plus names, masses and gravity:
@@ -153,5 +173,21 @@ impl<P: Poses> Mechanism for Described<P> {
 
     fn admissible(&self, t: f64, q: &[f64], qdot: &[f64], bounds: &mut Bounds) -> bool {
         self.poses.admissible(t, q, qdot, bounds)
+    }
+
+    fn holonomic_constraints(&self) -> usize {
+        self.poses.holonomic_constraints()
+    }
+
+    fn constraints<S: Scalar>(&self, t: S, q: &[S], phi: &mut [S]) {
+        self.poses.constraints(t, q, phi)
+    }
+
+    fn velocity_constraints(&self) -> usize {
+        self.poses.velocity_constraints()
+    }
+
+    fn velocity_constraint<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], residual: &mut [S]) {
+        self.poses.velocity_constraint(t, q, qdot, residual)
     }
 }
