@@ -337,3 +337,51 @@ fn simulate_stops_where_the_state_leaves_the_admissible_region() {
         assert!(err.contains("invalid tolerance") && err.contains("[2.2e-15, 1)"), "{tol}: {err}");
     }
 }
+
+/// A constrained scene's CSV ends with its constraint residuals at every sample, on the
+/// constraints to the projection's accuracy (1e-10, docs/method.md#constraints).
+#[test]
+fn simulate_records_the_constraint_violation_of_a_constrained_scene() {
+    let output = lagrange(&["simulate", "four_bar", "--t-end", "0.5", "--every", "0.1"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let csv = stdout(&output);
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    assert_eq!(header[header.len() - 2..], ["max|Phi|", "max|Phi_dot|"], "{header:?}");
+    let mut rows = 0;
+    for line in lines {
+        let values: Vec<f64> = line.split(',').map(|v| v.parse().expect("a number")).collect();
+        assert_eq!(values.len(), header.len());
+        let (position, velocity) = (values[values.len() - 2], values[values.len() - 1]);
+        assert!(position <= 1e-10 && velocity <= 1e-10, "{line}");
+        rows += 1;
+    }
+    assert_eq!(rows, 6);
+    // An unconstrained scene has no such columns.
+    let output = lagrange(&["simulate", "double_pendulum", "--t-end", "0.1", "--every", "0.1"]);
+    assert!(!stdout(&output).lines().next().unwrap_or_default().contains("Phi"));
+}
+
+/// A state off the constraints is refused with a message naming `--hold`; with `--hold θ2` the
+/// crank angle and rate are kept and the others follow (the closed-form branch of SCENES: the
+/// rocker above the ground line).
+#[test]
+fn hold_brings_a_given_state_onto_the_constraints() {
+    let (code, err) = one_line_error(&["simulate", "four_bar", "--q", "1,0.5,1.5", "--t-end", "0.1"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--hold"), "{err}");
+    let output =
+        lagrange(&["simulate", "four_bar", "--q", "1,0.5,1.5", "--qdot", "6,0,0", "--hold", "θ2", "--t-end", "0.1"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let first: Vec<f64> =
+        stdout(&output).lines().nth(1).expect("a sample").split(',').map(|v| v.parse().expect("a number")).collect();
+    assert_eq!((first[1], first[4]), (1.0, 6.0), "the crank angle and rate are held: {first:?}");
+    // The closure: a cos θ2 + b cos θ3 − c cos θ4 − d = 0 at the defaults (0.2, 0.6, 0.5, 0.5).
+    let closure = 0.2 * first[1].cos() + 0.6 * first[2].cos() - 0.5 * first[3].cos() - 0.5;
+    assert!(closure.abs() < 1e-12, "{first:?}");
+    let (code, err) = one_line_error(&["simulate", "four_bar", "--hold", "φ", "--t-end", "0.1"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("θ2, θ3, θ4"), "{err}");
+    let (code, err) = one_line_error(&["simulate", "double_pendulum", "--hold", "θ1", "--t-end", "0.1"]);
+    assert_eq!(code, Some(2), "{err}");
+}
