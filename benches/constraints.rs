@@ -5,7 +5,7 @@
 //! step, each followed by the projection onto the constraints, as a run takes them.
 //!
 //! `cargo bench -p lagrange-benches --bench constraints` measures, then prints the table of
-//! this run's ratios (docs/validation.md#benchmarks).
+//! this run's ratios.
 
 use criterion::Criterion;
 use lagrange::integrate::{Dopri5, Rk4};
