@@ -35,6 +35,9 @@
 //! | `spring_pendulum` | elastic pendulum | `r`, `θ` | beyond the lecture |
 //! | `driven_pendulum` | horizontally driven support (rheonomic) | `θ` | beyond the lecture |
 //! | `charged_particle` | uniform magnetic field (raw Lagrangian) | `x`, `y` | beyond the lecture |
+//! | `four_bar` | crank-rocker four-bar, 2 loop constraints | `θ2`, `θ3`, `θ4` | docs/scenes.md#four_bar |
+//! | `slider_crank` | slider-crank with flywheel, 2 loop constraints | `φ`, `ψ`, `x` | docs/scenes.md#slider_crank |
+//! | `andrews_squeezer` | Andrews' squeezing mechanism, 6 loop constraints | `β`, `Θ`, `γ`, `Φ`, `δ`, `Ω`, `ε` | docs/scenes.md#andrews_squeezer |
 //!
 //! Conventions follow docs/scenes.md: gravity `g` along −y, angles counter-clockwise, pendulum
 //! angles from the downward vertical, pulley depths measured downward.
@@ -88,13 +91,17 @@ macro_rules! for_each_scene {
             $crate::Chain,
             $crate::SpringPendulum,
             $crate::DrivenPendulum,
-            $crate::ChargedParticle
+            $crate::ChargedParticle,
+            $crate::FourBar,
+            $crate::SliderCrank,
+            $crate::AndrewsSqueezer
         }
     };
 }
 
 mod checks;
 mod conserved;
+mod linkage;
 mod params;
 mod scene;
 #[cfg(test)]
@@ -102,6 +109,7 @@ mod testing;
 mod uniform_acceleration;
 mod visit;
 
+pub mod andrews_squeezer;
 pub mod atwood;
 pub mod cart_pendulum;
 pub mod chain;
@@ -110,12 +118,15 @@ pub mod double_atwood;
 pub mod double_double_atwood;
 pub mod double_pendulum;
 pub mod driven_pendulum;
+pub mod four_bar;
 pub mod harmonic_oscillator;
 pub mod isotropic_oscillator;
 pub mod kepler;
+pub mod slider_crank;
 pub mod spring_pendulum;
 pub mod wedge;
 
+pub use andrews_squeezer::AndrewsSqueezer;
 pub use atwood::Atwood;
 pub use cart_pendulum::CartPendulum;
 pub use chain::Chain;
@@ -125,11 +136,13 @@ pub use double_atwood::DoubleAtwood;
 pub use double_double_atwood::DoubleDoubleAtwood;
 pub use double_pendulum::DoublePendulum;
 pub use driven_pendulum::DrivenPendulum;
+pub use four_bar::{FourBar, FourBarCrank};
 pub use harmonic_oscillator::HarmonicOscillator;
 pub use isotropic_oscillator::IsotropicOscillator;
 pub use kepler::{Kepler, Orbit};
 pub use params::{Domain, ParamSpec, Params};
 pub use scene::{Scene, SceneType, all, find, ids, scene_of};
+pub use slider_crank::{SliderCrank, SliderCrankCrank};
 pub use spring_pendulum::SpringPendulum;
 pub use visit::{ClosedForm, MechanismVisitor, unknown_scene, visit_mechanism};
 pub use wedge::Wedge;

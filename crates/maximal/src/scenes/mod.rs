@@ -6,6 +6,7 @@
 //! ([`lagrange_scenes::for_each_scene!`]): a scene without a [`MaximalScene`] implementation
 //! does not compile.
 
+mod andrews_squeezer;
 mod atwood;
 mod cart_pendulum;
 mod chain;
@@ -14,9 +15,11 @@ mod double_atwood;
 mod double_double_atwood;
 mod double_pendulum;
 mod driven_pendulum;
+mod four_bar;
 mod harmonic_oscillator;
 mod isotropic_oscillator;
 mod kepler;
+mod slider_crank;
 mod spring_pendulum;
 mod wedge;
 
