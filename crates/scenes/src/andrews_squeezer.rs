@@ -369,6 +369,8 @@ impl SceneType for AndrewsSqueezer {
     const ID: &'static str = "andrews_squeezer";
     const TITLE: &'static str = "Andrews' squeezing mechanism (7 bodies, 6 loop constraints)";
     const REFERENCE: &'static str = "docs/scenes.md#andrews_squeezer; beyond the lecture (Hairer & Wanner, Solving ODEs II, §VII.7; the CWI/Bari IVP test set problem \"andrews\")";
+    /// The test problem's interval, `[0, 0.03]` s: the span of the published solution.
+    const HORIZON: Option<f64> = Some(0.03);
     param_table!();
 
     /// [`AndrewsSqueezer::closed_form_with_multipliers`].

@@ -177,50 +177,9 @@ pub fn kkt(q: &[f64; 7], qdot: &[f64; 7]) -> Option<([f64; 7], [f64; 6])> {
     Some((std::array::from_fn(|i| solution[i]), std::array::from_fn(|i| solution[7 + i])))
 }
 
-/// The test set's consistent initial positions at `t = 0` (at rest).
-#[allow(clippy::excessive_precision)] // the published digits, as published
-pub const INITIAL_Q: [f64; 7] = [
-    -0.0617138900142764496358948458001,
-    0.0,
-    0.455279819163070380255912382449,
-    0.222668390165885884674473185609,
-    0.487364979543842550225598953530,
-    -0.222668390165885884674473185609,
-    1.23054744454982119249735015568,
-];
-
-/// The test set's consistent initial accelerations at `t = 0`.
-#[allow(clippy::excessive_precision)] // the published digits, as published
-pub const INITIAL_QDDOT: [f64; 7] =
-    [14222.4439199541138705911625887, -10666.8329399655854029433719415, 0.0, 0.0, 0.0, 0.0, 0.0];
-
-/// The test set's consistent initial multipliers at `t = 0`.
-#[allow(clippy::excessive_precision)] // the published digits, as published
-pub const INITIAL_LAMBDA: [f64; 6] =
-    [98.5668703962410896057654982170, -6.12268834425566265503114393122, 0.0, 0.0, 0.0, 0.0];
-
-/// The test set's reference solution at `t = 0.03`: angles (PSIDE at relative and absolute
-/// tolerance 1e-14 on a Cray C90; accurate to about 3e-10 relative).
-pub const REFERENCE_Q: [f64; 7] = [
-    15.81077119629904,
-    -15.75637105984298,
-    0.04082224013073101,
-    -0.5347301163226948,
-    0.5244099658805304,
-    0.5347301163226948,
-    1.048080741042263,
-];
-
-/// The test set's reference angular velocities at `t = 0.03`.
-pub const REFERENCE_QDOT: [f64; 7] = [
-    1139.920302151208,
-    -1424.379294994111,
-    11.03291221937134,
-    19.29337464421385,
-    0.5735699284790808,
-    -19.29337464421385,
-    0.3231791658026955,
-];
+pub use lagrange_scenes::andrews_squeezer::{
+    INITIAL_ANGLES, PUBLISHED_AT_0_03, PUBLISHED_INITIAL_ACCELERATIONS, PUBLISHED_INITIAL_MULTIPLIERS,
+};
 
 /// End of the test set's interval (s).
 pub const T_END: f64 = 0.03;
@@ -235,20 +194,20 @@ mod tests {
     /// are given to 30 digits).
     #[test]
     fn the_kkt_solve_reproduces_the_published_initial_values() {
-        let (qddot, lambda) = kkt(&INITIAL_Q, &[0.0; 7]).expect("regular");
+        let (qddot, lambda) = kkt(&INITIAL_ANGLES, &[0.0; 7]).expect("regular");
         let worst = |got: &[f64], want: &[f64]| {
             got.iter().zip(want).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / want[0].abs()
         };
-        eprintln!("q̈ to {:.1e}, λ to {:.1e} relative", worst(&qddot, &INITIAL_QDDOT), worst(&lambda, &INITIAL_LAMBDA));
-        let scale = INITIAL_QDDOT[0].abs();
-        for (got, want) in qddot.iter().zip(INITIAL_QDDOT) {
+        eprintln!("q̈ to {:.1e}, λ to {:.1e} relative", worst(&qddot, &PUBLISHED_INITIAL_ACCELERATIONS), worst(&lambda, &PUBLISHED_INITIAL_MULTIPLIERS));
+        let scale = PUBLISHED_INITIAL_ACCELERATIONS[0].abs();
+        for (got, want) in qddot.iter().zip(PUBLISHED_INITIAL_ACCELERATIONS) {
             assert!((got - want).abs() <= 1e-12 * scale, "q̈: {qddot:?}");
         }
-        let scale = INITIAL_LAMBDA[0].abs();
-        for (got, want) in lambda.iter().zip(INITIAL_LAMBDA) {
+        let scale = PUBLISHED_INITIAL_MULTIPLIERS[0].abs();
+        for (got, want) in lambda.iter().zip(PUBLISHED_INITIAL_MULTIPLIERS) {
             assert!((got - want).abs() <= 1e-12 * scale, "λ: {lambda:?}");
         }
-        let g = equations(&INITIAL_Q, &[0.0; 7]).constraints;
+        let g = equations(&INITIAL_ANGLES, &[0.0; 7]).constraints;
         assert!(g.amax() <= 1e-16, "g(q₀) = {g:?}");
     }
 

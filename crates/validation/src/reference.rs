@@ -124,7 +124,7 @@ pub fn published(scene: &str) -> Option<Published> {
     (scene == "andrews_squeezer").then_some(Published {
         source: "CWI/Bari IVP test set, problem andrews (PSIDE, tol 1e-14; about 3e-10 relative)",
         t: crate::andrews::T_END,
-        q: &crate::andrews::REFERENCE_Q,
+        q: &crate::andrews::PUBLISHED_AT_0_03[0],
     })
 }
 
