@@ -1,5 +1,16 @@
 //! The variational midpoint integrator: discrete Euler–Lagrange equations (Marsden & West,
 //! *Discrete mechanics and variational integrators*, Acta Numerica 2001, §1.2 and §3.2).
+//!
+//! On a system with constraints among its coordinates it is a constrained discrete
+//! Euler–Lagrange method (docs/method.md#constraints): the impulse
+//! `C₀ᵀ Λ` of the constraint rows at `q₀` enters the momentum equation, the holonomic rows
+//! `Φ(t₁, q₁) = 0` hold at the end of the step (RATTLE in Lagrangian form, Marsden & West
+//! §3.5) and the velocity rows `A(t_m, q_m) Δq/h + b = 0` at its midpoint (discrete
+//! Lagrange–d'Alembert, Cortés & Martínez 2001, McLachlan & Perlmutter 2006); Newton solves for
+//! `(Δq, Λ)` with the exact Jacobian. The velocities read are moved onto the velocity form of
+//! the constraints by RATTLE's second multiplier, which does not change the coordinates. The
+//! driver does not project the state: the constraints hold at every step to the Newton
+//! tolerance by the method itself.
 
 use super::check_step;
 use super::integrator::{Grid, Integrator, Stats, diverged};
