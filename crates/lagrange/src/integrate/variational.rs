@@ -721,7 +721,7 @@ impl<D: Dynamics> Variational<D> {
         )?;
         // A dependent row carries no impulse: it must hold by itself, to the consistency
         // tolerance of the constrained solve relative to its change over the step (plus the
-        // round-off of a row evaluated at coordinates of size |q|).
+        // round-off of a row evaluated at coordinates of size |q|; the rows are finite here).
         let size = 1.0 + self.q.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
         for i in 0..c {
             let d = &k.step_rows[i * n..(i + 1) * n];
@@ -730,7 +730,7 @@ impl<D: Dynamics> Variational<D> {
             let value = k.residual[i].abs();
             self.max_constraint_residual = self.max_constraint_residual.max(value);
             if k.dependent[i]
-                && !(value <= constraints::CONSISTENT * change + constraints::POSITION_TOLERANCE * size * row.max(1.0))
+                && value > constraints::CONSISTENT * change + constraints::POSITION_TOLERANCE * size * row.max(1.0)
             {
                 return Err(Error::InconsistentConstraints {
                     t: t1,
