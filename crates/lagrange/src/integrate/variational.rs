@@ -324,7 +324,10 @@ impl<F: LagrangianFunction> Variational<F> {
         }
     }
 
-    /// Advance by `h`: solve the discrete Euler–Lagrange equation for `q₁`, update `p`.
+    /// Advance by `h`: solve the discrete Euler–Lagrange equation for `q₁`, update `p`. It
+    /// knows nothing of constraints among the coordinates: a constrained system is stepped
+    /// through the [`Integrator`] interface ([`run`](super::run)), whose `advance` takes the
+    /// constrained step.
     ///
     /// # Errors
     /// [`Error::InvalidSetting`] for a bad step, [`Error::NewtonFailed`] when Newton does not
