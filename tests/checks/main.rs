@@ -16,3 +16,4 @@ mod readme;
 mod region;
 mod stability;
 mod variational;
+mod variational_constraints;

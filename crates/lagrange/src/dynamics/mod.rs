@@ -140,6 +140,52 @@ pub trait Dynamics: LagrangianFunction {
         Ok(None)
     }
 
+    /// The constraint rows at `state = (t, q, q̇)`: the Jacobian `G = [Φ_q; A]` (c × n,
+    /// row-major, `c = m + k`) into `jacobian`, the holonomic residuals `Φ(t, q)` (m) into
+    /// `residual`, the velocity residuals `[Φ_q q̇ + Φ_t; A q̇ + b]` (c) into `rate`; `false`
+    /// (the default) without constraints.
+    ///
+    /// # Errors
+    /// On a malformed or non-finite state or non-finite constraint rows.
+    fn constraint_rows(
+        &self,
+        ws: &mut Self::Workspace,
+        state: (f64, &[f64], &[f64]),
+        jacobian: &mut [f64],
+        residual: &mut [f64],
+        rate: &mut [f64],
+    ) -> Result<bool, Error> {
+        let _ = (ws, state, jacobian, residual, rate);
+        Ok(false)
+    }
+
+    /// The name of constraint row `i` (holonomic rows first, then velocity rows) for messages:
+    /// [`Mechanism::constraint_name`](crate::Mechanism::constraint_name) for a body model.
+    fn constraint_name(&self, i: usize) -> String {
+        format!("constraint {}", i + 1)
+    }
+
+    /// The constraint rows of one step of a discrete method (the variational integrator, see
+    /// docs/method.md#constraints) from `q₀` to `q₁ = q₀ + Δq` over `h`: with `end = (t₁, q₁)`,
+    /// the holonomic rows `Φ(t₁, q₁)` into `residual` and `Φ_q(t₁, q₁)` into `jacobian`; with
+    /// `midpoint = (t_m, q_m, v, h)`, `q_m = q₀ + Δq/2`, `v = Δq/h`, the velocity rows
+    /// `A(t_m, q_m) v + b(t_m, q_m)` and their derivative with respect to `Δq`,
+    /// `½ ∂(A v + b)/∂q + A/h`. `false` (the default) without constraints.
+    ///
+    /// # Errors
+    /// On non-finite constraint rows.
+    fn step_constraint_rows(
+        &self,
+        ws: &mut Self::Workspace,
+        end: (f64, &[f64]),
+        midpoint: (f64, &[f64], &[f64], f64),
+        residual: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Result<bool, Error> {
+        let _ = (ws, end, midpoint, residual, jacobian);
+        Ok(false)
+    }
+
     /// The constraint multipliers `λ` at `(t, q, q̇)` into `multipliers` (`m + k`: holonomic
     /// rows, then velocity rows), with `M q̈ + Gᵀ λ = f` ([`constraint_multipliers`](crate::constraint_multipliers));
     /// `false` (the default) without constraints.
@@ -273,6 +319,32 @@ impl<E: Equations + LagrangianFunction> Dynamics for E {
         qdot: &[f64],
     ) -> Result<Option<[f64; 2]>, Error> {
         self.eval_violation(ws, t, q, qdot)
+    }
+
+    fn constraint_rows(
+        &self,
+        ws: &mut Self::Workspace,
+        state: (f64, &[f64], &[f64]),
+        jacobian: &mut [f64],
+        residual: &mut [f64],
+        rate: &mut [f64],
+    ) -> Result<bool, Error> {
+        self.eval_constraint_rows(ws, state, jacobian, residual, rate)
+    }
+
+    fn constraint_name(&self, i: usize) -> String {
+        self.name_constraint(i)
+    }
+
+    fn step_constraint_rows(
+        &self,
+        ws: &mut Self::Workspace,
+        end: (f64, &[f64]),
+        midpoint: (f64, &[f64], &[f64], f64),
+        residual: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Result<bool, Error> {
+        self.eval_step_constraint_rows(ws, end, midpoint, residual, jacobian)
     }
 
     fn constraint_multipliers(

@@ -262,7 +262,7 @@ fn schur_solve<M: Mechanism, S: Scalar>(
 /// diagonal, `D` on it), rows in the order given. A row whose pivot is not above
 /// [`DEPENDENT`] times its diagonal (zero, negative or NaN) depends on the rows before it: it
 /// is marked in `dependent` and its column of `L` is zero.
-fn factor_skipping<S: Scalar>(c: usize, a: &mut [S], dependent: &mut [bool]) {
+pub(crate) fn factor_skipping<S: Scalar>(c: usize, a: &mut [S], dependent: &mut [bool]) {
     for j in 0..c {
         let diagonal = a[j * c + j].re();
         let mut d = a[j * c + j];
@@ -288,7 +288,7 @@ fn factor_skipping<S: Scalar>(c: usize, a: &mut [S], dependent: &mut [bool]) {
 
 /// `z ← L⁻¹ z` with the factor of [`factor_skipping`]: a dependent row is left holding its
 /// residual after elimination (zero when it is consistent with the rows before it).
-fn forward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool], z: &mut [S]) {
+pub(crate) fn forward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool], z: &mut [S]) {
     for i in 0..c {
         for k in (0..i).filter(|&k| !dependent[k]) {
             let l = a[i * c + k] * z[k];
@@ -298,7 +298,7 @@ fn forward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool], z: &mut [S
 }
 
 /// `z ← D⁻¹ Lᵀ⁻¹ z` after [`forward_skipping`]: the basic solution, 0 on the dependent rows.
-fn backward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool], z: &mut [S]) {
+pub(crate) fn backward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool], z: &mut [S]) {
     for i in (0..c).rev() {
         if dependent[i] {
             z[i] = S::zero();
@@ -314,6 +314,82 @@ fn backward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool], z: &mut [
 
 fn dot<S: Scalar>(a: &[S], b: &[S]) -> S {
     a.iter().zip(b).fold(S::zero(), |sum, (&x, &y)| sum + x * y)
+}
+
+/// The constraint rows at `(t, q, q̇)` of a constrained [`Model`]: `G = [Φ_q; A]` (c × n) into
+/// `jacobian`, `Φ` (m) into `residual`, the velocity residuals `[Φ_q q̇ + Φ_t; A q̇ + b]` (c)
+/// into `rate`.
+///
+/// # Errors
+/// [`Error::NonFinite`] for a bad state or non-finite rows.
+pub(crate) fn rows_at<M: Mechanism>(
+    model: &Model<M>,
+    ws: &mut Workspace<f64>,
+    (t, q, qdot): (f64, &[f64], &[f64]),
+    jacobian: &mut [f64],
+    residual: &mut [f64],
+    rate: &mut [f64],
+) -> Result<(), Error> {
+    crate::eom::check_state(model.n, t, q, Some(qdot))?;
+    let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
+    evaluate(&model.mechanism, model.constraint_counts, Rows::All, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
+    jacobian.copy_from_slice(&b.jacobian);
+    residual.copy_from_slice(&b.residual);
+    rate.copy_from_slice(&b.rate);
+    ws.constraints = Some(b);
+    if crate::eom::all_finite(jacobian) && crate::eom::all_finite(residual) && crate::eom::all_finite(rate) {
+        Ok(())
+    } else {
+        Err(crate::eom::non_finite(Stage::Constraints, t, q))
+    }
+}
+
+/// The constraint rows of one step of a discrete method from `q₀` to `q₁ = q₀ + Δq` over `h`
+/// (docs/method.md#constraints): the holonomic rows at the end, `Φ(t₁, q₁)` into `residual` and
+/// `Φ_q(t₁, q₁)` into `jacobian`; the velocity rows at the midpoint, `A(t_m, q_m) v + b(t_m, q_m)`
+/// with `q_m = q₀ + Δq/2`, `v = Δq/h`, and their derivative with respect to `Δq`,
+/// `½ ∂(A v + b)/∂q + A/h` (one dual pass per column, seeding `q_m` by ½ and `v` by `1/h`).
+///
+/// # Errors
+/// [`Error::NonFinite`] for non-finite rows.
+pub(crate) fn step_rows<M: Mechanism>(
+    model: &Model<M>,
+    ws: &mut Workspace<f64>,
+    (t1, q1): (f64, &[f64]),
+    (tm, qm, vm, h): (f64, &[f64], &[f64], f64),
+    residual: &mut [f64],
+    jacobian: &mut [f64],
+) -> Result<(), Error> {
+    let n = model.n;
+    let (m, k) = model.constraint_counts;
+    let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
+    if m > 0 {
+        evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t1, q1, vm);
+        jacobian[..m * n].copy_from_slice(&b.jacobian[..m * n]);
+        residual[..m].copy_from_slice(&b.residual);
+    }
+    if k > 0 {
+        let t_dual = Dual::from_re(tm);
+        seed::constant(&mut ws.q_dual, qm);
+        seed::constant(&mut b.qdot_dual, vm);
+        for j in 0..n {
+            ws.q_dual[j].eps = 0.5;
+            b.qdot_dual[j].eps = 1.0 / h;
+            model.mechanism.velocity_constraint(t_dual, &ws.q_dual, &b.qdot_dual, &mut b.velocity_dual);
+            for (i, r) in b.velocity_dual.iter().enumerate() {
+                jacobian[(m + i) * n + j] = r.eps;
+                residual[m + i] = r.re;
+            }
+            ws.q_dual[j].eps = 0.0;
+            b.qdot_dual[j].eps = 0.0;
+        }
+    }
+    ws.constraints = Some(b);
+    if crate::eom::all_finite(jacobian) && crate::eom::all_finite(residual) {
+        Ok(())
+    } else {
+        Err(crate::eom::non_finite(Stage::Constraints, t1, q1))
+    }
 }
 
 /// Iterations of Gauss–Newton before [`Error::AssemblyFailed`]: quadratic convergence from any

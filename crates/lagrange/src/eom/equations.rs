@@ -127,6 +127,41 @@ pub trait Equations: sealed::Sealed {
         Ok(None)
     }
 
+    /// The constraint rows `G`, `Φ` and the velocity residuals at `(t, q, q̇)`, `false` without
+    /// constraints.
+    #[doc(hidden)]
+    fn eval_constraint_rows(
+        &self,
+        ws: &mut Self::Workspace<f64>,
+        state: (f64, &[f64], &[f64]),
+        jacobian: &mut [f64],
+        residual: &mut [f64],
+        rate: &mut [f64],
+    ) -> Result<bool, Error> {
+        let _ = (ws, state, jacobian, residual, rate);
+        Ok(false)
+    }
+
+    /// The name of constraint row `i` ([`Mechanism::constraint_name`]).
+    #[doc(hidden)]
+    fn name_constraint(&self, i: usize) -> String {
+        format!("constraint {}", i + 1)
+    }
+
+    /// The constraint rows of a discrete step, `false` without constraints.
+    #[doc(hidden)]
+    fn eval_step_constraint_rows(
+        &self,
+        ws: &mut Self::Workspace<f64>,
+        end: (f64, &[f64]),
+        midpoint: (f64, &[f64], &[f64], f64),
+        residual: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Result<bool, Error> {
+        let _ = (ws, end, midpoint, residual, jacobian);
+        Ok(false)
+    }
+
     /// The constraint multipliers into `multipliers` (`m + k`), `false` without constraints.
     #[doc(hidden)]
     fn eval_multipliers(
@@ -352,6 +387,38 @@ impl<M: Mechanism> Equations for Model<M> {
             return Ok(None);
         }
         super::constraints::violation(self, ws, t, q, qdot).map(Some)
+    }
+
+    fn eval_constraint_rows(
+        &self,
+        ws: &mut Workspace<f64>,
+        state: (f64, &[f64], &[f64]),
+        jacobian: &mut [f64],
+        residual: &mut [f64],
+        rate: &mut [f64],
+    ) -> Result<bool, Error> {
+        if !self.is_constrained() {
+            return Ok(false);
+        }
+        super::constraints::rows_at(self, ws, state, jacobian, residual, rate).map(|()| true)
+    }
+
+    fn name_constraint(&self, i: usize) -> String {
+        self.mechanism.constraint_name(i)
+    }
+
+    fn eval_step_constraint_rows(
+        &self,
+        ws: &mut Workspace<f64>,
+        end: (f64, &[f64]),
+        midpoint: (f64, &[f64], &[f64], f64),
+        residual: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Result<bool, Error> {
+        if !self.is_constrained() {
+            return Ok(false);
+        }
+        super::constraints::step_rows(self, ws, end, midpoint, residual, jacobian).map(|()| true)
     }
 
     fn eval_multipliers(

@@ -229,6 +229,8 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
         check_consistent(system, &mut ws, initial)?;
     }
     integrator.begin(system, &mut ws, initial, t_end)?;
+    // A method that keeps the constraints itself is not projected: its state is its own.
+    let project = constrained && !integrator.keeps_constraints();
     if let Some(dt) = integrator.fixed_step() {
         for (index, &t_out) in times.iter().enumerate() {
             let (whole, on_grid) = Grid::position(t0, dt, t_out);
@@ -269,7 +271,7 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
             }
             integrator.advance(system, &mut ws, t_out, t_end)?;
             steps += 1;
-            if constrained {
+            if project {
                 integrator.project(system, &mut ws)?;
             }
             if region {
@@ -278,7 +280,7 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
             }
         }
         integrator.read(system, &mut ws, t_out, &mut q, &mut qdot)?;
-        if constrained {
+        if project {
             // A dense-output sample inside the last step is not on the constraints by itself.
             system.project(&mut ws, t_out, &mut q, &mut qdot)?;
         }

@@ -100,6 +100,14 @@ pub trait Integrator<D: Dynamics> {
     /// # Errors
     /// Any error of the projection or of the equations of motion.
     fn project(&mut self, system: &D, ws: &mut D::Workspace) -> Result<(), Error>;
+
+    /// Whether the method satisfies the constraints by itself (the variational integrator's
+    /// constrained discrete Euler–Lagrange equations): the driver then neither projects its
+    /// state after a step nor the samples it reads, and the recorded violation is the
+    /// method's own. `false` (the default): the driver projects.
+    fn keeps_constraints(&self) -> bool {
+        false
+    }
 }
 
 /// A fixed-step method that holds its own [`State`] on a [`Grid`] ([`Rk4`](super::Rk4),

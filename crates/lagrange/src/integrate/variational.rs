@@ -1,9 +1,21 @@
 //! The variational midpoint integrator: discrete Euler–Lagrange equations (Marsden & West,
 //! *Discrete mechanics and variational integrators*, Acta Numerica 2001, §1.2 and §3.2).
+//!
+//! On a system with constraints among its coordinates it is a constrained discrete
+//! Euler–Lagrange method (docs/method.md#constraints): the impulse
+//! `C₀ᵀ Λ` of the constraint rows at `q₀` enters the momentum equation, the holonomic rows
+//! `Φ(t₁, q₁) = 0` hold at the end of the step (RATTLE in Lagrangian form, Marsden & West
+//! §3.5) and the velocity rows `A(t_m, q_m) Δq/h + b = 0` at its midpoint (discrete
+//! Lagrange–d'Alembert, Cortés & Martínez 2001, McLachlan & Perlmutter 2006); Newton solves for
+//! `(Δq, Λ)` with the exact Jacobian. The velocities read are moved onto the velocity form of
+//! the constraints by RATTLE's second multiplier, which does not change the coordinates. The
+//! driver does not project the state: the constraints hold at every step to the Newton
+//! tolerance by the method itself.
 
 use super::check_step;
 use super::integrator::{Grid, Integrator, Stats, diverged};
 use super::non_finite_quantity;
+use crate::eom::constraints;
 use crate::linalg as solve;
 use crate::{Dynamics, Error, LagrangianFunction, State};
 use num_dual::{Dual64, HyperDual64};
@@ -85,8 +97,66 @@ pub struct Variational<F: LagrangianFunction> {
     grid: Grid,
     /// Counters.
     stats: Stats,
-    /// Largest final Newton residual `‖p₀ + D₁L_d + (h/2)Q‖∞` of any step so far.
+    /// Largest final Newton residual `‖p₀ + D₁L_d + (h/2)Q − Gᵀ(q₀)Λ‖∞` of any step so far.
     pub max_residual: f64,
+    /// Largest constraint residual `max |Φ(t₁, q₁)|`, `max |A(t_m, q_m) v + b|` at the
+    /// converged end of any step so far (0 without constraints).
+    pub max_constraint_residual: f64,
+    /// The buffers of the constrained step, allocated by [`begin`](Integrator::begin) for a
+    /// system with constraints (`None` without: an unconstrained step does no constraint work).
+    constrained: Option<Box<ConstrainedStep>>,
+}
+
+/// The buffers of a constrained step (`c = m + k` rows, `n` coordinates).
+struct ConstrainedStep {
+    c: usize,
+    /// `C₀ = [Φ_q; A](t₀, q₀)` (c × n): the directions of the constraint impulse `C₀ᵀ Λ`.
+    force_rows: Vec<f64>,
+    /// The derivative of the step's constraint rows with respect to `Δq` (c × n).
+    step_rows: Vec<f64>,
+    /// The step's constraint residuals (c), and the holonomic residuals at `q₀` (m).
+    residual: Vec<f64>,
+    phi: Vec<f64>,
+    /// Velocity residuals at `q₀` (c, unused by the step; read by the velocity projection).
+    rate: Vec<f64>,
+    /// The impulse `Λ` (c), 0 on a dependent row.
+    multipliers: Vec<f64>,
+    /// Rows dependent on the rows before them at `q₀` (`C₀ C₀ᵀ` factored with dependent rows),
+    /// their Gram matrix (c × c), and the independent rows.
+    dependent: Vec<bool>,
+    gram: Vec<f64>,
+    active: Vec<usize>,
+    /// `X = J⁻¹ C₀ᵀ` by rows (c × n), the Schur complement `C X` over the independent rows and
+    /// its pivots, its right-hand side (c).
+    mobility: Vec<f64>,
+    schur: Vec<f64>,
+    pivots: Vec<usize>,
+    rhs: Vec<f64>,
+    /// `q₁ = q₀ + Δq` (n).
+    q_end: Vec<f64>,
+}
+
+impl ConstrainedStep {
+    fn new(n: usize, (m, k): (usize, usize)) -> Self {
+        let c = m + k;
+        Self {
+            c,
+            force_rows: vec![0.0; c * n],
+            step_rows: vec![0.0; c * n],
+            residual: vec![0.0; c],
+            phi: vec![0.0; m],
+            rate: vec![0.0; c],
+            multipliers: vec![0.0; c],
+            dependent: vec![false; c],
+            gram: vec![0.0; c * c],
+            active: Vec::with_capacity(c),
+            mobility: vec![0.0; c * n],
+            schur: vec![0.0; c * c],
+            pivots: vec![0; c],
+            rhs: vec![0.0; c],
+            q_end: vec![0.0; n],
+        }
+    }
 }
 
 impl<F: LagrangianFunction> Variational<F> {
@@ -123,6 +193,8 @@ impl<F: LagrangianFunction> Variational<F> {
             grid: Grid::new(0.0, f64::NAN),
             stats: Stats::default(),
             max_residual: 0.0,
+            max_constraint_residual: 0.0,
+            constrained: None,
         }
     }
 
@@ -165,6 +237,7 @@ impl<F: LagrangianFunction> Variational<F> {
         self.t = t;
         self.t0 = t;
         self.stats = Stats::default();
+        self.max_constraint_residual = 0.0;
         self.q.copy_from_slice(q);
         self.qdot0.copy_from_slice(qdot);
         self.velocity.copy_from_slice(qdot);
@@ -251,7 +324,10 @@ impl<F: LagrangianFunction> Variational<F> {
         }
     }
 
-    /// Advance by `h`: solve the discrete Euler–Lagrange equation for `q₁`, update `p`.
+    /// Advance by `h`: solve the discrete Euler–Lagrange equation for `q₁`, update `p`. It
+    /// knows nothing of constraints among the coordinates: a constrained system is stepped
+    /// through the [`Integrator`] interface ([`run`](super::run)), whose `advance` takes the
+    /// constrained step.
     ///
     /// # Errors
     /// [`Error::InvalidSetting`] for a bad step, [`Error::NewtonFailed`] when Newton does not
@@ -479,18 +555,256 @@ impl<F: LagrangianFunction> Variational<F> {
     }
 }
 
+impl<D: Dynamics> Variational<D> {
+    /// Advance a constrained system by `h` (docs/method.md#constraints): Newton on the
+    /// `n + c` equations
+    ///
+    /// `p₀ + D₁L_d(q₀, q₁) + (h/2) Q − C₀ᵀ Λ = 0`, `Φ(t₁, q₁) = 0`,
+    /// `A(t_m, q_m) (q₁ − q₀)/h + b(t_m, q_m) = 0`,
+    ///
+    /// with `C₀ = [Φ_q; A](t₀, q₀)`, `q_m = (q₀ + q₁)/2`, for `(Δq, Λ)`, with the exact Jacobian
+    /// `[[J, −C₀ᵀ], [D, 0]]` (`J` the unconstrained one, `D` the derivative of the step's rows,
+    /// `Φ_q(t₁, q₁)` and `½ ∂(A v + b)/∂q + A/h`) eliminated by its Schur complement
+    /// `D J⁻¹ C₀ᵀ`; then `p₁ = D₂L_d(q₀, q₁) + (h/2) Q`. Rows found dependent on the rows before
+    /// them at `q₀` carry no impulse, and must then hold by themselves at the end of the step.
+    ///
+    /// # Errors
+    /// As [`step`](Self::step); [`Error::InconsistentConstraints`] when a dependent row does not
+    /// hold at the end of the step; [`Error::NonFinite`] for non-finite constraint rows.
+    fn step_constrained(&mut self, system: &D, ws: &mut D::Workspace, h: f64) -> Result<(), Error> {
+        check_step(h)?;
+        let mut k = self.constrained.take().expect("a constrained run has the constrained buffers");
+        let result = self.newton_constrained(system, ws, &mut k, h);
+        self.constrained = Some(k);
+        result
+    }
+
+    fn newton_constrained(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        k: &mut ConstrainedStep,
+        h: f64,
+    ) -> Result<(), Error> {
+        let n = self.n;
+        let c = k.c;
+        let (t, tm, t1) = (self.t, self.t + 0.5 * h, self.t + h);
+        // The impulse directions at q₀, and which of them depend on the ones before.
+        system.constraint_rows(ws, (t, &self.q, &self.velocity), &mut k.force_rows, &mut k.phi, &mut k.rate)?;
+        for i in 0..c {
+            for l in 0..=i {
+                let g = dot(&k.force_rows[i * n..(i + 1) * n], &k.force_rows[l * n..(l + 1) * n]);
+                k.gram[i * c + l] = g;
+                k.gram[l * c + i] = g;
+            }
+        }
+        constraints::factor_skipping(c, &mut k.gram, &mut k.dependent);
+        k.active.clear();
+        k.active.extend((0..c).filter(|&i| !k.dependent[i]));
+        let ca = k.active.len();
+        // Predictor: Δq = h v, Λ = 0 (the equations are linear in Λ).
+        for i in 0..n {
+            self.delta[i] = h * self.velocity[i];
+        }
+        k.multipliers.fill(0.0);
+        let mut converged = false;
+        let mut residual_norm = f64::INFINITY;
+        let mut previous_update = f64::INFINITY;
+        for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
+            self.midpoint(system, tm, h);
+            self.derivatives(system, tm, true);
+            self.check_finite(system, iteration)?;
+            residual_norm = 0.0;
+            let mut relative_residual = 0.0_f64;
+            for i in 0..n {
+                let impulse: f64 = (0..c).map(|r| k.force_rows[r * n + i] * k.multipliers[r]).sum();
+                self.residual[i] =
+                    self.p[i] + 0.5 * h * (self.gradient[i] + self.force[i]) - self.gradient[n + i] - impulse;
+                residual_norm = f64::max(residual_norm, self.residual[i].abs());
+                let scale = self.p[i].abs()
+                    + 0.5 * h * (self.gradient[i].abs() + self.force[i].abs())
+                    + momentum_scale(&self.hessian, &self.gradient, &self.velocity, i)
+                    + impulse.abs();
+                relative_residual = relative_residual.max(self.residual[i].abs() / scale);
+            }
+            let m2 = 2 * n;
+            for i in 0..n {
+                for j in 0..n {
+                    self.jacobian[i * n + j] = 0.25 * h * self.hessian[i * m2 + j] + 0.5 * self.hessian[i * m2 + n + j]
+                        - 0.5 * self.hessian[(n + i) * m2 + j]
+                        - self.hessian[(n + i) * m2 + n + j] / h;
+                }
+            }
+            if self.has_force {
+                self.add_force_jacobian(system, tm, h);
+            }
+            // The step's constraint rows and their derivative at the current iterate.
+            for i in 0..n {
+                k.q_end[i] = self.q[i] + self.delta[i];
+            }
+            system.step_constraint_rows(
+                ws,
+                (t1, &k.q_end),
+                (tm, &self.q_mid, &self.velocity, h),
+                &mut k.residual,
+                &mut k.step_rows,
+            )?;
+            self.stats.factorizations += 1;
+            if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
+                return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
+            }
+            // y = J⁻¹ R (in `residual`), X = J⁻¹ C₀ᵀ over the independent rows.
+            solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
+            for &r in &k.active {
+                k.mobility[r * n..(r + 1) * n].copy_from_slice(&k.force_rows[r * n..(r + 1) * n]);
+                solve::lu_solve(n, &self.jacobian, &self.pivots, &mut k.mobility[r * n..(r + 1) * n]);
+            }
+            // (D X) δΛ = D y − C over the independent rows; δΔq = −y + X δΛ.
+            for (a, &r) in k.active.iter().enumerate() {
+                let d = &k.step_rows[r * n..(r + 1) * n];
+                for (b, &l) in k.active.iter().enumerate() {
+                    k.schur[a * ca + b] = dot(d, &k.mobility[l * n..(l + 1) * n]);
+                }
+                k.rhs[a] = dot(d, &self.residual) - k.residual[r];
+            }
+            if ca > 0 {
+                if solve::lu_factor(ca, &mut k.schur[..ca * ca], &mut k.pivots[..ca]).is_err() {
+                    return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
+                }
+                solve::lu_solve(ca, &k.schur[..ca * ca], &k.pivots[..ca], &mut k.rhs[..ca]);
+            }
+            for (a, &r) in k.active.iter().enumerate() {
+                k.multipliers[r] += k.rhs[a];
+                for i in 0..n {
+                    self.residual[i] -= k.mobility[r * n + i] * k.rhs[a];
+                }
+            }
+            self.check_update(system, iteration, "Δq")?;
+            let (mut update, mut scale) = (0.0_f64, 0.0_f64);
+            for i in 0..n {
+                self.delta[i] -= self.residual[i];
+                update = update.max(self.residual[i].abs());
+                scale = scale.max(self.delta[i].abs());
+            }
+            if update <= NEWTON_RTOL * scale || update == 0.0 {
+                converged = true;
+                break;
+            }
+            if update >= 0.5 * previous_update && relative_residual <= ROUNDOFF_PLATEAU {
+                converged = true;
+                break;
+            }
+            previous_update = update;
+        }
+        if !converged {
+            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) });
+        }
+        // p₁ = D₂L_d + (h/2) Q at the final midpoint; the final residuals from the same point.
+        self.midpoint(system, tm, h);
+        self.derivatives(system, tm, false);
+        let mut final_residual = 0.0_f64;
+        for i in 0..n {
+            let lq = self.gradient[i] + self.force[i];
+            let lv = self.gradient[n + i];
+            let impulse: f64 = (0..c).map(|r| k.force_rows[r * n + i] * k.multipliers[r]).sum();
+            final_residual = final_residual.max((self.p[i] + 0.5 * h * lq - lv - impulse).abs());
+            self.p[i] = 0.5 * h * lq + lv;
+        }
+        self.max_residual = self.max_residual.max(final_residual);
+        for i in 0..n {
+            self.q[i] += self.delta[i];
+        }
+        system.step_constraint_rows(
+            ws,
+            (t1, &self.q),
+            (tm, &self.q_mid, &self.velocity, h),
+            &mut k.residual,
+            &mut k.step_rows,
+        )?;
+        // A dependent row carries no impulse: it must hold by itself, to the consistency
+        // tolerance of the constrained solve relative to its change over the step (plus the
+        // round-off of a row evaluated at coordinates of size |q|; the rows are finite here).
+        let size = 1.0 + self.q.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        for i in 0..c {
+            let d = &k.step_rows[i * n..(i + 1) * n];
+            let change: f64 = d.iter().zip(&self.delta).map(|(g, x)| (g * x).abs()).sum();
+            let row: f64 = d.iter().map(|g| g.abs()).sum();
+            let value = k.residual[i].abs();
+            self.max_constraint_residual = self.max_constraint_residual.max(value);
+            if k.dependent[i]
+                && value > constraints::CONSISTENT * change + constraints::POSITION_TOLERANCE * size * row.max(1.0)
+            {
+                return Err(Error::InconsistentConstraints {
+                    t: t1,
+                    q: self.q.clone(),
+                    constraints: (0..c)
+                        .filter(|&l| l == i || !k.dependent[l] && k.gram[i * c + l] != 0.0)
+                        .map(|l| system.constraint_name(l))
+                        .collect(),
+                    residual: value,
+                });
+            }
+        }
+        self.t = t1;
+        self.stats.steps += 1;
+        if !(crate::error::all_finite(&self.q) && crate::error::all_finite(&self.p)) {
+            return Err(crate::eom::non_finite(crate::error::Stage::Lagrangian, self.t, &self.q));
+        }
+        Ok(())
+    }
+
+    /// The velocities of the current state of a constrained system, on the constraints: the
+    /// inversion of the Legendre map of `p` ([`velocities`](Self::velocities)), then the
+    /// momenta moved along the constraint directions, `p − Gᵀ μ` with `G = [Φ_q; A](t, q)`,
+    /// so that the velocities satisfy `Φ_q q̇ + Φ_t = 0` and `A q̇ + b = 0`:
+    /// `(G M⁻¹ Gᵀ) μ = G q̇ + [Φ_t; b]`, `q̇ ← q̇ − M⁻¹ Gᵀ μ` (exact for a Lagrangian quadratic
+    /// in `q̇`, as every body model's). Dependent rows carry no `μ`. The held `p` is left as it
+    /// is: its component along `Gᵀ(q)` is absorbed by the next step's impulse.
+    fn constrained_velocities(&mut self, system: &D, ws: &mut D::Workspace, qdot: &mut [f64]) -> Result<(), Error> {
+        self.velocities(system, qdot)?;
+        let mut k = self.constrained.take().expect("a constrained run has the constrained buffers");
+        let result = (|| {
+            let (n, c) = (self.n, k.c);
+            system.constraint_rows(ws, (self.t, &self.q, qdot), &mut k.force_rows, &mut k.phi, &mut k.rate)?;
+            // `jacobian` holds the LU factor of ∂²L/∂q̇² from the inversion: X = M⁻¹ Gᵀ.
+            k.mobility.copy_from_slice(&k.force_rows);
+            for row in k.mobility.chunks_mut(n) {
+                solve::lu_solve(n, &self.jacobian, &self.pivots, row);
+            }
+            for i in 0..c {
+                for l in 0..=i {
+                    let s = dot(&k.force_rows[i * n..(i + 1) * n], &k.mobility[l * n..(l + 1) * n]);
+                    k.gram[i * c + l] = s;
+                    k.gram[l * c + i] = s;
+                }
+            }
+            constraints::factor_skipping(c, &mut k.gram, &mut k.dependent);
+            k.rhs.copy_from_slice(&k.rate);
+            constraints::forward_skipping(c, &k.gram, &k.dependent, &mut k.rhs);
+            constraints::backward_skipping(c, &k.gram, &k.dependent, &mut k.rhs);
+            for r in 0..c {
+                for i in 0..n {
+                    qdot[i] -= k.mobility[r * n + i] * k.rhs[r];
+                }
+            }
+            Ok(())
+        })();
+        self.constrained = Some(k);
+        result
+    }
+}
+
+/// `Σ a_i b_i`.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
 impl<D: Dynamics> Integrator<D> for Variational<D> {
     fn begin(&mut self, system: &D, _: &mut D::Workspace, initial: &State, _: f64) -> Result<(), Error> {
         check_step(self.grid.dt)?;
-        if system.constraint_counts() != (0, 0) {
-            return Err(Error::InvalidSetting {
-                what: "method",
-                value: f64::NAN,
-                why: "the variational integrator does not take constraints among the coordinates yet \
-                      (its constrained discrete Euler–Lagrange equations are not written); use rk4, \
-                      adaptive, implicit or gauss, which project onto the constraints after every step",
-            });
-        }
+        let counts = system.constraint_counts();
+        self.constrained = (counts != (0, 0)).then(|| Box::new(ConstrainedStep::new(self.n, counts)));
         self.grid = Grid::new(initial.t, self.grid.dt);
         self.start(system, initial.t, &initial.q, &initial.qdot)
     }
@@ -511,10 +825,12 @@ impl<D: Dynamics> Integrator<D> for Variational<D> {
         self.grid.reached(t_out)
     }
 
-    fn advance(&mut self, system: &D, _: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
+    fn advance(&mut self, system: &D, ws: &mut D::Workspace, t_out: f64, _: f64) -> Result<(), Error> {
         let (_, h) = self.grid.next(t_out);
         let (t, k) = (self.t, self.grid.k);
-        self.step(system, h).map_err(|e| diverged(system, e, t, k))?;
+        let result =
+            if self.constrained.is_some() { self.step_constrained(system, ws, h) } else { self.step(system, h) };
+        result.map_err(|e| diverged(system, e, t, k))?;
         self.grid.k += 1;
         let coordinates = system.coordinates();
         let quantity = non_finite_quantity(coordinates, &self.q, &[]).or_else(|| {
@@ -529,10 +845,20 @@ impl<D: Dynamics> Integrator<D> for Variational<D> {
     }
 
     /// The coordinates and the velocities of the current momenta (the initial velocities as
-    /// given at the start).
-    fn read(&mut self, system: &D, _: &mut D::Workspace, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
+    /// given at the start); for a constrained system, the velocities on the constraints
+    /// (`Variational::constrained_velocities`).
+    fn read(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        t: f64,
+        q: &mut [f64],
+        qdot: &mut [f64],
+    ) -> Result<(), Error> {
         if t == self.t0 {
             qdot.copy_from_slice(&self.qdot0);
+        } else if self.constrained.is_some() {
+            self.constrained_velocities(system, ws, qdot)?;
         } else {
             self.velocities(system, qdot)?;
         }
@@ -544,10 +870,15 @@ impl<D: Dynamics> Integrator<D> for Variational<D> {
         (&self.q, &self.velocity)
     }
 
-    /// Not reached: [`begin`](Integrator::begin) refuses a constrained system (the constrained
-    /// discrete Euler–Lagrange equations are not written yet).
+    /// Nothing: the constrained discrete Euler–Lagrange equations satisfy the constraints to
+    /// the Newton tolerance at every step, and projecting `(q, p)` would change the method (the
+    /// driver does not call it, see [`keeps_constraints`](Integrator::keeps_constraints)).
     fn project(&mut self, _: &D, _: &mut D::Workspace) -> Result<(), Error> {
         Ok(())
+    }
+
+    fn keeps_constraints(&self) -> bool {
+        true
     }
 
     fn stats(&self) -> Stats {
