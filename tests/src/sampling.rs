@@ -66,7 +66,7 @@ pub fn extreme_params(scene: &dyn Scene) -> Vec<(String, Params)> {
 
 /// A random state: angles anywhere, with every fourth state putting them at the extremes
 /// 1e-8 and π/2 − 1e-8; lengths as offsets from the default state (so that radii stay
-/// positive); velocities in ±3.
+/// positive); velocities in ±3; brought onto the constraints of a constrained scene.
 pub fn state(scene: &dyn Scene, params: &Params, rng: &mut impl Rng, index: usize) -> State {
     let default = scene.default_state(params).expect("valid parameters");
     let coordinates = scene.coordinates(params).expect("valid parameters");
@@ -80,5 +80,12 @@ pub fn state(scene: &dyn Scene, params: &Params, rng: &mut impl Rng, index: usiz
         };
     }
     let qdot = (0..q.len()).map(|_| rng.random_range(-3.0..3.0)).collect::<Vec<_>>();
-    State::new(rng.random_range(0.0..2.0), q, qdot)
+    let state = State::new(rng.random_range(0.0..2.0), q, qdot);
+    // With constraints among the coordinates, the nearest state on them (positions and
+    // velocities), where the scene's equations describe its motion.
+    let system = scene.build(params).expect("valid parameters");
+    if system.constraint_counts() == (0, 0) {
+        return state;
+    }
+    system.assemble(&state, &vec![false; state.q.len()]).expect("a sampled state assembles")
 }

@@ -78,11 +78,8 @@ impl NonminimalPendulum {
 impl Mechanism for NonminimalPendulum {
     fields!(coordinates, bodies, gravity);
 
-    /// The bob at `(x, y)`, its frame turned with the rod by `θ = atan2(x, −y)` (irrelevant to
-    /// the dynamics of a point bob; it lets joint-based engines hang the bob by its rod end
-    /// `(0, l)` as the other pendulums).
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
-        world_from_body[0] = Pose::new(q[0], q[1], q[0].atan2(-q[1]));
+        world_from_body[0] = Pose::point(q[0], q[1]);
     }
 
     fn holonomic_constraints(&self) -> usize {

@@ -228,7 +228,9 @@ pub fn track(
     let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies())?;
     // The reduced model of the same scene, for its admissible region.
     let reduced = crate::error::scene(scene)?.build(params)?;
-    let mut q_previous = initial.q.clone();
+    // Angles are read back on the branch nearest the previous sample carried forward by its
+    // rate (a rolling disc turns by more than π between samples).
+    let (mut q_previous, mut qdot_previous, mut t_previous) = (initial.q.clone(), initial.qdot.clone(), initial.t);
     let (mut errors, mut energy_error, mut violation) = (Vec::with_capacity(times.len()), 0.0, None::<f64>);
     let mut advance_time = 0.0;
     for (k, &t) in times.iter().enumerate() {
@@ -236,7 +238,9 @@ pub fn track(
         simulation.advance_to(t)?;
         advance_time += start.elapsed().as_secs_f64();
         let bodies = simulation.bodies();
-        let (q, qdot) = maps::generalized(scene, params, t, &bodies, &q_previous)?;
+        let predicted: Vec<f64> =
+            q_previous.iter().zip(&qdot_previous).map(|(q, v)| q + v * (t - t_previous)).collect();
+        let (q, qdot) = maps::generalized(scene, params, t, &bodies, &predicted)?;
         match reduced.check_admissible(t, &q, &qdot) {
             Err(lagrange::Error::Inadmissible { t, quantity, bound, value, limit, .. }) => {
                 let inside_until = k.checked_sub(1).map(|previous| times[previous]);
@@ -253,7 +257,7 @@ pub fn track(
             violation = Some(nan_max(violation.unwrap_or(0.0), v));
         }
         each(Sample { t, q: &q, qdot: &qdot, bodies: &bodies, simulation: &mut *simulation })?;
-        q_previous = q;
+        (q_previous, qdot_previous, t_previous) = (q, qdot, t);
     }
     Ok(Pass {
         errors,

@@ -16,7 +16,9 @@
 //! non-conservative forces in Cartesian form (the oscillator's damping `−c ẋ`, the charged
 //! particle's Lorentz force `e B (ẏ, −ẋ)`). `Φ_z` comes from one first-order dual pass per
 //! coordinate of `z`, `γ_Φ` from one second-order dual pass along `(ż, 1)`; the KKT system
-//! `[[M, Φ_zᵀ], [Φ_z, 0]] (z̈, λ) = (F, −γ_Φ)` is solved by nalgebra's dense LU. Nothing of the
+//! `[[M, Φ_zᵀ], [Φ_z, 0]] (z̈, λ) = (F, −γ_Φ)` is solved by nalgebra's dense LU. Velocity
+//! constraints `A(z) ż = 0` (the sleigh's knife edge, the disc's rolling contact) join `Φ_z` as
+//! further rows, with the convective term `(∂(A ż)/∂z) ż` from one first-order dual pass. Nothing of the
 //! reduced solver's equations of motion is used: the reduced model enters only through the
 //! initial body states ([`maps::body_states`]), the masses and
 //! inertias ([`maps::bodies`]) and the scene potential.
