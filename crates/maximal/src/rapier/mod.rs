@@ -26,6 +26,8 @@
 //! stabilization sweeps off, speed caps off (see `world.rs`'s integration parameters).
 
 mod double;
+#[cfg(test)]
+mod loop_tests;
 pub(crate) mod plan;
 pub(crate) mod scenes;
 mod single;
