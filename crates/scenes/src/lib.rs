@@ -35,6 +35,9 @@
 //! | `spring_pendulum` | elastic pendulum | `r`, `θ` | beyond the lecture |
 //! | `driven_pendulum` | horizontally driven support (rheonomic) | `θ` | beyond the lecture |
 //! | `charged_particle` | uniform magnetic field (raw Lagrangian) | `x`, `y` | beyond the lecture |
+//! | `nonminimal_pendulum` | pendulum in Cartesian coordinates, 1 holonomic constraint | `x`, `y` | docs/scenes.md#nonminimal_pendulum |
+//! | `chaplygin_sleigh` | knife edge, 1 velocity constraint | `x`, `y`, `φ` | docs/scenes.md#chaplygin_sleigh |
+//! | `rolling_disc` | disc rolling down an incline, 1 velocity constraint | `s`, `φ` | docs/scenes.md#rolling_disc |
 //!
 //! Conventions follow docs/scenes.md: gravity `g` along −y, angles counter-clockwise, pendulum
 //! angles from the downward vertical, pulley depths measured downward.
@@ -88,7 +91,10 @@ macro_rules! for_each_scene {
             $crate::Chain,
             $crate::SpringPendulum,
             $crate::DrivenPendulum,
-            $crate::ChargedParticle
+            $crate::ChargedParticle,
+            $crate::NonminimalPendulum,
+            $crate::ChaplyginSleigh,
+            $crate::RollingDisc
         }
     };
 }
@@ -105,6 +111,7 @@ mod visit;
 pub mod atwood;
 pub mod cart_pendulum;
 pub mod chain;
+pub mod chaplygin_sleigh;
 pub mod charged_particle;
 pub mod double_atwood;
 pub mod double_double_atwood;
@@ -113,12 +120,15 @@ pub mod driven_pendulum;
 pub mod harmonic_oscillator;
 pub mod isotropic_oscillator;
 pub mod kepler;
+pub mod nonminimal_pendulum;
+pub mod rolling_disc;
 pub mod spring_pendulum;
 pub mod wedge;
 
 pub use atwood::Atwood;
 pub use cart_pendulum::CartPendulum;
 pub use chain::Chain;
+pub use chaplygin_sleigh::{ChaplyginSleigh, SleighMotion};
 pub use charged_particle::ChargedParticle;
 pub use conserved::{Conserved, Invariant};
 pub use double_atwood::DoubleAtwood;
@@ -128,7 +138,9 @@ pub use driven_pendulum::DrivenPendulum;
 pub use harmonic_oscillator::HarmonicOscillator;
 pub use isotropic_oscillator::IsotropicOscillator;
 pub use kepler::{Kepler, Orbit};
+pub use nonminimal_pendulum::NonminimalPendulum;
 pub use params::{Domain, ParamSpec, Params};
+pub use rolling_disc::RollingDisc;
 pub use scene::{Scene, SceneType, all, find, ids, scene_of};
 pub use spring_pendulum::SpringPendulum;
 pub use visit::{ClosedForm, MechanismVisitor, unknown_scene, visit_mechanism};

@@ -306,7 +306,8 @@ crate::for_each_scene!(registry);
 
 /// Every scene: `cart_pendulum`, `harmonic_oscillator`, `kepler`, `isotropic_oscillator`,
 /// `atwood`, `double_atwood`, `double_double_atwood`, `wedge`, `double_pendulum`, `chain`,
-/// `spring_pendulum`, `driven_pendulum`, `charged_particle`.
+/// `spring_pendulum`, `driven_pendulum`, `charged_particle`, `nonminimal_pendulum`,
+/// `chaplygin_sleigh`, `rolling_disc`.
 pub fn all() -> &'static [&'static dyn Scene] {
     ALL
 }
@@ -343,6 +344,9 @@ mod tests {
             "spring_pendulum",
             "driven_pendulum",
             "charged_particle",
+            "nonminimal_pendulum",
+            "chaplygin_sleigh",
+            "rolling_disc",
         ];
         assert_eq!(ids(), expected);
         for id in expected {

@@ -195,3 +195,46 @@ pub(crate) fn hanging(body: usize, x: f64, names: &[String]) -> [Constraint; 2] 
 pub(crate) fn pin(a: Anchor, b: Anchor, name: String) -> Constraint {
     Constraint { name, joint: Joint::Pin(a, b) }
 }
+
+/// The frame a vector of a [`VelocityConstraint`] is fixed in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Frame {
+    /// Turns with the body: `R(φ_b) v`.
+    Body,
+    /// Fixed in the world.
+    World,
+}
+
+/// One velocity (non-holonomic) constraint `A(z) ż = 0`: the velocity of a point of body `body`
+/// has no component along `direction`, `(v_b + φ̇_b ẑ × r) · w = 0`, with the lever arm `r` from
+/// the body's centre to the point and the direction `w` each fixed in the body or in the world
+/// (a knife edge: both in the body; rolling contact: both in the world, the contact point being
+/// the material point at a fixed offset from the centre).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct VelocityConstraint {
+    /// What it is, in words, for error messages.
+    pub(crate) name: String,
+    /// Index of the body.
+    pub(crate) body: usize,
+    /// Lever arm `r` from the body's centre to the point (m), and its frame.
+    pub(crate) arm: ([f64; 2], Frame),
+    /// The direction `w` along which the point may not move, and its frame.
+    pub(crate) direction: ([f64; 2], Frame),
+}
+
+impl VelocityConstraint {
+    /// The residual `(v_b + φ̇_b ẑ × r) · w` at `(z, ż)`; linear in `ż`.
+    pub(crate) fn evaluate<S: Scalar>(&self, z: &[S], zdot: &[S]) -> S {
+        let b = 3 * self.body;
+        let (sin, cos) = z[b + ANGLE].sin_cos();
+        let turned = |(v, frame): ([f64; 2], Frame)| match frame {
+            Frame::Body => [cos * v[0] - sin * v[1], sin * v[0] + cos * v[1]],
+            Frame::World => [S::from(v[0]), S::from(v[1])],
+        };
+        let ([rx, ry], [wx, wy]) = (turned(self.arm), turned(self.direction));
+        let omega = zdot[b + ANGLE];
+        // ẑ × r = (−r_y, r_x).
+        let (vx, vy) = (zdot[b + X] - omega * ry, zdot[b + Y] + omega * rx);
+        vx * wx + vy * wy
+    }
+}

@@ -60,7 +60,8 @@ impl CartesianSimulation {
         system.constraint_rate(&mut ws, t0, &z, &zdot);
         let speed = zdot.iter().fold(1.0_f64, |s, v| s.max(v.abs()));
         for i in 0..system.m() {
-            let (position, velocity) = (ws.phi[i], ws.rate[i]);
+            // Velocity constraints (after the holonomic rows) have no position residual.
+            let (position, velocity) = (ws.phi.get(i).copied().unwrap_or(0.0), ws.rate[i]);
             if !(position.abs() <= INITIAL_VIOLATION && velocity.abs() <= INITIAL_VIOLATION * speed) {
                 return Err(Error::Inconsistent {
                     what: format!(

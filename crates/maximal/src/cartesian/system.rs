@@ -9,12 +9,17 @@
 //! [ J  0  ] [ λ  ] = [ −γ ]
 //! ```
 //!
+//! Velocity (non-holonomic) constraints `A(z) ż = 0` (a knife edge, rolling contact) are rows
+//! of `J` after the holonomic ones: `A` is `∂(A ż)/∂ż` and their convective term is
+//! `γ_A = (∂(A ż)/∂z) ż`, one first-order dual pass along `ż` with `ż` held; the projection
+//! moves positions onto the holonomic rows only and velocities onto all rows.
+//!
 //! `F` = gravity + the scene potential's forces `−∂V/∂p_b` + the scene's non-conservative
 //! forces; `−Jᵀλ` is the force and torque the constraints exert on each body.
 
 mod dynamics;
 
-use super::constraints::{Constraint, equation_names, evaluate_all};
+use super::constraints::{Constraint, VelocityConstraint, equation_names, evaluate_all};
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError, maps};
 use lagrange::num_dual::{Dual2_64, Dual64};
@@ -77,7 +82,11 @@ pub(crate) struct CartesianSystem {
     gravity: f64,
     /// The constraints.
     pub(crate) constraints: Vec<Constraint>,
-    /// Name of every scalar equation of `Φ` (m).
+    /// The velocity constraints (rows of `J` after the holonomic ones).
+    velocity: Vec<VelocityConstraint>,
+    /// Number of holonomic equations (the first rows of `J`).
+    holonomic: usize,
+    /// Name of every scalar equation: `Φ` then the velocity constraints (m).
     equation_names: Vec<String>,
     /// Non-conservative forces.
     applied: AppliedForce,
@@ -94,13 +103,16 @@ pub(crate) struct CartesianSystem {
 pub(crate) struct CartesianWorkspace {
     /// `z` as first-order duals, one unit direction at a time (n); [`CartesianSystem::jacobian`].
     z_dual: Vec<Dual64>,
-    /// `Φ` in first-order duals (m); [`CartesianSystem::jacobian`], [`CartesianSystem::constraint_rate`].
+    /// `Φ` in first-order duals (holonomic rows); [`CartesianSystem::jacobian`], [`CartesianSystem::constraint_rate`].
     phi_dual: Vec<Dual64>,
     /// `z + s ż` as second-order duals (n); [`CartesianSystem::convective`].
     z_dual2: Vec<Dual2_64>,
-    /// `Φ(z + s ż, t + s)` (m); [`CartesianSystem::convective`].
+    /// `Φ(z + s ż, t + s)` (holonomic rows); [`CartesianSystem::convective`].
     phi_dual2: Vec<Dual2_64>,
-    /// `Φ` (m); [`CartesianSystem::project`].
+    /// `ż` in first-order duals with no derivative part (n); the velocity rows of
+    /// [`CartesianSystem::jacobian`] and [`CartesianSystem::convective`].
+    zdot_dual: Vec<Dual64>,
+    /// `Φ` (holonomic rows); [`CartesianSystem::project`].
     pub(crate) phi: Vec<f64>,
     /// `J = Φ_z` (m × n); [`CartesianSystem::jacobian`].
     pub(crate) jacobian: Vec<f64>,
@@ -142,12 +154,12 @@ impl CartesianSystem {
         // The scene's constraints and non-conservative forces, from its maximal description.
         struct Description<'a>(&'a [String]);
         impl MaximalVisitor for Description<'_> {
-            type Output = (Vec<Constraint>, AppliedForce);
+            type Output = (Vec<Constraint>, Vec<VelocityConstraint>, AppliedForce);
             fn visit<T: MaximalScene>(self, scene: T) -> Self::Output {
-                (scene.constraints(self.0), scene.applied_force())
+                (scene.constraints(self.0), scene.velocity_constraints(), scene.applied_force())
             }
         }
-        let (constraints, applied) = crate::scenes::visit(scene, params, Description(&names))?;
+        let (constraints, velocity, applied) = crate::scenes::visit(scene, params, Description(&names))?;
         let coordinates = names
             .iter()
             .flat_map(|name| {
@@ -168,7 +180,9 @@ impl CartesianSystem {
             params: params.clone(),
             cyclic: vec![false; 3 * bodies.len()],
             gravity: maps::gravity(params),
-            equation_names: equation_names(&constraints),
+            equation_names: all_names(&constraints, &velocity),
+            holonomic: equation_names(&constraints).len(),
+            velocity,
             bodies,
             coordinates,
             mass,
@@ -182,7 +196,8 @@ impl CartesianSystem {
     /// The same system with other constraints (tests of ill-posed constraint sets).
     #[cfg(test)]
     pub(crate) fn with_constraints(mut self, constraints: Vec<Constraint>) -> Self {
-        self.equation_names = equation_names(&constraints);
+        self.equation_names = all_names(&constraints, &self.velocity);
+        self.holonomic = equation_names(&constraints).len();
         self.rheonomic = constraints.iter().any(Constraint::is_rheonomic);
         self.constraints = constraints;
         self
@@ -193,7 +208,7 @@ impl CartesianSystem {
         self.mass.len()
     }
 
-    /// Number of constraint equations `m`.
+    /// Number of constraint equations `m` (holonomic and velocity rows).
     pub(crate) fn m(&self) -> usize {
         self.equation_names.len()
     }
@@ -205,13 +220,14 @@ impl CartesianSystem {
 
     /// Allocate the workspace.
     pub(crate) fn workspace(&self) -> CartesianWorkspace {
-        let (n, m) = (self.n(), self.m());
+        let (n, m, h) = (self.n(), self.m(), self.holonomic);
         CartesianWorkspace {
             z_dual: vec![Dual64::from(0.0); n],
-            phi_dual: vec![Dual64::from(0.0); m],
+            phi_dual: vec![Dual64::from(0.0); h],
             z_dual2: vec![Dual2_64::from(0.0); n],
-            phi_dual2: vec![Dual2_64::from(0.0); m],
-            phi: vec![0.0; m],
+            phi_dual2: vec![Dual2_64::from(0.0); h],
+            zdot_dual: vec![Dual64::from(0.0); n],
+            phi: vec![0.0; h],
             jacobian: vec![0.0; m * n],
             rate: vec![0.0; m],
             convective: vec![0.0; m],
@@ -245,9 +261,10 @@ impl CartesianSystem {
         worst
     }
 
-    /// `J = Φ_z` into `ws.jacobian`: one first-order dual pass per coordinate of `z`.
+    /// `J = Φ_z` into `ws.jacobian`: one first-order dual pass per coordinate of `z`; then the
+    /// velocity rows `A = ∂(A ż)/∂ż`, one dual pass per coordinate of `ż`.
     pub(crate) fn jacobian(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64]) {
-        let (n, m) = (self.n(), self.m());
+        let (n, h) = (self.n(), self.holonomic);
         for (d, &zi) in ws.z_dual.iter_mut().zip(z) {
             *d = Dual64::from(zi);
         }
@@ -256,8 +273,37 @@ impl CartesianSystem {
             ws.z_dual[j].eps = 1.0;
             evaluate_all(&self.constraints, &ws.z_dual, t, &mut ws.phi_dual);
             ws.z_dual[j].eps = 0.0;
-            for i in 0..m {
+            for i in 0..h {
                 ws.jacobian[i * n + j] = ws.phi_dual[i].eps;
+            }
+        }
+        if self.velocity.is_empty() {
+            return;
+        }
+        ws.zdot_dual.fill(Dual64::from(0.0));
+        for j in 0..n {
+            ws.zdot_dual[j].eps = 1.0;
+            for (i, constraint) in self.velocity.iter().enumerate() {
+                ws.jacobian[(h + i) * n + j] = constraint.evaluate(&ws.z_dual, &ws.zdot_dual).eps;
+            }
+            ws.zdot_dual[j].eps = 0.0;
+        }
+    }
+
+    /// The velocity rows' values `A ż` (into `rate[h..]`) and, with `convective`, their
+    /// convective term `(∂(A ż)/∂z) ż` (into `convective[h..]`): one dual pass along `ż` in `z`
+    /// with `ż` held.
+    fn velocity_rows(&self, ws: &mut CartesianWorkspace, z: &[f64], zdot: &[f64], convective: bool) {
+        let h = self.holonomic;
+        for (((d, v), &zi), &vi) in ws.z_dual.iter_mut().zip(ws.zdot_dual.iter_mut()).zip(z).zip(zdot) {
+            *d = Dual64::new(zi, if convective { vi } else { 0.0 });
+            *v = Dual64::from(vi);
+        }
+        for (i, constraint) in self.velocity.iter().enumerate() {
+            let value = constraint.evaluate(&ws.z_dual, &ws.zdot_dual);
+            ws.rate[h + i] = value.re;
+            if convective {
+                ws.convective[h + i] = value.eps;
             }
         }
     }
@@ -271,6 +317,9 @@ impl CartesianSystem {
         for (rate, phi) in ws.rate.iter_mut().zip(&ws.phi_dual) {
             *rate = phi.eps;
         }
+        if !self.velocity.is_empty() {
+            self.velocity_rows(ws, z, zdot, false);
+        }
     }
 
     /// `γ = d²/ds² Φ(z + s ż, t + s) = (J ż)_z ż + 2 Φ_zt ż + Φ_tt` into `ws.convective`, and
@@ -283,6 +332,9 @@ impl CartesianSystem {
         for ((gamma, rate), phi) in ws.convective.iter_mut().zip(ws.rate.iter_mut()).zip(&ws.phi_dual2) {
             *gamma = phi.v2;
             *rate = phi.v1;
+        }
+        if !self.velocity.is_empty() {
+            self.velocity_rows(ws, z, zdot, true);
         }
     }
 
@@ -447,21 +499,21 @@ impl CartesianSystem {
         z: &mut [f64],
         zdot: &mut [f64],
     ) -> Result<(), Error> {
-        let (n, m) = (self.n(), self.m());
+        let (n, m, h) = (self.n(), self.m(), self.holonomic);
         let scale = z.iter().fold(1.0_f64, |s, v| s.max(v.abs()));
-        // Positions: Gauss–Newton on Φ(z, t) = 0.
-        let mut violation = f64::INFINITY;
-        for _ in 0..PROJECTION_ITERATIONS {
+        // Positions: Gauss–Newton on Φ(z, t) = 0 (the holonomic rows of J).
+        let (mut violation, iterations) = if h == 0 { (0.0, 0) } else { (f64::INFINITY, PROJECTION_ITERATIONS) };
+        for _ in 0..iterations {
             self.constraint_values(t, z, &mut ws.phi);
             violation = ws.phi.iter().fold(0.0_f64, |w, v| w.max(v.abs()));
             if violation <= PROJECTION_RTOL * scale {
                 break;
             }
             self.jacobian(ws, t, z);
-            ws.gram_rhs.copy_from_slice(&ws.phi);
-            self.gram_solve(ws, t, z)?;
+            ws.gram_rhs[..h].copy_from_slice(&ws.phi);
+            self.gram_solve(ws, t, z, h)?;
             for j in 0..n {
-                z[j] -= (0..m).map(|i| ws.jacobian[i * n + j] * ws.gram_rhs[i]).sum::<f64>();
+                z[j] -= (0..h).map(|i| ws.jacobian[i * n + j] * ws.gram_rhs[i]).sum::<f64>();
             }
         }
         if violation.is_nan() || violation > PROJECTION_ACCEPT * scale {
@@ -476,24 +528,25 @@ impl CartesianSystem {
         self.check_well_posed(ws, t, z)?;
         self.constraint_rate(ws, t, z, zdot);
         ws.gram_rhs.copy_from_slice(&ws.rate);
-        self.gram_solve(ws, t, z)?;
+        self.gram_solve(ws, t, z, m)?;
         for j in 0..n {
             zdot[j] -= (0..m).map(|i| ws.jacobian[i * n + j] * ws.gram_rhs[i]).sum::<f64>();
         }
         Ok(())
     }
 
-    /// Solve `J Jᵀ x = ws.gram_rhs` in place (J in `ws`).
-    fn gram_solve(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64]) -> Result<(), Error> {
-        let (n, m) = (self.n(), self.m());
-        gram(n, m, &ws.jacobian, &mut ws.gram);
-        cholesky(m, &mut ws.gram).map_err(|(i, pivot)| Error::SingularMassMatrix {
+    /// Solve `J_r J_rᵀ x = ws.gram_rhs[..rows]` in place, `J_r` the first `rows` rows of `J`
+    /// (in `ws`).
+    fn gram_solve(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64], rows: usize) -> Result<(), Error> {
+        let n = self.n();
+        gram(n, rows, &ws.jacobian, &mut ws.gram);
+        cholesky(rows, &mut ws.gram).map_err(|(i, pivot)| Error::SingularMassMatrix {
             t,
             q: z.to_vec(),
             coordinate: format!("constraint `{}` (Φ_z rank-deficient)", self.equation_names[i]),
             pivot,
         })?;
-        cholesky_solve(m, &ws.gram, &mut ws.gram_rhs);
+        cholesky_solve(rows, &ws.gram, &mut ws.gram_rhs[..rows]);
         Ok(())
     }
 
@@ -520,6 +573,13 @@ impl CartesianSystem {
         }
         Ok(energy)
     }
+}
+
+/// The names of the holonomic equations followed by those of the velocity constraints.
+fn all_names(constraints: &[Constraint], velocity: &[VelocityConstraint]) -> Vec<String> {
+    let mut names = equation_names(constraints);
+    names.extend(velocity.iter().map(|v| v.name.clone()));
+    names
 }
 
 /// `J Jᵀ` (m × m) of `J` (m × n), both row-major.

@@ -77,6 +77,8 @@ fn expected_unbuildable(scene: &str, engine: Engine) -> bool {
     match scene {
         "atwood" | "double_atwood" | "double_double_atwood" => impulse,
         "driven_pendulum" => !impulse,
+        // No knife-edge joint; the disc's contact build is not written yet.
+        "chaplygin_sleigh" | "rolling_disc" => true,
         _ => false,
     }
 }
@@ -110,7 +112,12 @@ fn unbuildable_combinations_give_their_reason() {
             let result = build(engine, scene, &params, &initial, &Settings::default());
             match (expected_unbuildable(scene, engine), result) {
                 (true, Err(BuildError::Unbuildable { reason, .. })) => {
-                    let expected = if scene == "driven_pendulum" { "kinematic root" } else { "no pulley or gear" };
+                    let expected = match scene {
+                        "driven_pendulum" => "kinematic root",
+                        "chaplygin_sleigh" => "no non-holonomic joint",
+                        "rolling_disc" => "not written yet",
+                        _ => "no pulley or gear",
+                    };
                     assert!(reason.contains(expected), "{engine} {scene}: reason `{reason}` lacks `{expected}`");
                 }
                 (false, Ok(_)) => {}

@@ -9,6 +9,7 @@
 mod atwood;
 mod cart_pendulum;
 mod chain;
+mod chaplygin_sleigh;
 mod charged_particle;
 mod double_atwood;
 mod double_double_atwood;
@@ -17,10 +18,12 @@ mod driven_pendulum;
 mod harmonic_oscillator;
 mod isotropic_oscillator;
 mod kepler;
+mod nonminimal_pendulum;
+mod rolling_disc;
 mod spring_pendulum;
 mod wedge;
 
-use crate::cartesian::constraints::Constraint;
+use crate::cartesian::constraints::{Constraint, VelocityConstraint};
 use crate::cartesian::system::AppliedForce;
 use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
@@ -34,9 +37,16 @@ pub(crate) trait MaximalScene: SceneType {
     /// (independently of the reduced model's poses); angles on any branch.
     fn generalized<S: Scalar>(&self, t: S, z: &[[S; 3]]) -> Vec<S>;
 
-    /// The holonomic constraints `Φ(z, t) = 0` for bodies named `names`: exactly `3B − n`
-    /// equations, `n` the reduced model's degrees of freedom; depths are `−y`.
+    /// The holonomic constraints `Φ(z, t) = 0` for bodies named `names`: exactly `3B − d`
+    /// independent equations, `d` the reduced model's number of coordinates less its holonomic
+    /// constraints (and less its velocity constraints written here in integrated form, if
+    /// any); depths are `−y`.
     fn constraints(&self, names: &[String]) -> Vec<Constraint>;
+
+    /// The velocity (non-holonomic) constraints `A(z) ż = 0` on the body poses; none by default.
+    fn velocity_constraints(&self) -> Vec<VelocityConstraint> {
+        Vec::new()
+    }
 
     /// The non-conservative forces in Cartesian form; none by default.
     fn applied_force(&self) -> AppliedForce {
