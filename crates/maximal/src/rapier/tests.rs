@@ -77,8 +77,8 @@ fn expected_unbuildable(scene: &str, engine: Engine) -> bool {
     match scene {
         "atwood" | "double_atwood" | "double_double_atwood" => impulse,
         "driven_pendulum" => !impulse,
-        // No knife-edge joint; the disc's contact build is not written yet.
-        "chaplygin_sleigh" | "rolling_disc" => true,
+        // No knife-edge joint.
+        "chaplygin_sleigh" => true,
         _ => false,
     }
 }
@@ -115,7 +115,6 @@ fn unbuildable_combinations_give_their_reason() {
                     let expected = match scene {
                         "driven_pendulum" => "kinematic root",
                         "chaplygin_sleigh" => "no non-holonomic joint",
-                        "rolling_disc" => "not written yet",
                         _ => "no pulley or gear",
                     };
                     assert!(reason.contains(expected), "{engine} {scene}: reason `{reason}` lacks `{expected}`");
