@@ -38,6 +38,9 @@
 //! | `nonminimal_pendulum` | pendulum in Cartesian coordinates, 1 holonomic constraint | `x`, `y` | docs/scenes.md#nonminimal_pendulum |
 //! | `chaplygin_sleigh` | knife edge, 1 velocity constraint | `x`, `y`, `φ` | docs/scenes.md#chaplygin_sleigh |
 //! | `rolling_disc` | disc rolling down an incline, 1 velocity constraint | `s`, `φ` | docs/scenes.md#rolling_disc |
+//! | `four_bar` | crank-rocker four-bar, 2 loop constraints | `θ2`, `θ3`, `θ4` | docs/scenes.md#four_bar |
+//! | `slider_crank` | slider-crank with flywheel, 2 loop constraints | `φ`, `ψ`, `x` | docs/scenes.md#slider_crank |
+//! | `andrews_squeezer` | Andrews' squeezing mechanism, 6 loop constraints | `β`, `Θ`, `γ`, `Φ`, `δ`, `Ω`, `ε` | docs/scenes.md#andrews_squeezer |
 //!
 //! Conventions follow docs/scenes.md: gravity `g` along −y, angles counter-clockwise, pendulum
 //! angles from the downward vertical, pulley depths measured downward.
@@ -94,13 +97,17 @@ macro_rules! for_each_scene {
             $crate::ChargedParticle,
             $crate::NonminimalPendulum,
             $crate::ChaplyginSleigh,
-            $crate::RollingDisc
+            $crate::RollingDisc,
+            $crate::FourBar,
+            $crate::SliderCrank,
+            $crate::AndrewsSqueezer
         }
     };
 }
 
 mod checks;
 mod conserved;
+mod linkage;
 mod params;
 mod scene;
 #[cfg(test)]
@@ -108,6 +115,7 @@ mod testing;
 mod uniform_acceleration;
 mod visit;
 
+pub mod andrews_squeezer;
 pub mod atwood;
 pub mod cart_pendulum;
 pub mod chain;
@@ -117,14 +125,17 @@ pub mod double_atwood;
 pub mod double_double_atwood;
 pub mod double_pendulum;
 pub mod driven_pendulum;
+pub mod four_bar;
 pub mod harmonic_oscillator;
 pub mod isotropic_oscillator;
 pub mod kepler;
 pub mod nonminimal_pendulum;
 pub mod rolling_disc;
+pub mod slider_crank;
 pub mod spring_pendulum;
 pub mod wedge;
 
+pub use andrews_squeezer::AndrewsSqueezer;
 pub use atwood::Atwood;
 pub use cart_pendulum::CartPendulum;
 pub use chain::Chain;
@@ -135,6 +146,7 @@ pub use double_atwood::DoubleAtwood;
 pub use double_double_atwood::DoubleDoubleAtwood;
 pub use double_pendulum::DoublePendulum;
 pub use driven_pendulum::DrivenPendulum;
+pub use four_bar::{FourBar, FourBarCrank};
 pub use harmonic_oscillator::HarmonicOscillator;
 pub use isotropic_oscillator::IsotropicOscillator;
 pub use kepler::{Kepler, Orbit};
@@ -142,6 +154,7 @@ pub use nonminimal_pendulum::NonminimalPendulum;
 pub use params::{Domain, ParamSpec, Params};
 pub use rolling_disc::RollingDisc;
 pub use scene::{Scene, SceneType, all, find, ids, scene_of};
+pub use slider_crank::{SliderCrank, SliderCrankCrank};
 pub use spring_pendulum::SpringPendulum;
 pub use visit::{ClosedForm, MechanismVisitor, unknown_scene, visit_mechanism};
 pub use wedge::Wedge;

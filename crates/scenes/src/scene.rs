@@ -307,7 +307,7 @@ crate::for_each_scene!(registry);
 /// Every scene: `cart_pendulum`, `harmonic_oscillator`, `kepler`, `isotropic_oscillator`,
 /// `atwood`, `double_atwood`, `double_double_atwood`, `wedge`, `double_pendulum`, `chain`,
 /// `spring_pendulum`, `driven_pendulum`, `charged_particle`, `nonminimal_pendulum`,
-/// `chaplygin_sleigh`, `rolling_disc`.
+/// `chaplygin_sleigh`, `rolling_disc`, `four_bar`, `slider_crank`, `andrews_squeezer`.
 pub fn all() -> &'static [&'static dyn Scene] {
     ALL
 }
@@ -347,6 +347,9 @@ mod tests {
             "nonminimal_pendulum",
             "chaplygin_sleigh",
             "rolling_disc",
+            "four_bar",
+            "slider_crank",
+            "andrews_squeezer",
         ];
         assert_eq!(ids(), expected);
         for id in expected {

@@ -61,6 +61,13 @@ pub(crate) enum AppliedForce {
         /// `e B` (kg/s).
         charge_field: f64,
     },
+    /// A constant torque on one body (a driven crank).
+    Torque {
+        /// Index of the body.
+        body: usize,
+        /// The torque (N m), counter-clockwise.
+        torque: f64,
+    },
 }
 
 /// A scene in Cartesian body coordinates with its constraints: immutable once built.
@@ -381,6 +388,7 @@ impl CartesianSystem {
                 ws.force[0] += charge_field * zdot[1];
                 ws.force[1] -= charge_field * zdot[0];
             }
+            AppliedForce::Torque { body, torque } => ws.force[3 * body + 2] += torque,
         }
         Ok(())
     }

@@ -6,6 +6,7 @@
 //! ([`lagrange_scenes::for_each_scene!`]): a scene without a [`MaximalScene`] implementation
 //! does not compile.
 
+mod andrews_squeezer;
 mod atwood;
 mod cart_pendulum;
 mod chain;
@@ -15,11 +16,13 @@ mod double_atwood;
 mod double_double_atwood;
 mod double_pendulum;
 mod driven_pendulum;
+mod four_bar;
 mod harmonic_oscillator;
 mod isotropic_oscillator;
 mod kepler;
 mod nonminimal_pendulum;
 mod rolling_disc;
+mod slider_crank;
 mod spring_pendulum;
 mod wedge;
 

@@ -48,6 +48,10 @@ impl LagrangianFunction for CartesianSystem {
                 force[1] -= zdot[0] * charge_field;
                 true
             }
+            AppliedForce::Torque { body, torque } => {
+                force[3 * body + 2] += S::from(torque);
+                true
+            }
         }
     }
 }
@@ -120,9 +124,10 @@ impl Dynamics for CartesianSystem {
     }
 
     /// Energy is conserved by scleronomic constraints and forces that do no work (gravity,
-    /// potentials, the Lorentz force); not by damping or a driven support.
+    /// potentials, the Lorentz force); not by damping, a driven support, or a driving torque
+    /// (which conserves `h − τ φ_b` instead).
     fn conserves_energy(&self) -> bool {
-        !self.rheonomic && !matches!(self.applied, AppliedForce::Damping { .. })
+        !self.rheonomic && !matches!(self.applied, AppliedForce::Damping { .. } | AppliedForce::Torque { .. })
     }
 
     fn bodies(&self) -> &[Body] {
