@@ -182,7 +182,7 @@ impl SceneType for ChaplyginSleigh {
         }
         let panels = if width > 0.0 { (tau.abs() / width).ceil().max(1.0) } else { 1.0 };
         // Panels are a small count of a bounded time scale: the cast is exact.
-        let (x, y) = gauss_legendre(|s| at(s), tau, panels as usize);
+        let (x, y) = gauss_legendre(at, tau, panels as usize);
         let motion = self.motion(u0, omega0, phi0, tau);
         Some(State::new(t, [x0 + x, y0 + y, motion.heading], self.velocity(motion)))
     }

@@ -3,7 +3,8 @@
 //! deviations from the requested scene that rapier needs.
 
 use super::plan::{
-    BodySpec, ColliderSpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, RopePulley, Shape, StepForces,
+    BodySpec, BodyTorque, ColliderSpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, PointSpring,
+    RopePulley, Shape, StepForces,
 };
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError, Engine, maps};
@@ -275,6 +276,18 @@ impl Draft {
     /// A rope between the two bodies' centres.
     pub(crate) fn rope(&mut self, parent: usize, child: usize, length: f64) -> usize {
         self.joint(parent, child, JointKind::Rope { length }, [0.0, 0.0], [0.0, 0.0])
+    }
+
+    /// A spring of stiffness `stiffness` and natural length `rest_length` from the fixed point
+    /// `fixed` to the point `local` of plan body `body`, applied each step
+    /// (docs/rapier.md#forces-and-springs).
+    pub(crate) fn spring(&mut self, body: usize, local: [f64; 2], fixed: [f64; 2], stiffness: f64, rest_length: f64) {
+        self.forces.spring = Some(PointSpring { body, local, fixed, stiffness, rest_length });
+    }
+
+    /// A constant torque on plan body `body` (none if it is 0).
+    pub(crate) fn torque(&mut self, body: usize, torque: f64) {
+        self.forces.torque = (torque != 0.0).then_some(BodyTorque { body, torque });
     }
 
     /// `q_to = coeff · q_from + offset`, the offset taken from the initial state.
