@@ -21,11 +21,19 @@
 //! | `double_pendulum` | revolute chain, compound bobs (`I = 1e-2 m l²` if 0) | revolute chain, point bobs exact |
 //! | `chain` | revolute chain of rods hinged at their ends | the same joints |
 //! | `driven_pendulum` | kinematic support moved to `(A sin ωt, 0)` each step, rope to the point bob (exact while the rod is in tension) | unbuildable (a prescribed motion is left out of multibody dynamics) |
+//! | `four_bar` | four revolute joints (loop closed by the pin at `B`) + crank torque | tree ground→crank→coupler, ground→rocker; pin at `B` as a loop-closing impulse joint |
+//! | `slider_crank` | three revolutes + prismatic slider on x + crank torque | tree ground→crank→rod, ground→slider; rod–slider pin as a loop-closing impulse joint |
+//! | `andrews_squeezer` | ten revolute pins + per-step spring `C`–`D` and torque `mom` | spanning tree of seven pins; the three pins at `E` as loop-closing impulse joints |
+//! | `nonminimal_pendulum` | rope from the origin to the point bob | revolute at the origin |
+//! | `rolling_disc` | ball collider on a fixed inclined cuboid with friction (contact, no joint) | the same free body |
+//! | `chaplygin_sleigh` | unbuildable (no non-holonomic joint) | unbuildable |
 //!
 //! Every build: gravity `(0, −g)`, bodies never sleep, multibody joint damping zeroed,
 //! stabilization sweeps off, speed caps off (see `world.rs`'s integration parameters).
 
 mod double;
+#[cfg(test)]
+mod loop_tests;
 pub(crate) mod plan;
 pub(crate) mod scenes;
 mod single;

@@ -45,6 +45,48 @@ pub(crate) struct BodySpec {
     pub initial: BodyState,
     /// Its index in the reduced model's body order, if it is one of the reduced bodies.
     pub reduced: Option<usize>,
+    /// Its collider, if it touches others. A dynamic body with a collider takes its mass and
+    /// inertia from the collider's shape and density (`mass` and `inertia` above then record
+    /// what the shape gives, for the read-back).
+    pub collider: Option<ColliderSpec>,
+}
+
+/// A collider's shape (parry2d), centred on the body frame's origin.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Shape {
+    /// A disc of `radius` (rapier's 2D ball): inertia `½ m R²` about its centre.
+    Ball {
+        /// Radius (m).
+        radius: f64,
+    },
+    /// A rectangle with half-widths along the body's x and y axes.
+    Cuboid {
+        /// Half-extents (m).
+        half_extents: [f64; 2],
+    },
+}
+
+/// A collider attached to a plan body: its shape, the density that gives the body its mass
+/// (dynamic bodies), the friction coefficient (both colliders of a contact carry the same, and
+/// rapier averages them) and no restitution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ColliderSpec {
+    /// Shape.
+    pub shape: Shape,
+    /// Density (kg/m² in 2D); ignored on fixed bodies.
+    pub density: f64,
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+}
+
+impl Shape {
+    /// Area (m²): what the density multiplies into a mass.
+    pub fn area(&self) -> f64 {
+        match *self {
+            Shape::Ball { radius } => std::f64::consts::PI * radius * radius,
+            Shape::Cuboid { half_extents } => 4.0 * half_extents[0] * half_extents[1],
+        }
+    }
 }
 
 /// What a joint constrains.
@@ -78,6 +120,9 @@ pub(crate) struct JointSpec {
     pub anchor_child: [f64; 2],
     /// Type.
     pub kind: JointKind,
+    /// A loop-closing joint: an impulse joint in both joint modes (with multibody joints, the
+    /// others form a spanning tree and this one closes a loop between two of its links).
+    pub closing: bool,
 }
 
 /// A multibody coupling `q_to = coeff · q_from + offset` between the coordinates of two joints
@@ -106,6 +151,49 @@ pub(crate) struct RopePulley {
     pub radius: f64,
 }
 
+/// A linear spring between a fixed point `C` and a point `D` of a body: the force on the body at
+/// `D` is `−k (L − l₀) (D − C)/L`, `L = |D − C|`, plus its moment about the centre of mass
+/// (potential `½ k (L − l₀)²`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PointSpring {
+    /// The plan body carrying `D`.
+    pub body: usize,
+    /// `D` in the body's frame.
+    pub local: [f64; 2],
+    /// `C` in the world frame.
+    pub fixed: [f64; 2],
+    /// Stiffness `k` (N/m).
+    pub stiffness: f64,
+    /// Natural length `l₀` (m).
+    pub rest_length: f64,
+}
+
+impl PointSpring {
+    /// The force on the body (world frame) and its moment about the centre of mass, for the
+    /// body in `state`.
+    pub fn wrench(&self, state: &BodyState) -> [f64; 3] {
+        let (d, _) = point_of(state, self.local);
+        let r = [d[0] - self.fixed[0], d[1] - self.fixed[1]];
+        let length = r[0].hypot(r[1]);
+        if length == 0.0 {
+            return [0.0; 3];
+        }
+        let scale = -self.stiffness * (length - self.rest_length) / length;
+        let force = [scale * r[0], scale * r[1]];
+        let arm = [d[0] - state.pose[0], d[1] - state.pose[1]];
+        [force[0], force[1], arm[0] * force[1] - arm[1] * force[0]]
+    }
+}
+
+/// A constant torque on a body (its reaction on the ground, which does not move).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct BodyTorque {
+    /// The plan body.
+    pub body: usize,
+    /// Torque (N m, counter-clockwise).
+    pub torque: f64,
+}
+
 /// Forces applied with `add_force`/`add_torque` before every step, from the body states at the
 /// start of the step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -116,12 +204,18 @@ pub(crate) struct StepForces {
     pub damping: f64,
     /// `e B` of the charged particle: the Lorentz force `e B (ẏ, −ẋ)` on reduced body 0.
     pub lorentz: f64,
+    /// A spring from a fixed point to a point of a body.
+    pub spring: Option<PointSpring>,
+    /// A constant torque on a body. Constant, so it does not need the per-step treatment: rapier
+    /// applies it in every substep.
+    pub torque: Option<BodyTorque>,
 }
 
 impl StepForces {
-    /// Whether any force is applied per step (the scene then runs with one substep).
+    /// Whether any state-dependent force is applied per step (the scene then runs with one
+    /// substep).
     pub fn any(&self) -> bool {
-        self.potential || self.damping != 0.0 || self.lorentz != 0.0
+        self.potential || self.damping != 0.0 || self.lorentz != 0.0 || self.spring.is_some()
     }
 }
 
@@ -140,7 +234,8 @@ pub(crate) struct Plan {
     pub gravity: f64,
     /// Every rapier body.
     pub bodies: Vec<BodySpec>,
-    /// Every joint, parents before children (a tree rooted at the ground for multibodies).
+    /// Every joint, parents before children; for multibodies the joints that are not
+    /// [`JointSpec::closing`] form a tree rooted at the ground.
     pub joints: Vec<JointSpec>,
     /// Multibody couplings.
     pub couplings: Vec<Coupling>,
@@ -239,6 +334,7 @@ mod tests {
             anchor_parent: [0.3, -0.2],
             anchor_child: [0.1, 0.4],
             kind: JointKind::Prismatic { axis: [0.6, -0.8] },
+            closing: false,
         };
         let (parent, child) = (state([0.5, 1.0, 0.7], [0.2, -0.3, 1.1]), state([2.0, -1.0, 0.7], [-0.4, 0.9, 1.1]));
         let at = |s: f64| {
@@ -249,6 +345,30 @@ mod tests {
         let expected = (at(h) - at(-h)) / (2.0 * h);
         let (_, got) = joint.coordinate(&parent, &child);
         assert!((got - expected).abs() < 1e-8, "expected {expected}, got {got}, residual {:e}", got - expected);
+    }
+
+    /// The spring's wrench is minus the gradient of `½ k (L − l₀)²` in the body's pose
+    /// (central differences).
+    #[test]
+    fn point_spring_wrench_is_minus_the_gradient_of_its_potential() {
+        let spring = PointSpring { body: 0, local: [0.2, -0.1], fixed: [0.5, 0.7], stiffness: 40.0, rest_length: 0.3 };
+        let body = state([0.1, -0.3, 0.8], [0.0; 3]);
+        let potential = |b: &BodyState| {
+            let (d, _) = point_of(b, spring.local);
+            let length = (d[0] - spring.fixed[0]).hypot(d[1] - spring.fixed[1]);
+            0.5 * spring.stiffness * (length - spring.rest_length).powi(2)
+        };
+        let wrench = spring.wrench(&body);
+        let h = 1e-6;
+        for c in 0..3 {
+            let shifted = |s: f64| {
+                let mut b = body;
+                b.pose[c] += s;
+                potential(&b)
+            };
+            let expected = -(shifted(h) - shifted(-h)) / (2.0 * h);
+            assert!((wrench[c] - expected).abs() < 1e-7, "component {c}: {} vs {expected}", wrench[c]);
+        }
     }
 
     #[test]

@@ -2,7 +2,10 @@
 //! which bodies, which joints with which anchors, which couplings and per-step forces, and the
 //! deviations from the requested scene that rapier needs.
 
-use super::plan::{BodySpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, RopePulley, StepForces};
+use super::plan::{
+    BodySpec, BodyTorque, ColliderSpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, PointSpring,
+    RopePulley, Shape, StepForces,
+};
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError, Engine, maps};
 use lagrange::{Body, Error, State};
@@ -177,20 +180,48 @@ impl Draft {
             inertia: 0.0,
             initial: BodyState::default(),
             reduced: None,
+            collider: None,
         })
+    }
+
+    /// A fixed body at `pose` (an incline carrying a collider).
+    pub(crate) fn fixed(&mut self, pose: [f64; 3]) -> usize {
+        let initial = BodyState { pose, velocity: [0.0; 3] };
+        self.push(BodySpec { motion: Motion::Ground, mass: 0.0, inertia: 0.0, initial, reduced: None, collider: None })
+    }
+
+    /// Give plan body `body` a collider of `shape` with friction coefficient `friction`. A dynamic
+    /// body then takes its mass from the shape (density = its mass / the shape's area) and the
+    /// shape's inertia about its centre (a ball: `½ m R²`), recorded in the plan body.
+    pub(crate) fn collider(&mut self, body: usize, shape: Shape, friction: f64) {
+        let spec = &mut self.bodies[body];
+        let density = if spec.motion == Motion::Dynamic { spec.mass / shape.area() } else { 0.0 };
+        if spec.motion == Motion::Dynamic {
+            spec.inertia = match shape {
+                Shape::Ball { radius } => 0.5 * spec.mass * radius * radius,
+                Shape::Cuboid { half_extents: [hx, hy] } => spec.mass * (hx * hx + hy * hy) / 3.0,
+            };
+        }
+        spec.collider = Some(ColliderSpec { shape, density, friction });
     }
 
     /// Reduced body `r`, with its mass, inertia and initial state.
     pub(crate) fn reduced(&mut self, r: usize) -> usize {
         let (body, initial) = (&self.reduced_bodies[r], self.states[r]);
-        let spec =
-            BodySpec { motion: Motion::Dynamic, mass: body.mass, inertia: body.inertia, initial, reduced: Some(r) };
+        let spec = BodySpec {
+            motion: Motion::Dynamic,
+            mass: body.mass,
+            inertia: body.inertia,
+            initial,
+            reduced: Some(r),
+            collider: None,
+        };
         self.push(spec)
     }
 
     /// A massless, inertia-free link of a multibody (an arm, a slider).
     pub(crate) fn massless(&mut self, initial: BodyState) -> usize {
-        self.push(BodySpec { motion: Motion::Dynamic, mass: 0.0, inertia: 0.0, initial, reduced: None })
+        self.push(BodySpec { motion: Motion::Dynamic, mass: 0.0, inertia: 0.0, initial, reduced: None, collider: None })
     }
 
     /// The kinematic support of a driven pendulum at its place at `t`.
@@ -199,7 +230,7 @@ impl Draft {
         let (sin, cos) = (frequency * t).sin_cos();
         let initial =
             BodyState { pose: [amplitude * sin, 0.0, 0.0], velocity: [amplitude * frequency * cos, 0.0, 0.0] };
-        self.push(BodySpec { motion, mass: 0.0, inertia: 0.0, initial, reduced: None })
+        self.push(BodySpec { motion, mass: 0.0, inertia: 0.0, initial, reduced: None, collider: None })
     }
 
     fn joint(
@@ -210,8 +241,15 @@ impl Draft {
         anchor_parent: [f64; 2],
         anchor_child: [f64; 2],
     ) -> usize {
-        self.joints.push(JointSpec { parent, child, anchor_parent, anchor_child, kind });
+        self.joints.push(JointSpec { parent, child, anchor_parent, anchor_child, kind, closing: false });
         self.joints.len() - 1
+    }
+
+    /// Make joint `joint` a loop-closing joint: an impulse joint in both joint modes
+    /// (docs/rapier.md#loops). With multibody joints, the joints not closing a loop must form a
+    /// tree rooted at the ground.
+    pub(crate) fn close_loop(&mut self, joint: usize) {
+        self.joints[joint].closing = true;
     }
 
     pub(crate) fn revolute(
@@ -238,6 +276,18 @@ impl Draft {
     /// A rope between the two bodies' centres.
     pub(crate) fn rope(&mut self, parent: usize, child: usize, length: f64) -> usize {
         self.joint(parent, child, JointKind::Rope { length }, [0.0, 0.0], [0.0, 0.0])
+    }
+
+    /// A spring of stiffness `stiffness` and natural length `rest_length` from the fixed point
+    /// `fixed` to the point `local` of plan body `body`, applied each step
+    /// (docs/rapier.md#forces-and-springs).
+    pub(crate) fn spring(&mut self, body: usize, local: [f64; 2], fixed: [f64; 2], stiffness: f64, rest_length: f64) {
+        self.forces.spring = Some(PointSpring { body, local, fixed, stiffness, rest_length });
+    }
+
+    /// A constant torque on plan body `body` (none if it is 0).
+    pub(crate) fn torque(&mut self, body: usize, torque: f64) {
+        self.forces.torque = (torque != 0.0).then_some(BodyTorque { body, torque });
     }
 
     /// `q_to = coeff · q_from + offset`, the offset taken from the initial state.

@@ -30,6 +30,10 @@ mod tolerance {
     /// corrections ≈ ε q / h ≈ 1e-4 at h = 1/240 (measured ≤ 2.6e-4 in q̇, 1.0e-4 in q, for the
     /// double Atwood machine).
     pub const SINGLE_VS_DOUBLE_COUPLED: f64 = 1e-3;
+    /// The same for the closed loops (four-bar, slider-crank): the loop-closing impulse joints'
+    /// position bias acts like the couplings' (measured 1.1e-4 in q̇ for the four-bar
+    /// multibody, 4.4e-5 for its impulse build; q̇ ≈ 4 rad/s).
+    pub const SINGLE_VS_DOUBLE_LOOPS: f64 = 1e-3;
     /// Constant reaction of the wedge from the momentum balance: cancellation in `m Δv / dt`.
     pub const WEDGE_REACTION: f64 = 1e-6;
 }
@@ -77,19 +81,20 @@ fn expected_unbuildable(scene: &str, engine: Engine) -> bool {
     match scene {
         "atwood" | "double_atwood" | "double_double_atwood" => impulse,
         "driven_pendulum" => !impulse,
-        // No knife-edge joint; the disc's contact build is not written yet.
-        "chaplygin_sleigh" | "rolling_disc" => true,
-        "four_bar" | "slider_crank" | "andrews_squeezer" => true,
+        // No knife-edge joint.
+        "chaplygin_sleigh" => true,
         _ => false,
     }
 }
 
 /// Every scene (default parameters, plus the Atwood machine without pulley inertia) with each
-/// f64 rapier engine that builds it.
+/// f64 rapier engine that builds it; Andrews' squeezer, whose run lasts 0.03 s and needs steps
+/// of microseconds, is checked on its own (`loop_tests.rs`).
 fn cases() -> Vec<(&'static str, Changes, Engine)> {
     let mut cases = Vec::new();
     let variants: Vec<(&'static str, Changes)> = lagrange_scenes::ids()
         .into_iter()
+        .filter(|&id| id != "andrews_squeezer")
         .map(|id| (id, &[][..]))
         .chain([("atwood", &[("pulley_inertia", 0.0)][..])])
         .collect();
@@ -116,8 +121,6 @@ fn unbuildable_combinations_give_their_reason() {
                     let expected = match scene {
                         "driven_pendulum" => "kinematic root",
                         "chaplygin_sleigh" => "no non-holonomic joint",
-                        "rolling_disc" => "not written yet",
-                        "four_bar" | "slider_crank" | "andrews_squeezer" => "not written yet",
                         _ => "no pulley or gear",
                     };
                     assert!(reason.contains(expected), "{engine} {scene}: reason `{reason}` lacks `{expected}`");
@@ -247,7 +250,13 @@ fn single_precision_agrees_with_double() {
             max_abs_diff(&qdot, &qdot_single)
         );
         let coupled = scene.contains("atwood") && engine == Engine::RapierMultibody;
-        let tolerance = if coupled { tolerance::SINGLE_VS_DOUBLE_COUPLED } else { tolerance::SINGLE_VS_DOUBLE };
+        let tolerance = if coupled {
+            tolerance::SINGLE_VS_DOUBLE_COUPLED
+        } else if matches!(scene, "four_bar" | "slider_crank") {
+            tolerance::SINGLE_VS_DOUBLE_LOOPS
+        } else {
+            tolerance::SINGLE_VS_DOUBLE
+        };
         assert_close(&format!("{engine} {scene} q, f32 vs f64"), &q, &q_single, tolerance);
         assert_close(&format!("{engine} {scene} q̇, f32 vs f64"), &qdot, &qdot_single, tolerance);
     }

@@ -5,11 +5,12 @@
 
 use super::rapier::math::{Pose, Real, Vector};
 use super::rapier::prelude::{
-    GenericJoint, IntegrationParameters, MassProperties, Multibody, MultibodyDofCoupling, MultibodyIndex, PhysicsWorld,
-    PrismaticJointBuilder, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle, RopeJointBuilder,
+    ColliderBuilder, GenericJoint, IntegrationParameters, MassProperties, Multibody, MultibodyDofCoupling,
+    MultibodyIndex, PhysicsWorld, PrismaticJointBuilder, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle,
+    RopeJointBuilder,
 };
 use super::{real, wide};
-use crate::rapier::plan::{JointKind, JointMode, JointSpec, Motion, Plan, wrap};
+use crate::rapier::plan::{ColliderSpec, JointKind, JointMode, JointSpec, Motion, Plan, Shape, wrap};
 use crate::{BodyState, Engine, MaximalSimulation, Settings, maps};
 use lagrange::Error;
 
@@ -17,6 +18,13 @@ use lagrange::Error;
 /// coupled through its mass matrix, and Gauss–Seidel needs several sweeps to solve them to
 /// round-off (docs/rapier.md#couplings: 64 sweeps give 1e-12 accelerations for the double Atwood).
 const COUPLING_PGS_ITERATIONS: usize = 128;
+
+/// PGS sweeps per substep for plans with loop-closing joints: Andrews' squeezer couples bodies
+/// of 3.65 g and 70 g through four loops, and one sweep leaves a joint residual that does not
+/// shrink steadily with the step (measured: its error went 2.0e-3, 1.3e-3, 1.2e-3 at
+/// dt = 1e-5, 5e-6, 2.5e-6; with 16 sweeps 6.2e-3, 3.3e-3, 1.7e-3, first order;
+/// docs/rapier.md#loops).
+const LOOP_PGS_ITERATIONS: usize = 16;
 
 /// A scene running in rapier: the world, the handles of the plan's bodies and, for
 /// multibodies, their link ids.
@@ -43,36 +51,48 @@ struct MultibodyLinks {
     index: MultibodyIndex,
     /// Link id of each plan body.
     body_links: Vec<usize>,
-    /// Link id of each joint's child (its coordinate's owner).
+    /// Link id of each joint's child (its coordinate's owner; for a loop-closing joint, only
+    /// the child's link).
     joint_links: Vec<usize>,
 }
 
-/// The start of the last step: every plan body's state, and `∂V/∂p_b` applied during it
-/// (3B, reduced order; empty when the scene has no per-step forces).
+/// The start of the last step: every plan body's state, `∂V/∂p_b` applied during it (3B,
+/// reduced order; empty when the scene has no per-step forces), and the spring's and torque's
+/// wrench on each plan body (empty without them).
 struct LastStep {
     start: Vec<BodyState>,
     gradient: Vec<f64>,
+    applied: Vec<[f64; 3]>,
 }
 
 impl RapierSimulation {
     /// The world of `plan` at its initial state.
     ///
     /// # Errors
-    /// [`Error::Inconsistent`] if rapier refuses a multibody joint (a plan that is not a tree).
+    /// [`Error::Inconsistent`] if rapier refuses a multibody joint (a plan whose non-closing
+    /// joints are not a tree).
     pub(crate) fn new(engine: Engine, plan: Plan, settings: &Settings) -> Result<Self, Error> {
         let mut world = PhysicsWorld::new();
         world.gravity = Vector::new(0.0, -real(plan.gravity));
         world.integration_parameters = integration_parameters(&plan, settings);
         let handles: Vec<RigidBodyHandle> = plan.bodies.iter().map(|b| world.insert_body(body_builder(b))).collect();
-        let multibody = match plan.mode {
-            JointMode::Impulse => {
-                for joint in &plan.joints {
-                    world.insert_impulse_joint(handles[joint.parent], handles[joint.child], generic_joint(joint));
-                }
-                None
+        for (body, &handle) in plan.bodies.iter().zip(&handles) {
+            if let Some(collider) = &body.collider {
+                world.insert_collider(collider_builder(collider), Some(handle));
             }
-            JointMode::Multibody => Some(assemble_multibody(&mut world, &plan, &handles)?),
+        }
+        let multibody = match plan.mode {
+            JointMode::Multibody if plan.joints.iter().any(|j| !j.closing) => {
+                Some(assemble_multibody(&mut world, &plan, &handles)?)
+            }
+            // Free bodies (a disc on an incline) are the same in both modes.
+            JointMode::Impulse | JointMode::Multibody => None,
         };
+        // Every joint with impulse joints; only the loop-closing ones with multibody joints,
+        // where they act between links of the multibody (docs/rapier.md#loops).
+        for joint in plan.joints.iter().filter(|j| plan.mode == JointMode::Impulse || j.closing) {
+            world.insert_impulse_joint(handles[joint.parent], handles[joint.child], generic_joint(joint));
+        }
         let angles = plan.bodies.iter().map(|b| b.initial.pose[2]).collect();
         Ok(Self { engine, plan, world, handles, multibody, dt: settings.dt, steps: 0, angles, last_step: None })
     }
@@ -135,38 +155,67 @@ impl RapierSimulation {
     }
 
     /// Replace every reduced body's user force and torque by the scene's per-step forces at the
-    /// start of the step; returns `∂V/∂p_b` (3B; zeros without a potential).
-    fn apply_step_forces(&mut self, t: f64, plan_states: &[BodyState]) -> Result<Vec<f64>, Error> {
+    /// start of the step; returns `∂V/∂p_b` (3B; zeros without a potential) and the spring's and
+    /// torque's wrench on each plan body (empty without them).
+    fn apply_step_forces(&mut self, t: f64, plan_states: &[BodyState]) -> Result<(Vec<f64>, Vec<[f64; 3]>), Error> {
         let forces = self.plan.forces;
         let reduced = self.reduced_states(plan_states);
         let mut gradient = vec![0.0; 3 * reduced.len()];
         if forces.potential {
             maps::potential(&self.plan.scene, &self.plan.params, t, &reduced, Some(&mut gradient))?;
         }
-        for (spec, &handle) in self.plan.bodies.iter().zip(&self.handles) {
-            let Some(r) = spec.reduced else { continue };
-            let v = reduced[r].velocity;
-            let mut force = [-gradient[3 * r], -gradient[3 * r + 1]];
-            if r == 0 {
-                // Damping −c ẋ on the oscillator, Lorentz e B (ẏ, −ẋ) on the charged particle.
-                force[0] += -forces.damping * v[0] + forces.lorentz * v[1];
-                force[1] += -forces.lorentz * v[0];
+        // The spring at the start of the step (D from the body's pose then), the constant torque.
+        let mut applied = Vec::new();
+        if forces.spring.is_some() || forces.torque.is_some() {
+            applied = vec![[0.0; 3]; self.plan.bodies.len()];
+            if let Some(spring) = forces.spring {
+                let w = spring.wrench(&plan_states[spring.body]);
+                applied[spring.body].iter_mut().zip(w).for_each(|(a, w)| *a += w);
+            }
+            if let Some(torque) = forces.torque {
+                applied[torque.body][2] += torque.torque;
+            }
+        }
+        for (b, (spec, &handle)) in self.plan.bodies.iter().zip(&self.handles).enumerate() {
+            let extra = applied.get(b);
+            if spec.reduced.is_none() && extra.is_none() {
+                continue;
+            }
+            let (mut force, mut torque) = ([0.0; 2], 0.0);
+            if let Some(r) = spec.reduced {
+                let v = reduced[r].velocity;
+                force = [-gradient[3 * r], -gradient[3 * r + 1]];
+                torque = -gradient[3 * r + 2];
+                if r == 0 {
+                    // Damping −c ẋ on the oscillator, Lorentz e B (ẏ, −ẋ) on the charged particle.
+                    force[0] += -forces.damping * v[0] + forces.lorentz * v[1];
+                    force[1] += -forces.lorentz * v[0];
+                }
+            }
+            if let Some(w) = extra {
+                force = [force[0] + w[0], force[1] + w[1]];
+                torque += w[2];
             }
             if let Some(rb) = self.world.bodies.get_mut(handle) {
                 rb.reset_forces(false);
                 rb.reset_torques(false);
                 rb.add_force(Vector::new(real(force[0]), real(force[1])), false);
-                rb.add_torque(real(-gradient[3 * r + 2]), false);
+                rb.add_torque(real(torque), false);
             }
         }
-        Ok(gradient)
+        Ok((gradient, applied))
     }
 
     /// One rapier step of `dt`.
     fn step(&mut self) -> Result<(), Error> {
         let t = self.t();
         let start = self.plan_states();
-        let gradient = if self.plan.forces.any() { self.apply_step_forces(t, &start)? } else { Vec::new() };
+        let forces = self.plan.forces;
+        let (gradient, applied) = if forces.any() || forces.torque.is_some() {
+            self.apply_step_forces(t, &start)?
+        } else {
+            (Vec::new(), Vec::new())
+        };
         // Move the kinematic support to where it is at the end of the step.
         for (spec, &handle) in self.plan.bodies.iter().zip(&self.handles) {
             if let Motion::Support { amplitude, frequency } = spec.motion
@@ -190,7 +239,7 @@ impl RapierSimulation {
             self.angles[b] = state.pose[2];
         }
         if self.plan.mode == JointMode::Impulse {
-            self.last_step = Some(LastStep { start, gradient });
+            self.last_step = Some(LastStep { start, gradient, applied });
         }
         Ok(())
     }
@@ -249,20 +298,25 @@ impl MaximalSimulation for RapierSimulation {
 
     /// Impulse joints: the largest anchor separation (revolute), offset from the slide line or
     /// relative rotation (prismatic), or departure from the rope length (rope); `None` for a
-    /// free body. Multibodies: the largest coupling residual, `None` without couplings (the
-    /// joints hold by construction).
+    /// free body. Multibodies: the largest coupling residual and violation of the loop-closing
+    /// impulse joints, `None` without either (the tree's joints hold by construction).
     fn constraint_violation(&self) -> Option<f64> {
-        match &self.multibody {
-            Some(links) => (!self.plan.couplings.is_empty()).then(|| self.coupling_residual(links)),
-            None => {
-                let violation = |j: &JointSpec| j.violation(&self.state(j.parent), &self.state(j.child));
-                (!self.plan.joints.is_empty()).then(|| self.plan.joints.iter().map(violation).fold(0.0, f64::max))
-            }
+        let violation = |j: &JointSpec| j.violation(&self.state(j.parent), &self.state(j.child));
+        let impulse = self.plan.joints.iter().filter(|j| self.multibody.is_none() || j.closing);
+        let joints = impulse.clone().next().is_some().then(|| impulse.map(violation).fold(0.0, f64::max));
+        let couplings = match &self.multibody {
+            Some(links) if !self.plan.couplings.is_empty() => Some(self.coupling_residual(links)),
+            _ => None,
+        };
+        match (joints, couplings) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
         }
     }
 
     /// Impulse joints, after at least one step: `R_b = (Δ(m_b v_b), Δ(I_b ω_b))/dt − F_b^gravity
-    /// + ∂V/∂p_b` over the last step, as `lagrange::reaction_forces` defines it. This is the sum
+    /// − w_b + ∂V/∂p_b` over the last step (`w_b` the spring's and torque's wrench), as
+    /// `lagrange::reaction_forces` defines it. This is the sum
     /// of the joint impulses rapier applied to the body during the step divided by `dt` (plus
     /// the non-potential applied forces, damping and Lorentz, which the reduced model also
     /// leaves in its reactions). It is read from the momentum balance because
@@ -282,6 +336,9 @@ impl MaximalSimulation for RapierSimulation {
             forces[3 * r] = spec.mass * (now[0] - before[0]) / self.dt + gradient(0);
             forces[3 * r + 1] = spec.mass * ((now[1] - before[1]) / self.dt + self.plan.gravity) + gradient(1);
             forces[3 * r + 2] = spec.inertia * (now[2] - before[2]) / self.dt + gradient(2);
+            if let Some(w) = last.applied.get(b) {
+                (0..3).for_each(|c| forces[3 * r + c] -= w[c]);
+            }
         }
         Some(forces)
     }
@@ -294,27 +351,35 @@ impl MaximalSimulation for RapierSimulation {
 /// Every integration parameter the comparison depends on, explicitly (docs/rapier.md#integration-parameters, #integration-parameters):
 /// `substeps` substeps per step (1 for scenes driven by per-step forces, which are constant over
 /// a step: more would make the map non-symplectic, §1.5); one PGS sweep for impulse joints
-/// (more only tighten the joint error, §2.1), enough for coupled multibodies; no stabilization
+/// (more only tighten the joint error, §2.1), enough for coupled multibodies and for loops; no stabilization
 /// sweeps (they make the impulse scheme dissipative, §2.1); no speed or correction caps; no joint
-/// warm-start; no CCD (there are no colliders).
+/// warm-start; no CCD; contacts re-computed every step (no recycling of old contact points,
+/// which would stale a rolling contact) and never clustered.
 fn integration_parameters(plan: &Plan, settings: &Settings) -> IntegrationParameters {
     IntegrationParameters {
         dt: real(settings.dt),
         num_solver_iterations: if plan.forces.any() { 1 } else { settings.substeps },
-        num_internal_pgs_iterations: if plan.couplings.is_empty() { 1 } else { COUPLING_PGS_ITERATIONS },
+        num_internal_pgs_iterations: if !plan.couplings.is_empty() {
+            COUPLING_PGS_ITERATIONS
+        } else if plan.joints.iter().any(|j| j.closing) {
+            LOOP_PGS_ITERATIONS
+        } else {
+            1
+        },
         num_internal_stabilization_iterations: 0,
         warmstart_joints: false,
         length_unit: 1.0,
         normalized_max_linear_velocity: Real::MAX,
         normalized_max_corrective_velocity: Real::MAX,
         max_ccd_substeps: 0,
+        contact_recycling: false,
         ..IntegrationParameters::default()
     }
 }
 
 /// A rigid body at the plan body's initial pose: the fixed ground, the kinematic support, or a
-/// dynamic body with explicit mass properties (no colliders), never sleeping and not clamped
-/// in its angular speed.
+/// dynamic body with explicit mass properties (or, with a collider, those of its shape), never
+/// sleeping and not clamped in its angular speed.
 fn body_builder(body: &crate::rapier::plan::BodySpec) -> RigidBodyBuilder {
     let [x, y, angle] = body.initial.pose;
     let pose = Pose::new(Vector::new(real(x), real(y)), real(angle));
@@ -323,14 +388,29 @@ fn body_builder(body: &crate::rapier::plan::BodySpec) -> RigidBodyBuilder {
         Motion::Support { .. } => RigidBodyBuilder::kinematic_position_based(),
         Motion::Dynamic => {
             let [vx, vy, omega] = body.initial.velocity;
-            RigidBodyBuilder::dynamic()
-                .additional_mass_properties(MassProperties::new(Vector::ZERO, real(body.mass), real(body.inertia)))
-                .linvel(Vector::new(real(vx), real(vy)))
-                .angvel(real(omega))
-                .allow_fast_rotation(true)
+            let builder = RigidBodyBuilder::dynamic();
+            let builder = match body.collider {
+                Some(_) => builder,
+                None => builder.additional_mass_properties(MassProperties::new(
+                    Vector::ZERO,
+                    real(body.mass),
+                    real(body.inertia),
+                )),
+            };
+            builder.linvel(Vector::new(real(vx), real(vy))).angvel(real(omega)).allow_fast_rotation(true)
         }
     };
     builder.pose(pose).can_sleep(false)
+}
+
+/// The rapier collider of a plan collider: its parry shape with its density, friction and no
+/// restitution (rapier averages both colliders' coefficients).
+fn collider_builder(collider: &ColliderSpec) -> ColliderBuilder {
+    let builder = match collider.shape {
+        Shape::Ball { radius } => ColliderBuilder::ball(real(radius)),
+        Shape::Cuboid { half_extents: [hx, hy] } => ColliderBuilder::cuboid(real(hx), real(hy)),
+    };
+    builder.density(real(collider.density)).friction(real(collider.friction)).restitution(0.0)
 }
 
 /// The rapier joint of a plan joint (frames at the anchors; a prismatic joint's frames turned so
@@ -368,7 +448,8 @@ fn assemble_multibody(
     handles: &[RigidBodyHandle],
 ) -> Result<MultibodyLinks, Error> {
     let inconsistent = |what: &str| Error::Inconsistent { what: format!("rapier multibody of {}: {what}", plan.scene) };
-    for joint in &plan.joints {
+    let tree = || plan.joints.iter().filter(|j| !j.closing);
+    for joint in tree() {
         if matches!(joint.kind, JointKind::Rope { .. }) {
             return Err(inconsistent("a rope is not a multibody joint"));
         }
@@ -377,7 +458,7 @@ fn assemble_multibody(
             .ok_or_else(|| inconsistent("the joints do not form a tree"))?;
     }
     let link_of = |handle: RigidBodyHandle| world.multibody_joints.rigid_body_link(handle).copied();
-    let root = plan.joints.first().and_then(|j| link_of(handles[j.parent])).ok_or_else(|| inconsistent("no joint"))?;
+    let root = tree().next().and_then(|j| link_of(handles[j.parent])).ok_or_else(|| inconsistent("no joint"))?;
     let mut body_links = Vec::with_capacity(handles.len());
     for (spec, &handle) in plan.bodies.iter().zip(handles) {
         match link_of(handle) {
@@ -392,7 +473,7 @@ fn assemble_multibody(
     mb.damping_mut().fill(0.0);
     let mut displacement = vec![0.0; mb.ndofs()];
     let mut velocity = vec![0.0; mb.ndofs()];
-    for (joint, &link_id) in plan.joints.iter().zip(&joint_links) {
+    for (joint, &link_id) in plan.joints.iter().zip(&joint_links).filter(|(j, _)| !j.closing) {
         let link = mb.link(link_id).ok_or_else(|| inconsistent("a joint without a link"))?;
         let (q, qdot) = joint.coordinate(&plan.bodies[joint.parent].initial, &plan.bodies[joint.child].initial);
         displacement[link.assembly_id()] = real(q);

@@ -3,7 +3,6 @@
 use super::MaximalScene;
 use crate::cartesian::constraints::{Anchor, Constraint, pin};
 use crate::cartesian::system::AppliedForce;
-use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
 use lagrange::{Scalar, State};
 use lagrange_scenes::AndrewsSqueezer;
@@ -41,10 +40,28 @@ impl MaximalScene for AndrewsSqueezer {
         if self.mom != 0.0 { AppliedForce::Torque { body: 0, torque: self.mom } } else { AppliedForce::None }
     }
 
-    fn rapier_unbuildable(_mode: JointMode) -> Option<&'static str> {
-        Some("the rapier construction of the closed loops is not written yet")
+    /// The ten pins as revolute joints at the joint points in each body's frame
+    /// (docs/rapier.md#loops). Impulse joints: all ten. Multibody joints: the spanning tree
+    /// ground → K1 (O) → K2 (P1), ground → K3 (B), ground → K5 (A) → K4 (G), ground → K7 (A) → K6
+    /// (H), and the three pins at `E` (K2–K3, K2–K4, K2–K6) as loop-closing impulse joints. Each
+    /// step: the spring `C`–`D` on K3 and the torque `mom` on K1.
+    fn rapier(&self, draft: &mut Draft, _initial: &State) {
+        let s = self;
+        let ground = draft.ground();
+        let k: Vec<usize> = (0..7).map(|b| draft.reduced(b)).collect();
+        let (a, e_on_k2) = ([s.xa, s.ya], [s.da - s.d, 0.0]);
+        draft.revolute(ground, k[0], [0.0, 0.0], [-s.ra, 0.0]);
+        draft.revolute(k[0], k[1], [s.rr - s.ra, 0.0], [s.da, 0.0]);
+        draft.revolute(ground, k[2], [s.xb, s.yb], [-s.sa, s.sb]);
+        draft.revolute(ground, k[4], a, [-s.ta, s.tb]);
+        draft.revolute(k[4], k[3], [s.zt - s.ta, s.tb], [0.0, s.e - s.ea]);
+        draft.revolute(ground, k[6], a, [-s.ua, s.ub]);
+        draft.revolute(k[6], k[5], [-s.ua, s.ub - s.u], [-(s.zf - s.fa), 0.0]);
+        for (body, anchor) in [(k[2], [-s.sa, s.sb - s.ss]), (k[3], [0.0, -s.ea]), (k[5], [s.fa, 0.0])] {
+            let closing = draft.revolute(k[1], body, e_on_k2, anchor);
+            draft.close_loop(closing);
+        }
+        draft.spring(k[2], [s.sd - s.sa, s.sb - s.sc], [s.xc, s.yc], s.c0, s.l0);
+        draft.torque(k[0], s.mom);
     }
-
-    /// None yet ([`rapier_unbuildable`](MaximalScene::rapier_unbuildable)).
-    fn rapier(&self, _draft: &mut Draft, _initial: &State) {}
 }

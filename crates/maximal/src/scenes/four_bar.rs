@@ -3,7 +3,6 @@
 use super::MaximalScene;
 use crate::cartesian::constraints::{Anchor, Constraint, pin};
 use crate::cartesian::system::AppliedForce;
-use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
 use lagrange::{Scalar, State};
 use lagrange_scenes::FourBar;
@@ -32,10 +31,18 @@ impl MaximalScene for FourBar {
         if self.torque != 0.0 { AppliedForce::Torque { body: 0, torque: self.torque } } else { AppliedForce::None }
     }
 
-    fn rapier_unbuildable(_mode: JointMode) -> Option<&'static str> {
-        Some("the rapier construction of the closed loop is not written yet")
+    /// Revolute joints at `O2`, `A`, `O4` and `B` (docs/rapier.md#loops). Impulse joints: all
+    /// four. Multibody joints: the tree ground → crank → coupler, ground → rocker, and the pin at
+    /// `B` (coupler–rocker) as the loop-closing impulse joint. The crank torque each step.
+    fn rapier(&self, draft: &mut Draft, _initial: &State) {
+        let (a, b, c, d) = (self.crank, self.coupler, self.rocker, self.ground);
+        let ground = draft.ground();
+        let (crank, coupler, rocker) = (draft.reduced(0), draft.reduced(1), draft.reduced(2));
+        draft.revolute(ground, crank, [0.0, 0.0], [-a / 2.0, 0.0]);
+        draft.revolute(crank, coupler, [a / 2.0, 0.0], [-b / 2.0, 0.0]);
+        draft.revolute(ground, rocker, [d, 0.0], [-c / 2.0, 0.0]);
+        let closing = draft.revolute(coupler, rocker, [b / 2.0, 0.0], [c / 2.0, 0.0]);
+        draft.close_loop(closing);
+        draft.torque(crank, self.torque);
     }
-
-    /// None yet ([`rapier_unbuildable`](MaximalScene::rapier_unbuildable)).
-    fn rapier(&self, _draft: &mut Draft, _initial: &State) {}
 }

@@ -26,6 +26,6 @@ impl MaximalScene for HarmonicOscillator {
     fn rapier(&self, draft: &mut Draft, _initial: &State) {
         let (ground, mass) = (draft.ground(), draft.reduced(0));
         draft.prismatic(ground, mass, [1.0, 0.0], [0.0, 0.0], [0.0, 0.0]);
-        draft.forces = StepForces { potential: true, damping: self.damping, lorentz: 0.0 };
+        draft.forces = StepForces { potential: true, damping: self.damping, ..StepForces::default() };
     }
 }

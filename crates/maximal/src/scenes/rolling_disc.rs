@@ -2,14 +2,17 @@
 
 use super::MaximalScene;
 use crate::cartesian::constraints::{Constraint, Frame, VelocityConstraint, X, Y, linear};
-use crate::rapier::plan::JointMode;
+use crate::rapier::plan::Shape;
 use crate::rapier::scenes::Draft;
 use lagrange::{Scalar, State};
 use lagrange_scenes::RollingDisc;
 
-/// Why rapier does not build the disc yet.
-const NO_CONTACT_BUILD: &str = "the rapier build of the rolling disc is a contact (a ball collider on an \
-     inclined cuboid with friction), which is not written yet; rapier has no rolling joint";
+/// Half-length of the incline's cuboid (m): the disc stays on it for `|s| < 1000` m.
+const INCLINE_HALF_LENGTH: f64 = 1000.0;
+
+/// Friction coefficient of the contact, in units of the least one that rolls, `tan α / 3`
+/// (a uniform disc needs a friction force `m g sin α / 3` against `μ m g cos α`).
+const FRICTION_MARGIN: f64 = 3.0;
 
 impl MaximalScene for RollingDisc {
     /// `s` = the centre's distance down the incline direction `(−cosα, −sinα)` from the origin;
@@ -38,10 +41,19 @@ impl MaximalScene for RollingDisc {
         }]
     }
 
-    fn rapier_unbuildable(_mode: JointMode) -> Option<&'static str> {
-        Some(NO_CONTACT_BUILD)
+    /// rapier has no rolling joint: the disc is a contact (docs/rapier.md#contact-the-rolling-disc),
+    /// the same in both joint modes (a free body). A ball collider of radius `R` whose density
+    /// gives the mass `m` (parry's ball: inertia `½ m R²`, the disc's) on a fixed cuboid turned
+    /// by `α`, its surface exactly `R` below the line of centres through the origin; friction
+    /// `μ = tan α` on both (three times the least that rolls), no restitution.
+    fn rapier(&self, draft: &mut Draft, _initial: &State) {
+        let (sin, cos) = self.incline.sin_cos();
+        let (radius, half_thickness) = (self.radius, self.radius);
+        let friction = FRICTION_MARGIN * self.incline.tan() / 3.0;
+        let depth = radius + half_thickness;
+        let incline = draft.fixed([depth * sin, -depth * cos, self.incline]);
+        draft.collider(incline, Shape::Cuboid { half_extents: [INCLINE_HALF_LENGTH, half_thickness] }, friction);
+        let disc = draft.reduced(0);
+        draft.collider(disc, Shape::Ball { radius }, friction);
     }
-
-    /// Not reached: [`rapier_unbuildable`](MaximalScene::rapier_unbuildable) refuses every mode.
-    fn rapier(&self, _draft: &mut Draft, _initial: &State) {}
 }

@@ -3,7 +3,6 @@
 use super::MaximalScene;
 use crate::cartesian::constraints::{ANGLE, Anchor, Constraint, Y, fix, pin};
 use crate::cartesian::system::AppliedForce;
-use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
 use lagrange::{Scalar, State};
 use lagrange_scenes::SliderCrank;
@@ -33,10 +32,21 @@ impl MaximalScene for SliderCrank {
         if self.torque != 0.0 { AppliedForce::Torque { body: 0, torque: self.torque } } else { AppliedForce::None }
     }
 
-    fn rapier_unbuildable(_mode: JointMode) -> Option<&'static str> {
-        Some("the rapier construction of the closed loop is not written yet")
+    /// Revolute joints at the origin, at `P` and at the slider, and a prismatic joint along x
+    /// from the ground to the slider (docs/rapier.md#loops). Impulse joints: all four; the
+    /// slider is the scene's point mass (inertia 0, which rapier's impulse solver reads as
+    /// infinite: harmless, since the prismatic joint locks its rotation and the rod's pin acts at
+    /// its centre). Multibody joints: the tree ground → crank → rod, ground → slider (prismatic),
+    /// and the rod–slider pin as the loop-closing impulse joint. The crank torque each step.
+    fn rapier(&self, draft: &mut Draft, _initial: &State) {
+        let (r, l) = (self.crank, self.rod);
+        let ground = draft.ground();
+        let (crank, rod, slider) = (draft.reduced(0), draft.reduced(1), draft.reduced(2));
+        draft.revolute(ground, crank, [0.0, 0.0], [-r / 2.0, 0.0]);
+        draft.revolute(crank, rod, [r / 2.0, 0.0], [-l / 2.0, 0.0]);
+        draft.prismatic(ground, slider, [1.0, 0.0], [0.0, 0.0], [0.0, 0.0]);
+        let closing = draft.revolute(rod, slider, [l / 2.0, 0.0], [0.0, 0.0]);
+        draft.close_loop(closing);
+        draft.torque(crank, self.torque);
     }
-
-    /// None yet ([`rapier_unbuildable`](MaximalScene::rapier_unbuildable)).
-    fn rapier(&self, _draft: &mut Draft, _initial: &State) {}
 }
