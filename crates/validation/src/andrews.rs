@@ -198,7 +198,11 @@ mod tests {
         let worst = |got: &[f64], want: &[f64]| {
             got.iter().zip(want).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / want[0].abs()
         };
-        eprintln!("q̈ to {:.1e}, λ to {:.1e} relative", worst(&qddot, &PUBLISHED_INITIAL_ACCELERATIONS), worst(&lambda, &PUBLISHED_INITIAL_MULTIPLIERS));
+        eprintln!(
+            "q̈ to {:.1e}, λ to {:.1e} relative",
+            worst(&qddot, &PUBLISHED_INITIAL_ACCELERATIONS),
+            worst(&lambda, &PUBLISHED_INITIAL_MULTIPLIERS)
+        );
         let scale = PUBLISHED_INITIAL_ACCELERATIONS[0].abs();
         for (got, want) in qddot.iter().zip(PUBLISHED_INITIAL_ACCELERATIONS) {
             assert!((got - want).abs() <= 1e-12 * scale, "q̈: {qddot:?}");

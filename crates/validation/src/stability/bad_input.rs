@@ -152,9 +152,6 @@ fn simulate(tally: &mut Tally, system: &dyn System, state: &State) {
     }
     for bad in [0.0, -dt, f64::NAN, f64::INFINITY] {
         for method in [Method::Rk4 { dt: bad }, Method::Variational { dt: bad }, Method::Gauss { dt: bad }] {
-            if matches!(method, Method::Variational { .. }) && system.constraint_counts() != (0, 0) {
-                continue; // constrained: variational not yet (issue 11)
-            }
             let what = format!("simulate {} with dt = {bad}", method.name());
             let result = tally.call(&what, || system.simulate(state, horizon, method, &Output::Ends));
             if !matches!(result, Some(Err(Error::InvalidSetting { what: "step", .. })) | None) {

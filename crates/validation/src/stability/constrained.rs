@@ -265,7 +265,9 @@ fn squeezer(case: &mut CaseBuilder) -> Result<(), crate::Error> {
     // The published consistent initial accelerations, from the body model.
     let got = system.accelerations(0.0, &initial.q, &initial.qdot)?.to_vec();
     let scale = andrews::PUBLISHED_INITIAL_ACCELERATIONS[0].abs();
-    let worst = got.iter().zip(andrews::PUBLISHED_INITIAL_ACCELERATIONS).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / scale;
+    let worst =
+        got.iter().zip(andrews::PUBLISHED_INITIAL_ACCELERATIONS).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+            / scale;
     let m = Measurement::new("t = 0", "andrews_squeezer", "engine", "relative error of q̈(0) vs the published values")
         .note("relative to the largest published |q̈| = 1.42e4 rad/s²");
     case.push(m.value(worst).check(Check::AtMost, Some(0.0), Some(1e-10)));
