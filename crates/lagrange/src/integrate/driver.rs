@@ -280,8 +280,10 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
             }
         }
         integrator.read(system, &mut ws, t_out, &mut q, &mut qdot)?;
-        if project {
+        if project && steps > 0 {
             // A dense-output sample inside the last step is not on the constraints by itself.
+            // A sample before the first step is the initial state, checked consistent above and
+            // recorded as the user gave it.
             system.project(&mut ws, t_out, &mut q, &mut qdot)?;
         }
         if region {

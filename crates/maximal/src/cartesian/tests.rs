@@ -26,7 +26,7 @@ use lagrange::num_dual::Dual2_64;
 use lagrange::{Dynamics, Error, Mechanism, Method, Output, Pose, State};
 use lagrange_scenes::SceneType;
 use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, Scene, visit_mechanism};
-use lagrange_validation::fixtures::{assert_close, max_abs};
+use lagrange_validation::fixtures::{assert_close, max_abs, max_abs_diff};
 
 /// `z̈` against the reduced body accelerations, relative to the largest (floored at 1 m/s²).
 const ACCELERATION_RTOL: f64 = 1e-10;
@@ -266,6 +266,38 @@ fn the_knife_edge_holds_in_cartesian_coordinates() {
     let lambda = reduced.constraint_multipliers(3.0, &q, &qdot).unwrap().unwrap().to_vec();
     // The same row in both: A = (−sinφ, cosφ, a) is v_P · n in body poses.
     assert_close("knife-edge multiplier", &lambda, &simulation.ws.multipliers, FORCE_RTOL * max_abs(&lambda).max(1.0));
+}
+
+/// The loops' multipliers are the Cartesian pin forces: each closing constraint of the reduced
+/// model is the same point coincidence as one Cartesian pin (the four-bar's `B_coupler −
+/// B_rocker`, the slider-crank's rod end on the slider, the squeezer's `E` through K2 against
+/// `E` through K3, K4 and K6), so with the same sign convention (`M q̈ + Gᵀ λ = f` and
+/// `M z̈ + Φ_zᵀ λ = F`) the two multipliers are one force. Compared along a Cartesian run, at
+/// the state read back from it, to [`FORCE_RTOL`] of the largest: both solve the same
+/// equations at the same state, so only round-off separates them.
+#[test]
+fn loop_multipliers_are_the_cartesian_pin_forces() {
+    // (scene, overrides, time, the Cartesian rows of each reduced row)
+    let cases: [(&str, &[(&str, f64)], f64, &[usize]); 4] = [
+        ("four_bar", &[], 0.7, &[4, 5]),
+        ("four_bar", &[("torque", 2.5)], 0.7, &[4, 5]),
+        ("slider_crank", &[], 0.2, &[4, 5]),
+        ("andrews_squeezer", &[], 0.01, &[6, 7, 8, 9, 10, 11]),
+    ];
+    for (id, overrides, t, rows) in cases {
+        let (scene, params) = scene_and_params(id, overrides);
+        let initial = scene.default_state(&params).unwrap();
+        let mut simulation = cartesian(id, &params, &initial);
+        simulation.advance_to(t).unwrap();
+        simulation.evaluate().unwrap();
+        let (q, qdot) = maps::generalized(id, &params, t, &simulation.bodies(), &initial.q).unwrap();
+        let mut reduced = scene.build(&params).unwrap();
+        let lambda = reduced.constraint_multipliers(t, &q, &qdot).unwrap().unwrap().to_vec();
+        let pins: Vec<f64> = rows.iter().map(|&r| simulation.ws.multipliers[r]).collect();
+        let scale = max_abs(&lambda);
+        eprintln!("{id} {overrides:?}: λ differs by {:.1e} relative", max_abs_diff(&lambda, &pins) / scale);
+        assert_close(&format!("{id}: pin forces"), &lambda, &pins, FORCE_RTOL * scale);
+    }
 }
 
 /// One test per scene (and variant), and the list of covered scenes.
