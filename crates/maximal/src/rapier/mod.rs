@@ -2,8 +2,8 @@
 //! f32 (rapier2d).
 //!
 //! Each scene is first written as a precision-independent plan (`plan.rs`: bodies with explicit mass
-//! properties and no colliders, joints with their anchors, multibody couplings, per-step
-//! forces; each scene's `rapier` in `src/scenes/<scene>.rs` writes it through `scenes.rs`'s
+//! properties (or colliders whose shapes give them), joints with their anchors (loop-closing
+//! ones marked), multibody couplings, per-step forces; each scene's `rapier` in `src/scenes/<scene>.rs` writes it through `scenes.rs`'s
 //! draft, following docs/rapier.md#constructions-per-scene), then built by `world.rs`, one source
 //! compiled twice (`double`: f64, `single`: f32). What is built:
 //!
