@@ -155,10 +155,10 @@ impl MechanismVisitor for Assembled<'_> {
     }
 }
 
-/// How long the runs of a scene are compared (s): [`HORIZON`], but the test problem's
-/// interval for Andrews' squeezer (its crank turns at ~1000 rad/s by t = 0.03).
+/// How long the runs of a scene are compared (s): [`HORIZON`], or the scene's own span where it
+/// has one (Andrews' squeezer: the test problem's 0.03 s; its crank turns at ~1000 rad/s by then).
 fn horizon(id: &str) -> f64 {
-    if id == "andrews_squeezer" { 0.03 } else { HORIZON }
+    lagrange_scenes::find(id).and_then(|s| s.horizon()).unwrap_or(HORIZON)
 }
 
 /// The four comparisons of the brief for one scene with `overrides`.
@@ -335,6 +335,11 @@ scene_tests! {
     spring_pendulum: "spring_pendulum";
     driven_pendulum: "driven_pendulum";
     charged_particle: "charged_particle";
+    nonminimal_pendulum: "nonminimal_pendulum";
+    chaplygin_sleigh: "chaplygin_sleigh";
+    chaplygin_sleigh_edge_behind: "chaplygin_sleigh", "offset" = -0.3;
+    rolling_disc: "rolling_disc";
+    rolling_disc_steep: "rolling_disc", "incline" = 1.1, "radius" = 0.4;
     four_bar: "four_bar";
     four_bar_driven: "four_bar", "torque" = 2.5;
     slider_crank: "slider_crank";
