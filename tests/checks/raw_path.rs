@@ -16,7 +16,12 @@ impl MechanismVisitor for RawVsBody<'_> {
     fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> usize {
         let body = Model::new(mechanism.clone()).expect("valid");
         if body.constraint_counts() != (0, 0) {
-            // constrained: the raw path does not take constraints yet (issue 11)
+            // The raw path takes no constraints among the coordinates: it refuses them, by name,
+            // rather than dropping them.
+            let refused = RawModel::new(Model::new(mechanism).expect("valid"));
+            assert!(
+                matches!(refused, Err(lagrange::Error::InvalidParameter { ref name, .. }) if name == "constraints")
+            );
             return 0;
         }
         let raw = RawModel::new(Model::new(mechanism).expect("valid")).expect("valid");

@@ -72,7 +72,8 @@ impl<F: LagrangianFunction> RawModel<F> {
     /// path's, see [`Model::new`](crate::Model::new)).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a system without coordinates; [`Error::NonFinite`]
+    /// [`Error::InvalidParameter`] for a system without coordinates, or a body model with
+    /// constraints among its coordinates (the raw path takes none); [`Error::NonFinite`]
     /// (stage [`Lagrangian`](Stage::Lagrangian)) for a Lagrangian or first derivative that is
     /// not finite at a probe state; [`Error::LostDerivative`] if an exact first derivative of
     /// `L` disagrees with central differences (the Lagrangian reads `t.re()`, `q[i].re()` or
@@ -86,6 +87,16 @@ impl<F: LagrangianFunction> RawModel<F> {
                 name: "coordinates".into(),
                 value: 0.0,
                 why: "a system needs at least one coordinate".into(),
+            });
+        }
+        let (m, k) = function.attached_constraints();
+        if m + k > 0 {
+            return Err(Error::InvalidParameter {
+                name: "constraints".into(),
+                value: (m + k) as f64,
+                why: "the raw-Lagrangian path does not take constraints among the coordinates (it would drop \
+                      them); evaluate the body Model itself, which does"
+                    .into(),
             });
         }
         let probes = ProbeStates::new(n);

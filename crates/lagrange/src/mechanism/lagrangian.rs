@@ -68,6 +68,14 @@ pub trait LagrangianFunction {
         let _ = (t, q, qdot, bounds);
         false
     }
+
+    /// The numbers of holonomic and velocity constraints among the coordinates that come with
+    /// this Lagrangian (a body [`Model`](crate::Model)'s own); `(0, 0)` by default.
+    /// [`RawModel::new`](crate::RawModel::new) refuses a Lagrangian that has any: the raw path
+    /// would drop them.
+    fn attached_constraints(&self) -> (usize, usize) {
+        (0, 0)
+    }
 }
 
 impl<L: Lagrangian> LagrangianFunction for L {

@@ -277,8 +277,10 @@ fn the_knife_edge_holds_in_cartesian_coordinates() {
 /// equations at the same state, so only round-off separates them.
 #[test]
 fn loop_multipliers_are_the_cartesian_pin_forces() {
-    // (scene, overrides, time, the Cartesian rows of each reduced row)
-    let cases: [(&str, &[(&str, f64)], f64, &[usize]); 4] = [
+    /// A scene, its parameter overrides, the time compared and the Cartesian rows of each
+    /// reduced row.
+    type Case = (&'static str, &'static [(&'static str, f64)], f64, &'static [usize]);
+    let cases: [Case; 4] = [
         ("four_bar", &[], 0.7, &[4, 5]),
         ("four_bar", &[("torque", 2.5)], 0.7, &[4, 5]),
         ("slider_crank", &[], 0.2, &[4, 5]),
