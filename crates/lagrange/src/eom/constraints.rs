@@ -26,7 +26,7 @@
 //! inconsistent, [`Error::InconsistentConstraints`] naming them.
 
 use crate::error::{Error, Stage};
-use crate::mechanism::Mechanism;
+use crate::mechanism::{CoordinateKind, Mechanism};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::seed;
@@ -73,6 +73,8 @@ pub struct ConstraintBuffers<S> {
     pub(crate) gram: Vec<S>,
     pub(crate) gram_solution: Vec<S>,
     pub(crate) step: Vec<S>,
+    /// The coordinates a damped Gauss–Newton step starts from (n).
+    pub(crate) start: Vec<S>,
     pub(crate) gram_dependent: Vec<bool>,
 }
 
@@ -96,6 +98,7 @@ impl<S: Scalar> ConstraintBuffers<S> {
             gram: vec![zero; c * c],
             gram_solution: vec![zero; c],
             step: vec![zero; n],
+            start: vec![zero; n],
             gram_dependent: vec![false; c],
         }
     }
@@ -312,6 +315,11 @@ pub(crate) fn backward_skipping<S: Scalar>(c: usize, a: &[S], dependent: &[bool]
     }
 }
 
+/// `‖v‖₂`.
+fn l2(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
 fn dot<S: Scalar>(a: &[S], b: &[S]) -> S {
     a.iter().zip(b).fold(S::zero(), |sum, (&x, &y)| sum + x * y)
 }
@@ -396,6 +404,17 @@ pub(crate) fn step_rows<M: Mechanism>(
 /// guess within the basin needs a handful; 50 leaves room for guesses far from the manifold.
 const ASSEMBLY_ITERATIONS: usize = 50;
 
+/// The largest turn (rad) of any angle in one Gauss–Newton step of the projection: the
+/// constraints' linear model in an angle (`sin`, `cos`) holds for turns well below a radian, and
+/// a longer step from far off the constraints (a nearly dependent `G`) jumps to an unrelated
+/// configuration rather than the nearest one.
+const MAX_TURN: f64 = 0.5;
+
+/// Halvings of a Gauss–Newton step of the projection until `‖Φ‖₂` falls; past them the step is
+/// taken as it is (a step of 2⁻¹⁰ of its length that still cannot reduce `‖Φ‖₂` sits at a
+/// stationary point of `‖Φ‖₂`, where the iteration fails anyway).
+const HALVINGS: usize = 10;
+
 /// The positions are on `Φ = 0` when `max |Φ| ≤ POSITION_TOLERANCE · (1 + max |q|)`: a few ε of
 /// the coordinates' own round-off (what Gauss–Newton reaches in one or two iterations from a
 /// step's `O(tol)` drift), well above it so that round-off cannot stall the loop.
@@ -418,18 +437,11 @@ pub(crate) fn project_holding<M: Mechanism>(
         if m > 0 {
             let scale = 1.0 + q.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
             let mut iterations = 0;
+            let mut evaluate_at = |b: &mut ConstraintBuffers<f64>, q: &[f64]| {
+                evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, b, t, q, qdot);
+            };
+            evaluate_at(&mut b, q);
             loop {
-                evaluate(
-                    &model.mechanism,
-                    (m, k),
-                    Rows::Holonomic,
-                    &mut ws.q_dual,
-                    &mut ws.q_dual2,
-                    &mut b,
-                    t,
-                    q,
-                    qdot,
-                );
                 let (worst, value) = largest(&b.residual);
                 if !value.is_finite() {
                     return Err(crate::eom::non_finite(Stage::Constraints, t, q));
@@ -447,8 +459,29 @@ pub(crate) fn project_holding<M: Mechanism>(
                 }
                 // Smallest step: Δq = −Gᵀ (G Gᵀ)⁻¹ Φ over the free coordinates.
                 min_norm_step(&mut b, n, m, Rhs::Residual, held);
-                for (qi, d) in q.iter_mut().zip(&b.step) {
-                    *qi -= d;
+                // Damped where the linear model does not hold: no angle turned by more than
+                // MAX_TURN, then halved until ‖Φ‖₂ falls. Near the constraints (every projection
+                // after an integration step) the full step is taken at no extra cost.
+                let norm = l2(&b.residual);
+                let turn = model
+                    .mechanism
+                    .coordinates()
+                    .iter()
+                    .zip(&b.step)
+                    .filter(|(c, _)| c.kind == CoordinateKind::Angle)
+                    .fold(0.0_f64, |a, (_, d)| a.max(d.abs()));
+                let mut fraction = if turn > MAX_TURN { MAX_TURN / turn } else { 1.0 };
+                b.start.copy_from_slice(q);
+                for halving in 0..=HALVINGS {
+                    for ((qi, start), d) in q.iter_mut().zip(&b.start).zip(&b.step) {
+                        *qi = start - fraction * d;
+                    }
+                    evaluate_at(&mut b, q);
+                    let trial = l2(&b.residual);
+                    if trial < norm || largest(&b.residual).1 <= POSITION_TOLERANCE * scale || halving == HALVINGS {
+                        break;
+                    }
+                    fraction *= 0.5;
                 }
                 iterations += 1;
             }
@@ -524,8 +557,9 @@ pub(crate) fn violation<M: Mechanism>(
 }
 
 /// Project `(q, q̇)` at time `t` onto the constraints of a constrained [`Model`], in place, by
-/// the smallest change: Gauss–Newton `q ← q − Gᵀ (G Gᵀ)⁻¹ Φ` until
-/// `max |Φ| ≤ 16 ε (1 + max |q|)`, then one exact step `q̇ ← q̇ − Gᵀ (G Gᵀ)⁻¹ r` with `r` the
+/// the smallest change: Gauss–Newton `q ← q − α Gᵀ (G Gᵀ)⁻¹ Φ` until
+/// `max |Φ| ≤ 16 ε (1 + max |q|)` (`α = 1` near the constraints; from far off, `α` keeps every
+/// angle's turn within half a radian and is halved until `‖Φ‖₂` falls), then one exact step `q̇ ← q̇ − Gᵀ (G Gᵀ)⁻¹ r` with `r` the
 /// velocity residuals `G q̇ + Φ_t` and `A q̇ + b`. A model without constraints is left as it is.
 /// The integrators call it after every step.
 ///
