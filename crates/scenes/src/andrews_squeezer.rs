@@ -7,7 +7,7 @@ use crate::linkage::{LinkBody, Linkage, Point};
 use crate::params::{param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
-use lagrange::{Body, Coordinate, Loads, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Error, Loads, Mechanism, Pose, Scalar, State};
 
 /// The consistent initial angles `(β, Θ, γ, Φ, δ, Ω, ε)` at `t = 0` (at rest), as published
 /// with the test problem (docs/scenes.md#andrews_squeezer).
@@ -166,7 +166,9 @@ scene_params! {
             Body::rigid("K6", m6, i6),
             Body::rigid("K7", m7, i7),
         ],
+        initial: [f64; 7] = INITIAL_ANGLES,
     }
+    finish = AndrewsSqueezer::assembled;
 }
 
 /// Unit coefficient vectors of the body angles in `q`.
@@ -194,6 +196,42 @@ fn add<S: Scalar>(p: [S; 2], s: f64, u: [S; 2]) -> [S; 2] {
 }
 
 impl AndrewsSqueezer {
+    /// The scene with its initial angles on its loops: [`INITIAL_ANGLES`] where they close the
+    /// loops to round-off (the test problem's geometry), otherwise `β` of [`INITIAL_ANGLES`]
+    /// held and the other six angles brought onto the constraints from there by the engine's
+    /// assembly (smallest change).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the loop that does not close when the geometry
+    /// cannot be assembled at that `β`.
+    fn assembled(mut self) -> Result<Self, Error> {
+        let (residual, _) = self.residuals(&INITIAL_ANGLES, &[0.0; 7]);
+        // The published angles close the standard loops to a few ε of their lengths (~0.03 m).
+        let scale = 0.1;
+        if residual.iter().all(|r| r.abs() <= 64.0 * f64::EPSILON * scale) {
+            return Ok(self);
+        }
+        let model = lagrange::Model::new(self.clone())?;
+        let start = State::new(0.0, INITIAL_ANGLES, [0.0; 7]);
+        let mut held = [false; 7];
+        held[0] = true;
+        match lagrange::assemble(&model, &start, &held) {
+            Ok(state) => {
+                self.initial.copy_from_slice(&state.q);
+                Ok(self)
+            }
+            Err(Error::AssemblyFailed { constraint, residual, .. }) => Err(Error::InvalidParameter {
+                name: "geometry (xa … zf)".into(),
+                value: INITIAL_ANGLES[0],
+                why: format!(
+                    "the squeezer's loops do not close at β = {}: {constraint} is left at {residual:e} m",
+                    INITIAL_ANGLES[0]
+                ),
+            }),
+            Err(e) => Err(e),
+        }
+    }
+
     /// The squeezer with the test problem's parameters (the defaults of [`PARAMS`]).
     pub fn standard() -> Self {
         Self::from_table(&crate::Params::defaults(PARAMS)).expect("the test problem's parameters are valid")
@@ -378,10 +416,10 @@ impl SceneType for AndrewsSqueezer {
         qddot.copy_from_slice(&self.closed_form_with_multipliers(q, qdot).0);
     }
 
-    /// The test problem's consistent initial angles [`INITIAL_ANGLES`], at rest (consistent
-    /// for the default parameters).
+    /// At rest at the test problem's consistent initial angles [`INITIAL_ANGLES`]; with other
+    /// geometry, those angles brought onto the loops with `β` held.
     fn default_state(&self) -> State {
-        State::new(0.0, INITIAL_ANGLES, [0.0; 7])
+        State::new(0.0, self.initial, [0.0; 7])
     }
 
     /// `T + V − mom β` (`V` the spring's energy): with `mom ≠ 0` not the energy the engine

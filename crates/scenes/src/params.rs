@@ -178,7 +178,9 @@ pub(crate) const fn same_name(a: &str, b: &str) -> bool {
 /// public fields and the private derived fields, the validating constructor taking the parameters in the table's order, and
 /// `from_table`, the scene from a [`Params`] set (used by [`param_table!`]). The derived fields
 /// are computed in order from the parameters (and the derived fields before them), so an
-/// expression may use `?`.
+/// expression may use `?`. An optional `finish = path;` after them takes the constructed scene
+/// and returns it, completed or refused (`fn(Self) -> Result<Self, Error>`): for what needs the
+/// whole scene, such as a linkage's assembly.
 macro_rules! scene_params {
     (@spec $field:ident; $shared:ident) => {{
         const _: () = assert!($crate::params::same_name($shared.name, stringify!($field)), "a shared spec names its field");
@@ -200,6 +202,7 @@ macro_rules! scene_params {
         derived {
             $( $derived:ident : $derived_type:ty = $value:expr, )*
         }
+        $( finish = $finish:path; )?
     ) => {
         #[doc = concat!("The parameters of [`", stringify!($scene), "`], in order (its public fields).")]
         pub const PARAMS: &[$crate::ParamSpec] = &[$($crate::params::scene_params!(@spec $field; $($spec)*)),*];
@@ -225,7 +228,9 @@ macro_rules! scene_params {
             $constructor_vis fn $constructor($($field: $type),*) -> Result<Self, ::lagrange::Error> {
                 $crate::params::check_all(PARAMS, &[$($crate::params::ParamValue::to_f64($field)),*])?;
                 $( let $derived: $derived_type = $value; )*
-                Ok(Self { $($field,)* $($derived,)* })
+                let scene = Self { $($field,)* $($derived,)* };
+                $( let scene = $finish(scene)?; )?
+                Ok(scene)
             }
 
             /// The scene with the values of `params`, read by name and checked before any
