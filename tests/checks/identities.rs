@@ -1,5 +1,6 @@
 //! Identities every body model must satisfy (RigidBodyDynamics.jl's mechanism tests):
-//! `½ q̇ᵀ M q̇ = T`, `M` symmetric positive definite, power balance `dh/dt = Q·q̇ − ∂L/∂t`.
+//! `½ q̇ᵀ M q̇ = T`, `M` symmetric positive definite, power balance `dh/dt = Q·q̇ − ∂L/∂t` (`Q`
+//! with the generalized forces of loads applied at points of bodies).
 
 use lagrange::num_dual::Dual64;
 use lagrange::{Mechanism, Model, State};
@@ -40,6 +41,7 @@ impl MechanismVisitor for Identities<'_> {
             }
             // Power balance along the motion: differentiate h(t, q, q̇) in the direction (1, q̇, q̈).
             let qddot = lagrange::accelerations(&model, &mut ws, s.t, &s.q, &s.qdot).expect("valid").to_vec();
+            let applied_at_state = ws.applied_force.clone();
             let seeded = |x: &[f64], dx: &[f64]| x.iter().zip(dx).map(|(a, b)| Dual64::new(*a, *b)).collect::<Vec<_>>();
             let plain = |x: &[f64]| x.iter().map(|a| Dual64::from(*a)).collect::<Vec<_>>();
             // dh/dt as the sum of its three partial contributions, each kept for the scale.
@@ -66,6 +68,12 @@ impl MechanismVisitor for Identities<'_> {
                 .eps;
             let mut force = vec![0.0; n];
             model.mechanism().generalized_force(s.t, &s.q, &s.qdot, &mut force);
+            // Forces applied at points of bodies (a crank's driving torque) as generalized
+            // forces, which `accelerations` left in the workspace.
+            let applied = applied_at_state;
+            for (f, a) in force.iter_mut().zip(&applied) {
+                *f += a;
+            }
             let power: f64 = force.iter().zip(&s.qdot).map(|(f, v)| f * v).sum();
             let mut scale = parts.iter().map(|p| p.abs()).sum::<f64>() + power.abs() + dl_dt.abs();
             if model.constraint_counts() != (0, 0) {

@@ -48,6 +48,7 @@ mod report_cases {
             "kepler_e099",
             "chaos",
             "near_singular",
+            "constraints",
             "long_run",
             "rapier_long_run",
             "bad_input",
@@ -78,6 +79,11 @@ mod report_cases {
     #[test]
     fn chaos() {
         assert_case_passes("chaos");
+    }
+
+    #[test]
+    fn constraints() {
+        assert_case_passes("constraints");
     }
 
     #[test]

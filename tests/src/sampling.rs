@@ -23,18 +23,34 @@ pub fn regular_value(spec: &ParamSpec, rng: &mut impl Rng) -> f64 {
     }
 }
 
-/// Random regular parameters for `scene`.
+/// Random regular parameters for `scene` ([`regular_value`] for each). A combination the
+/// scene refuses as a whole — a linkage whose links cannot close — is drawn again, each time
+/// with the draws pulled halfway closer to the defaults (which the scene accepts), so that
+/// scenes with tightly coupled geometry (Andrews' squeezer, lengths ~0.03 m) still get varied
+/// parameters. Scenes whose parameters are independent keep their first draw.
 pub fn regular_params(scene: &dyn Scene, rng: &mut impl Rng) -> Params {
-    let mut params = scene.default_params();
-    for spec in scene.params() {
-        params.set(spec.name, regular_value(spec, rng)).expect("sampled inside the domain");
+    let defaults = scene.default_params();
+    for attempt in 0..64 {
+        let spread = 0.5_f64.powi(attempt);
+        let mut params = defaults.clone();
+        for spec in scene.params() {
+            let drawn = regular_value(spec, rng);
+            let value = match spec.domain {
+                Domain::Integer { .. } => drawn,
+                _ => spec.default + spread * (drawn - spec.default),
+            };
+            params.set(spec.name, value).expect("sampled inside the domain");
+        }
+        if scene.default_state(&params).is_ok() {
+            return params;
+        }
     }
-    params
+    panic!("{}: no accepted parameters within 64 draws towards the defaults", scene.id())
 }
 
 /// The extreme parameter sets of a scene: every mass parameter in turn scaled to 1e-6 and 1e6
 /// of the others (mass ratios 1e-6 and 1e6), open angular intervals at both ends within 1e-8,
-/// and inertias `I/a²` = 1e8.
+/// and inertias `I/a²` = 1e8 (pulleys) or 1e8 times their default.
 pub fn extreme_params(scene: &dyn Scene) -> Vec<(String, Params)> {
     let mut sets = Vec::new();
     for spec in scene.params() {
@@ -50,9 +66,15 @@ pub fn extreme_params(scene: &dyn Scene) -> Vec<(String, Params)> {
                 push(format!("{} × 1e6", spec.name), spec.default * 1e6);
             }
             ("kg m²", _) => {
-                // I/a² = 1e8 for a pulley of radius a.
-                let radius = scene.params().iter().find(|s| s.name == "pulley_radius").map_or(1.0, |s| s.default);
-                push(format!("{} = 1e8 a²", spec.name), 1e8 * radius * radius);
+                // I/a² = 1e8 for a pulley of radius a; otherwise 1e8 times the inertia's own
+                // default (1 kg m² where that is 0, a point bob): the squeezer's 4e-7 kg m²
+                // link at 1e8 kg m² would be 1e14 times its neighbours, a mass matrix the
+                // engine rightly calls singular.
+                match scene.params().iter().find(|s| s.name == "pulley_radius") {
+                    Some(radius) => push(format!("{} = 1e8 a²", spec.name), 1e8 * radius.default * radius.default),
+                    None if spec.default > 0.0 => push(format!("{} × 1e8", spec.name), 1e8 * spec.default),
+                    None => push(format!("{} = 1e8", spec.name), 1e8),
+                }
             }
             ("rad", Domain::OpenInterval(lo, hi)) => {
                 push(format!("{} = {lo} + 1e-8", spec.name), lo + 1e-8);
@@ -66,10 +88,14 @@ pub fn extreme_params(scene: &dyn Scene) -> Vec<(String, Params)> {
 
 /// A random state: angles anywhere, with every fourth state putting them at the extremes
 /// 1e-8 and π/2 − 1e-8; lengths as offsets from the default state (so that radii stay
-/// positive); velocities in ±3; brought onto the constraints of a constrained scene.
+/// positive); velocities in ±3. A constrained scene's state is drawn by [`constrained_state`].
 pub fn state(scene: &dyn Scene, params: &Params, rng: &mut impl Rng, index: usize) -> State {
     let default = scene.default_state(params).expect("valid parameters");
     let coordinates = scene.coordinates(params).expect("valid parameters");
+    let system = scene.build(params).expect("valid parameters");
+    if system.constraint_counts() != (0, 0) {
+        return constrained_state(system.as_ref(), &default, rng);
+    }
     let mut q = default.q.clone();
     for (qi, c) in q.iter_mut().zip(&coordinates) {
         *qi = match (c.kind, index % 4) {
@@ -80,12 +106,27 @@ pub fn state(scene: &dyn Scene, params: &Params, rng: &mut impl Rng, index: usiz
         };
     }
     let qdot = (0..q.len()).map(|_| rng.random_range(-3.0..3.0)).collect::<Vec<_>>();
-    let state = State::new(rng.random_range(0.0..2.0), q, qdot);
-    // With constraints among the coordinates, the nearest state on them (positions and
-    // velocities), where the scene's equations describe its motion.
-    let system = scene.build(params).expect("valid parameters");
-    if system.constraint_counts() == (0, 0) {
-        return state;
+    State::new(rng.random_range(0.0..2.0), q, qdot)
+}
+
+/// A random state on the constraints of a constrained `system`: the default state with every
+/// coordinate moved by up to ±1 (radians or metres, times the coordinate's own size where that
+/// is larger), velocities in ±3, then brought onto the constraints by the smallest change
+/// (positions and velocities), where the scene's equations describe its motion. Coordinates
+/// drawn anywhere would mostly be far from every closed configuration of a linkage, and
+/// Gauss–Newton from there may end at a singular one (a toggle, where it converges only
+/// linearly) or not at all; a draw whose assembly fails is drawn again with half the spread,
+/// which ends at the (consistent) default state.
+fn constrained_state(system: &dyn lagrange::System, default: &State, rng: &mut impl Rng) -> State {
+    for attempt in 0..32 {
+        let spread = 0.5_f64.powi(attempt);
+        let q: Vec<f64> =
+            default.q.iter().map(|&qi| qi + spread * qi.abs().max(1.0) * rng.random_range(-1.0..1.0)).collect();
+        let qdot = (0..q.len()).map(|_| rng.random_range(-3.0..3.0)).collect::<Vec<_>>();
+        let state = State::new(rng.random_range(0.0..2.0), q, qdot);
+        if let Ok(state) = system.assemble(&state, &vec![false; state.q.len()]) {
+            return state;
+        }
     }
-    system.assemble(&state, &vec![false; state.q.len()]).expect("a sampled state assembles")
+    panic!("no state of the constrained scene assembles within 32 draws towards its default")
 }
