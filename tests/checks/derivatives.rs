@@ -99,4 +99,3 @@ fn automatic_derivatives_match_finite_differences_on_every_scene() {
         visit_mechanism(scene.id(), &params, FiniteDifferences { states: &states }).expect("valid");
     }
 }
-

@@ -56,7 +56,8 @@ fn cartesian_multipliers_agree_with_the_reduced_solver_on_every_scene() {
     );
     for s in all() {
         for (case, params, state) in cases(*s) {
-            let c = run(Engine::Cartesian, *s, &params, &state, &settings, 10.0)
+            // A scene with its own span (Andrews' squeezer, 0.03 s) runs over that span.
+            let c = run(Engine::Cartesian, *s, &params, &state, &settings, s.horizon().unwrap_or(10.0))
                 .unwrap_or_else(|e| panic!("{} [{case}]: {e}", s.id()));
             eprintln!(
                 "{:<22} {:<24} {:>10.2e} {:>10.2e} {:>10.2e} {:>10}",
@@ -104,13 +105,21 @@ fn rapier_converges_to_the_reduced_solution_at_first_order() {
     for s in all() {
         let params = s.default_params();
         let state = s.default_state(&params).expect("valid");
+        // A scene with its own span (Andrews' squeezer, 0.03 s) runs over it, every step scaled
+        // alike (as the report's plan is).
+        let (span, scale) = s.horizon().map_or((2.0, 1.0), |h| (h, h / 2.0));
         for engine in [Engine::RapierImpulse, Engine::RapierMultibody] {
             let mut errors = Vec::new();
             let mut substeps = Vec::new();
             let mut first = None;
-            for dt in steps {
-                let settings = Settings { dt, substeps: 4, ..Settings::default() };
-                match run(engine, *s, &params, &state, &settings, 2.0) {
+            // The same substep h = dt/4 in every build: one that runs a single substep per step
+            // (per-step forces: the squeezer's spring) takes four times as many steps.
+            let single = build(engine, s.id(), &params, &state, &Settings::default())
+                .is_ok_and(|built| built.simulation.substeps() == 1);
+            let (per_step, substep_count) = if single { (0.25, 1) } else { (1.0, 4) };
+            for dt in steps.map(|dt| dt * scale * per_step) {
+                let settings = Settings { dt, substeps: substep_count, ..Settings::default() };
+                match run(engine, *s, &params, &state, &settings, span) {
                     Ok(c) => {
                         errors.push(c.max_error);
                         substeps.push(dt);
@@ -225,10 +234,12 @@ fn impulse_joint_accelerations_converge_to_the_closed_form() {
 
 #[test]
 fn single_precision_rapier_agrees_with_double_precision_at_coarse_steps() {
-    let settings = Settings { dt: 1.0 / 60.0, substeps: 4, ..Settings::default() };
     for s in all() {
         let params = s.default_params();
         let state = s.default_state(&params).expect("valid");
+        // 1 s at dt = 1/60, or a scene's own span (Andrews' squeezer, 0.03 s) in as many steps.
+        let t_end = s.horizon().unwrap_or(1.0);
+        let settings = Settings { dt: t_end / 60.0, substeps: 4, ..Settings::default() };
         for (double, single) in
             [(Engine::RapierImpulse, Engine::RapierImpulseF32), (Engine::RapierMultibody, Engine::RapierMultibodyF32)]
         {
@@ -237,12 +248,12 @@ fn single_precision_rapier_agrees_with_double_precision_at_coarse_steps() {
             else {
                 continue;
             };
-            a.simulation.advance_to(1.0).expect("runs");
-            b.simulation.advance_to(1.0).expect("runs");
+            a.simulation.advance_to(t_end).expect("runs");
+            b.simulation.advance_to(t_end).expect("runs");
             let (qa, _) =
-                maps::generalized(s.id(), &a.params, 1.0, &a.simulation.bodies(), &state.q).expect("read-back");
+                maps::generalized(s.id(), &a.params, t_end, &a.simulation.bodies(), &state.q).expect("read-back");
             let (qb, _) =
-                maps::generalized(s.id(), &b.params, 1.0, &b.simulation.bodies(), &state.q).expect("read-back");
+                maps::generalized(s.id(), &b.params, t_end, &b.simulation.bodies(), &state.q).expect("read-back");
             let diff = qa.iter().zip(&qb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
             let scale = qa.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
             // f32 rounding (ε = 1.2e-7) in each of 240 substeps, accumulated: ≲ 240 × 1.2e-7 ×

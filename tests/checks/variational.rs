@@ -69,7 +69,12 @@ fn every_scene_runs_to_the_end_over_a_sweep_of_steps() {
         let system = s.build(&params).expect("valid");
         let span = s.horizon().map_or(5.0, |h| h);
         let reference = system
-            .simulate(&initial, span, Method::Adaptive { tol: Tolerances::uniform(1e-10) }, &Output::Every(span / 500.0))
+            .simulate(
+                &initial,
+                span,
+                Method::Adaptive { tol: Tolerances::uniform(1e-10) },
+                &Output::Every(span / 500.0),
+            )
             .expect("the reference integrates");
         let angles: Vec<usize> =
             (0..initial.dof()).filter(|&i| system.coordinates()[i].kind == lagrange::CoordinateKind::Angle).collect();

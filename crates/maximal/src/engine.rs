@@ -117,6 +117,13 @@ pub trait MaximalSimulation {
 
     /// Steps taken so far (rapier steps, or accepted integrator steps).
     fn steps(&self) -> usize;
+
+    /// Substeps per step that the engine actually takes: rapier's `num_solver_iterations`,
+    /// which is 1 for a build driven by per-step forces whatever [`Settings::substeps`] asked
+    /// (its first-order error is then in `dt` itself); 1 for the Cartesian engine.
+    fn substeps(&self) -> usize {
+        1
+    }
 }
 
 /// Why a maximal build is not available.

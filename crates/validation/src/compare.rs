@@ -4,7 +4,7 @@
 //! [`REFERENCE_TOLERANCE`].
 
 use crate::Error;
-use crate::fixtures::{max_abs, max_abs_diff, nan_max};
+use crate::fixtures::{max_abs, max_abs_diff, nan_max, relative_energy_error};
 use crate::measure::{self, Sample};
 use crate::plan::REFERENCE_TOLERANCE;
 use lagrange::{Method, Output, State, Tolerances};
@@ -115,10 +115,7 @@ pub fn compare(
         }
         Ok(())
     })?;
-    let reference_energy_drift = conserves.then(|| {
-        let h0 = reference.energy[0];
-        reference.energy.iter().fold(0.0, |m, h| nan_max(m, (h - h0).abs())) / h0.abs().max(f64::MIN_POSITIVE)
-    });
+    let reference_energy_drift = conserves.then(|| relative_energy_error(&reference.energy));
     let errors = pass.errors;
     let steps = pass.steps;
     Ok(Comparison {

@@ -66,10 +66,18 @@ pub fn phase(state: &State) -> Vec<f64> {
     [state.q.as_slice(), state.qdot.as_slice()].concat()
 }
 
-/// `max_k |E_k − E_0| / |E_0|` (NaN-aware).
+/// `|E − E₀| / |E₀|`, or `|E − E₀|` (J) when `E₀ = 0` exactly: a mechanism whose energy is zero
+/// at its start (a disc released at rest at the zero of its potential) has no scale of its own
+/// to divide by.
+pub fn energy_drift(energy: f64, initial: f64) -> f64 {
+    let drift = (energy - initial).abs();
+    if initial != 0.0 { drift / initial.abs() } else { drift }
+}
+
+/// `max_k` [`energy_drift`]`(E_k, E_0)` (NaN-aware).
 pub fn relative_energy_error(energy: &[f64]) -> f64 {
     let e0 = energy[0];
-    energy.iter().fold(0.0, |m, e| nan_max(m, (e - e0).abs())) / e0.abs()
+    energy.iter().fold(0.0, |m, &e| nan_max(m, energy_drift(e, e0)))
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@
 //! [`maximal`] and by [`crate::compare`].
 
 use crate::Error;
-use crate::fixtures::nan_max;
+use crate::fixtures::{energy_drift, nan_max, relative_energy_error};
 use crate::plan::Timing;
 use crate::reference::Reference;
 use lagrange::{Method, Output, State, System};
@@ -47,12 +47,6 @@ impl Measured {
     pub fn is_finite(&self) -> bool {
         self.errors.iter().all(|e| e.is_finite()) && self.energy_error.is_none_or(f64::is_finite)
     }
-}
-
-/// `|E − E₀| / |E₀|`, or `|E − E₀|` when `E₀ = 0`.
-fn relative_energy_error(energy: f64, initial: f64) -> f64 {
-    let drift = (energy - initial).abs();
-    if initial != 0.0 { drift / initial.abs() } else { drift }
 }
 
 /// Time a run whose measured (first) run took `measured` seconds in its timed part: when that
@@ -100,10 +94,7 @@ pub fn reduced(
     let trajectory = system.simulate(initial, t_end, method, &output)?;
     let measured = start.elapsed().as_secs_f64();
     let errors = (0..trajectory.len()).map(|k| reference.error(k, trajectory.q(k))).collect();
-    let energy_error = system.conserves_energy().then(|| {
-        let initial_energy = trajectory.energy[0];
-        trajectory.energy.iter().map(|&e| relative_energy_error(e, initial_energy)).fold(0.0, nan_max)
-    });
+    let energy_error = system.conserves_energy().then(|| relative_energy_error(&trajectory.energy));
     let (wall_time, timed_repetitions) = time(timing, measured, || {
         let start = Instant::now();
         let trajectory = system.simulate(black_box(initial), t_end, method, &output)?;
@@ -194,6 +185,48 @@ pub struct Pass {
     pub advance_time: f64,
 }
 
+/// The largest turn (rad) of any angle between two read-backs of a [`track`] pass: the branch
+/// of an angle read back from a rotation is the one nearest the prediction from the previous
+/// read, so the prediction must be off by less than π; with a turn of at most half a radian
+/// predicted to second order, it is off by a small part of that.
+const READ_TURN: f64 = 0.5;
+
+/// A read-back of a [`track`] pass: the coordinates, rates and (estimated) accelerations.
+struct Read {
+    t: f64,
+    q: Vec<f64>,
+    qdot: Vec<f64>,
+    qddot: Vec<f64>,
+}
+
+impl Read {
+    /// The next time to read at on the way to the saved time `t`: `t` itself, or earlier where
+    /// some angle would turn by more than [`READ_TURN`] (`|q̇| h + ½ |q̈| h² ≤ READ_TURN`), but
+    /// not less than `shortest` later (an engine that turns faster than that between reads
+    /// is far from any motion it should be compared with).
+    fn next_read(&self, t: f64, angles: &[bool], shortest: f64) -> f64 {
+        let mut h = t - self.t;
+        for (i, _) in angles.iter().enumerate().filter(|(_, a)| **a) {
+            let (v, a) = (self.qdot[i].abs(), self.qddot[i].abs());
+            let turn = v * h + 0.5 * a * h * h;
+            if turn > READ_TURN {
+                // The positive root of ½ a h² + v h = READ_TURN.
+                let root =
+                    if a > 0.0 { 2.0 * READ_TURN / (v + (v * v + 2.0 * a * READ_TURN).sqrt()) } else { READ_TURN / v };
+                h = h.min(root);
+            }
+        }
+        let h = h.max(shortest);
+        if h.is_finite() && self.t + h < t { self.t + h } else { t }
+    }
+
+    /// The coordinates carried forward to time `t` by the rates and accelerations.
+    fn predicted(&self, t: f64) -> Vec<f64> {
+        let h = t - self.t;
+        self.q.iter().zip(&self.qdot).zip(&self.qddot).map(|((q, v), a)| q + v * h + 0.5 * a * h * h).collect()
+    }
+}
+
 /// One sample of a [`track`] pass, for the caller's own readings.
 pub struct Sample<'a> {
     /// Its time.
@@ -227,20 +260,45 @@ pub fn track(
     let Problem { scene, params, initial, times, conserves_energy } = *problem;
     let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies())?;
     // The reduced model of the same scene, for its admissible region.
-    let reduced = crate::error::scene(scene)?.build(params)?;
-    // Angles are read back on the branch nearest the previous sample carried forward by its
-    // rate (a rolling disc turns by more than π between samples).
-    let (mut q_previous, mut qdot_previous, mut t_previous) = (initial.q.clone(), initial.qdot.clone(), initial.t);
+    let mut reduced = crate::error::scene(scene)?.build(params)?;
+    let angles: Vec<bool> = reduced.coordinates().iter().map(|c| c.kind == lagrange::CoordinateKind::Angle).collect();
+    // Angles are read back on the branch nearest the previous read carried forward by its rate
+    // and acceleration, and read often enough between the saved times that none turns by more
+    // than READ_TURN between reads (a four-bar's crank turns 10 rad between samples 0.5 s
+    // apart while its rate varies fourfold; a rolling disc turns by more than π). The first
+    // acceleration is the reduced model's at the initial state.
+    let mut last = Read {
+        t: initial.t,
+        q: initial.q.clone(),
+        qdot: initial.qdot.clone(),
+        qddot: reduced
+            .accelerations(initial.t, &initial.q, &initial.qdot)
+            .map_or_else(|_| vec![0.0; initial.q.len()], <[f64]>::to_vec),
+    };
     let (mut errors, mut energy_error, mut violation) = (Vec::with_capacity(times.len()), 0.0, None::<f64>);
     let mut advance_time = 0.0;
     for (k, &t) in times.iter().enumerate() {
-        let start = Instant::now();
-        simulation.advance_to(t)?;
-        advance_time += start.elapsed().as_secs_f64();
-        let bodies = simulation.bodies();
-        let predicted: Vec<f64> =
-            q_previous.iter().zip(&qdot_previous).map(|(q, v)| q + v * (t - t_previous)).collect();
-        let (q, qdot) = maps::generalized(scene, params, t, &bodies, &predicted)?;
+        // At most 1024 reads between two saved times.
+        let shortest = (t - last.t) / 1024.0;
+        let (bodies, q, qdot) = loop {
+            let target = last.next_read(t, &angles, shortest);
+            let start = Instant::now();
+            simulation.advance_to(target)?;
+            advance_time += start.elapsed().as_secs_f64();
+            let bodies = simulation.bodies();
+            let (q, qdot) = maps::generalized(scene, params, target, &bodies, &last.predicted(target))?;
+            let span = target - last.t;
+            let qddot = if span > 0.0 {
+                qdot.iter().zip(&last.qdot).map(|(v, w)| (v - w) / span).collect()
+            } else {
+                last.qddot.clone()
+            };
+            if target == t {
+                last = Read { t, q: q.clone(), qdot: qdot.clone(), qddot };
+                break (bodies, q, qdot);
+            }
+            last = Read { t: target, q, qdot, qddot };
+        };
         match reduced.check_admissible(t, &q, &qdot) {
             Err(lagrange::Error::Inadmissible { t, quantity, bound, value, limit, .. }) => {
                 let inside_until = k.checked_sub(1).map(|previous| times[previous]);
@@ -251,13 +309,12 @@ pub fn track(
         errors.push(error(k, &q));
         if conserves_energy {
             let energy = maps::energy(scene, params, t, &bodies)?;
-            energy_error = nan_max(energy_error, relative_energy_error(energy, initial_energy));
+            energy_error = nan_max(energy_error, energy_drift(energy, initial_energy));
         }
         if let Some(v) = simulation.constraint_violation() {
             violation = Some(nan_max(violation.unwrap_or(0.0), v));
         }
         each(Sample { t, q: &q, qdot: &qdot, bodies: &bodies, simulation: &mut *simulation })?;
-        (q_previous, qdot_previous, t_previous) = (q, qdot, t);
     }
     Ok(Pass {
         errors,

@@ -71,29 +71,21 @@ impl ScenePlan {
     }
 }
 
-/// Build `engine` once; for rapier, also find out whether substeps matter: a build that applies
-/// per-step forces runs one substep per step whatever is asked (`Settings::substeps`), so one
-/// step with 1 and with 2 substeps gives bitwise the same bodies.
+/// Build `engine` once and take one step; for rapier, also find out whether substeps matter: a
+/// build that applies per-step forces runs one substep per step whatever is asked
+/// ([`MaximalSimulation::substeps`](lagrange_maximal::MaximalSimulation::substeps)).
 fn probe(engine: Engine, scene: &str, params: &Params, initial: &State, plan: &Plan) -> Availability {
     let dt = plan.rapier.first().map_or(1.0 / 60.0, |&(dt, _)| dt);
-    let settings = |substeps| Settings { dt, substeps, tolerance: CARTESIAN_CHECK_TOLERANCE };
-    let after_one_step = |substeps| -> Result<Vec<_>, BuildError> {
-        let mut built = build(engine, scene, params, initial, &settings(substeps))?;
+    let settings = Settings { dt, substeps: 2, tolerance: CARTESIAN_CHECK_TOLERANCE };
+    let probed = build(engine, scene, params, initial, &settings).and_then(|mut built| {
         if engine.is_rapier() {
             built.simulation.advance_to(initial.t + dt)?;
         }
-        Ok(built.simulation.bodies())
-    };
-    let one = match after_one_step(1) {
-        Ok(bodies) => bodies,
-        Err(BuildError::Unbuildable { reason, .. }) => return Availability::Unbuildable(reason),
-        Err(e) => return Availability::Failed(e.to_string()),
-    };
-    if !engine.is_rapier() {
-        return Availability::Ready { honours_substeps: false };
-    }
-    match after_one_step(2) {
-        Ok(two) => Availability::Ready { honours_substeps: two != one },
+        Ok(built.simulation.substeps())
+    });
+    match probed {
+        Ok(substeps) => Availability::Ready { honours_substeps: engine.is_rapier() && substeps == 2 },
+        Err(BuildError::Unbuildable { reason, .. }) => Availability::Unbuildable(reason),
         Err(e) => Availability::Failed(e.to_string()),
     }
 }

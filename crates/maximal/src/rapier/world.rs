@@ -346,6 +346,10 @@ impl MaximalSimulation for RapierSimulation {
     fn steps(&self) -> usize {
         self.steps
     }
+
+    fn substeps(&self) -> usize {
+        self.world.integration_parameters.num_solver_iterations
+    }
 }
 
 /// Every integration parameter the comparison depends on, explicitly (docs/rapier.md#integration-parameters, #integration-parameters):
