@@ -5,6 +5,7 @@ pub use crate::eom::constraints::ConstraintBuffers;
 use crate::mechanism::Mechanism;
 use crate::model::Model;
 use crate::pose::Pose;
+use crate::probe::Lanes;
 use crate::scalar::Scalar;
 use crate::seed::Tangent;
 use num_dual::{Dual, Dual2, Dual64};
@@ -16,11 +17,15 @@ use num_dual::{Dual, Dual2, Dual64};
 /// Results are borrowed from it: the fields below are public for reading (shapes in
 /// parentheses; `n` coordinates, `B` bodies; matrices row-major).
 #[derive(Clone, Debug)]
-pub struct Workspace<S> {
+pub struct Workspace<S: Scalar> {
     /// Coordinates seeded for one Jacobian column (n), filled by `jacobian_pass`.
     pub(crate) q_dual: Vec<Dual<S>>,
     /// Poses of one Jacobian pass (B).
     pub(crate) poses_dual: Vec<Pose<Dual<S>>>,
+    /// Coordinates seeded for one chunk of Jacobian columns (n), filled by `jacobian_pass`.
+    pub(crate) q_lanes: Vec<Lanes<S>>,
+    /// Poses of one chunk pass (B).
+    pub(crate) poses_lanes: Vec<Pose<Lanes<S>>>,
     /// Coordinates as second-order duals along `(q̇, 1)` (n), filled by `velocity_pass`.
     pub(crate) q_dual2: Vec<Dual2<S>>,
     /// Poses of the velocity pass (B).
@@ -51,6 +56,8 @@ pub struct Workspace<S> {
     pub mass_matrix: Vec<S>,
     /// LDLᵀ factor of `M` (n × n): unit lower triangle below the diagonal, `D` on it.
     pub factor: Vec<S>,
+    /// Column indices (n): scratch of the sparse mass-matrix assembly.
+    pub(crate) columns: Vec<usize>,
     /// Right-hand side `f = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q` (n), filled by the bias stage;
     /// on the tree path only `Q − ∂V/∂q` (when the model has either).
     pub rhs: Vec<S>,
@@ -95,6 +102,8 @@ impl<S: Scalar> Workspace<S> {
         Self {
             q_dual: vec![Dual::from_re(zero); n],
             poses_dual: vec![Pose::default(); b],
+            q_lanes: vec![Lanes::from_re(zero); n],
+            poses_lanes: vec![Pose::default(); b],
             q_dual2: vec![Dual2::from_re(zero); n],
             poses_dual2: vec![Pose::default(); b],
             position: vec![zero; 3 * b],
@@ -109,6 +118,7 @@ impl<S: Scalar> Workspace<S> {
             applied_poses: if model.has_applied { vec![Pose::default(); b] } else { Vec::new() },
             mass_matrix: vec![zero; n * n],
             factor: vec![zero; n * n],
+            columns: vec![0; n],
             rhs: vec![zero; n],
             qddot: vec![zero; n],
             momenta: vec![zero; n],

@@ -9,10 +9,11 @@
 //! M q̈ + Gᵀ λ = f,      G q̈ = −γ,
 //! ```
 //!
-//! solved by the Schur complement on the factor of `M` the unconstrained solve already has:
-//! `q̈_u = M⁻¹ f`, `Y = M⁻¹ Gᵀ`, `S = G Y` (c × c, symmetric positive semi-definite),
-//! `S λ = G q̈_u + γ`, `q̈ = q̈_u − Y λ`. The Schur complement reuses the unconstrained path
-//! unchanged (one factorization of `M`, `c` extra solves, a c × c factorization): for a loop
+//! solved by the Schur complement on the factor `M = L D Lᵀ` the unconstrained solve already
+//! has: `q̈_u = M⁻¹ f`, `U = D^(−1/2) L⁻¹ Gᵀ`, `S = G M⁻¹ Gᵀ = U Uᵀ` (c × c, symmetric positive
+//! semi-definite by construction), `S λ = G q̈_u + γ`, `q̈ = q̈_u − L⁻ᵀ D^(−1/2) Uᵀ λ`. The
+//! Schur complement reuses the unconstrained path unchanged (one factorization of `M`, `c`
+//! forward substitutions and one backward substitution, a c × c factorization): for a loop
 //! closed on a tree of `n` coordinates with a few constraints it costs little more than the
 //! tree itself, where a null-space method would need a basis of `ker G` (an n × (n − c)
 //! QR) at every evaluation.
@@ -25,9 +26,11 @@
 //! residual within `CONSISTENT` of the scale of the right-hand side — or the constraints are
 //! inconsistent, [`Error::InconsistentConstraints`] naming them.
 
+use crate::eom::kinematics::LANES_FROM;
 use crate::error::{Error, Stage};
 use crate::mechanism::{CoordinateKind, Mechanism};
 use crate::model::Model;
+use crate::probe::{CHUNK, Lanes, lane};
 use crate::scalar::Scalar;
 use crate::seed;
 use crate::workspace::Workspace;
@@ -46,7 +49,7 @@ pub(crate) const CONSISTENT: f64 = 1e-8;
 
 /// The buffers of the constrained solve in scalar `S` (`c = m + k` rows, `n` coordinates).
 #[derive(Clone, Debug)]
-pub struct ConstraintBuffers<S> {
+pub struct ConstraintBuffers<S: Scalar> {
     /// Constraint Jacobian `G = [Φ_q; A]` (c × n, row-major).
     pub jacobian: Vec<S>,
     /// Convective terms `γ` (c): `G q̈ + γ = 0` along every motion.
@@ -60,13 +63,19 @@ pub struct ConstraintBuffers<S> {
     pub multipliers: Vec<S>,
     /// Whether each row was found dependent on the rows before it (its `λ` is 0).
     pub dependent: Vec<bool>,
-    /// `Y = M⁻¹ Gᵀ`, stored by rows: row `i` is `M⁻¹ g_i` (c × n).
+    /// `U = D^(−1/2) L⁻¹ Gᵀ` with `M = L D Lᵀ`, stored by rows (c × n): `G M⁻¹ Gᵀ = U Uᵀ`.
     pub(crate) mobility: Vec<S>,
     /// `S = G M⁻¹ Gᵀ` and its LDLᵀ factor (c × c).
     pub(crate) schur: Vec<S>,
-    /// Seeded copies of `q̇` (n), the holonomic residuals (m) and the velocity residuals (k).
+    /// Seeded copies of `q̇` (n), the holonomic residuals along the motion (m) and the
+    /// velocity residuals (k).
     pub(crate) qdot_dual: Vec<Dual<S>>,
+    /// The holonomic residuals seeded for one column of `G_Φ` (m), below `LANES_FROM`
+    /// coordinates.
     pub(crate) phi_dual: Vec<Dual<S>>,
+    /// Coordinates seeded for one chunk of columns of `G_Φ` (n) and the seeded residuals (m).
+    pub(crate) q_lanes: Vec<Lanes<S>>,
+    pub(crate) phi_lanes: Vec<Lanes<S>>,
     pub(crate) phi_dual2: Vec<Dual2<S>>,
     pub(crate) velocity_dual: Vec<Dual<S>>,
     /// Projection scratch: `G Gᵀ` and its factor (c × c), its solution (c), a step (n).
@@ -93,6 +102,8 @@ impl<S: Scalar> ConstraintBuffers<S> {
             schur: vec![zero; c * c],
             qdot_dual: vec![Dual::from_re(zero); n],
             phi_dual: vec![Dual::from_re(zero); holonomic],
+            q_lanes: vec![Lanes::from_re(zero); n],
+            phi_lanes: vec![Lanes::from_re(zero); holonomic],
             phi_dual2: vec![Dual2::from_re(zero); holonomic],
             velocity_dual: vec![Dual::from_re(zero); velocity],
             gram: vec![zero; c * c],
@@ -115,8 +126,9 @@ pub(crate) enum Rows {
     Velocity,
 }
 
-/// Fill `G`, `γ`, `Φ` and the velocity residuals at `(t, q, q̇)`: `n` first-order passes of
-/// `Φ` (seed `q_j`), one second-order pass of `Φ` along `(q̇, 1)`; for the velocity rows `n`
+/// Fill `G`, `γ`, `Φ` and the velocity residuals at `(t, q, q̇)`: one dual pass of `Φ` per
+/// coordinate (below `LANES_FROM` coordinates) or one vector-dual pass per chunk of [`CHUNK`]
+/// coordinates (lane `k` seeds `q_{j0+k}`), one second-order pass of `Φ` along `(q̇, 1)`; for the velocity rows `n`
 /// passes seeding `q̇_j` (the columns of `A`) and one pass along `(q̇, 1)` with `q̇` held
 /// (the convective term `∂(A q̇ + b)/∂q · q̇ + ∂(A q̇ + b)/∂t`). `rows` picks which of the two
 /// kinds to evaluate; the others keep what they hold.
@@ -134,9 +146,20 @@ pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
 ) {
     let n = q.len();
     let ConstraintBuffers {
-        jacobian, convective, residual, rate, qdot_dual, phi_dual, phi_dual2, velocity_dual, ..
+        jacobian,
+        convective,
+        residual,
+        rate,
+        qdot_dual,
+        phi_dual,
+        q_lanes,
+        phi_lanes,
+        phi_dual2,
+        velocity_dual,
+        ..
     } = buffers;
-    if holonomic > 0 && rows != Rows::Velocity {
+    if holonomic > 0 && rows != Rows::Velocity && n < LANES_FROM {
+        // G_Φ column by column (one dual pass each), Φ itself once.
         let t_dual = Dual::from_re(t);
         seed::constant(q_dual, q);
         for j in 0..n {
@@ -144,12 +167,14 @@ pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
             mechanism.constraints(t_dual, q_dual, phi_dual);
             for (i, phi) in phi_dual.iter().enumerate() {
                 jacobian[i * n + j] = phi.eps;
+                residual[i] = phi.re;
             }
             q_dual[j].eps = S::zero();
         }
-        for (r, phi) in residual.iter_mut().zip(phi_dual.iter()) {
-            *r = phi.re;
-        }
+    } else if holonomic > 0 && rows != Rows::Velocity {
+        holonomic_chunks(mechanism, q_lanes, phi_lanes, jacobian, residual, t, q);
+    }
+    if holonomic > 0 && rows != Rows::Velocity {
         seed::along2(q_dual2, q, qdot);
         mechanism.constraints(Dual2::new(t, S::one(), S::zero()), q_dual2, phi_dual2);
         for (i, phi) in phi_dual2.iter().enumerate() {
@@ -175,6 +200,39 @@ pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
             rate[holonomic + i] = r.re;
             convective[holonomic + i] = r.eps;
         }
+    }
+}
+
+/// `G_Φ` (m × n) and `Φ` in chunks of [`CHUNK`] columns: one vector-dual pass of the
+/// constraints per chunk, lane `k` seeding `q_{j0+k}`.
+fn holonomic_chunks<M: Mechanism, S: Scalar>(
+    mechanism: &M,
+    q_lanes: &mut [Lanes<S>],
+    phi_lanes: &mut [Lanes<S>],
+    jacobian: &mut [S],
+    residual: &mut [S],
+    t: S,
+    q: &[S],
+) {
+    let n = q.len();
+    let t_lanes = Lanes::from_re(t);
+    for j0 in (0..n).step_by(CHUNK) {
+        let width = CHUNK.min(n - j0);
+        for (j, (d, &qj)) in q_lanes.iter_mut().zip(q).enumerate() {
+            *d = Lanes::from_re(qj);
+            if (j0..j0 + width).contains(&j) {
+                *d = d.derivative(j - j0);
+            }
+        }
+        mechanism.constraints(t_lanes, q_lanes, phi_lanes);
+        for (i, phi) in phi_lanes.iter().enumerate() {
+            for k in 0..width {
+                jacobian[i * n + j0 + k] = lane(phi, k);
+            }
+        }
+    }
+    for (r, phi) in residual.iter_mut().zip(phi_lanes.iter()) {
+        *r = phi.re;
     }
 }
 
@@ -213,21 +271,26 @@ fn schur_solve<M: Mechanism, S: Scalar>(
     if !(crate::eom::all_finite(&b.jacobian) && crate::eom::all_finite(&b.convective)) {
         return Err(crate::eom::non_finite(Stage::Constraints, t, q));
     }
-    // Y = M⁻¹ Gᵀ, row by row.
+    // U = D^(−1/2) L⁻¹ Gᵀ, row by row (forward substitutions only), so that S = G M⁻¹ Gᵀ = U Uᵀ.
     b.mobility.copy_from_slice(&b.jacobian);
-    for row in b.mobility.chunks_mut(n) {
-        crate::linalg::ldlt_solve(n, factor, row);
+    for j in 0..n {
+        b.step[j] = factor[j * n + j].sqrt().recip();
     }
-    // S = G Y (symmetric), right-hand side G q̈_u + γ in λ.
+    for row in b.mobility.chunks_mut(n) {
+        crate::linalg::ldlt_forward(n, factor, row);
+        for (u, w) in row.iter_mut().zip(&b.step) {
+            *u *= *w;
+        }
+    }
+    // S = U Uᵀ (symmetric), right-hand side G q̈_u + γ in λ.
     for i in 0..c {
-        let g = &b.jacobian[i * n..(i + 1) * n];
+        let u = &b.mobility[i * n..(i + 1) * n];
         for k in 0..=i {
-            let y = &b.mobility[k * n..(k + 1) * n];
-            let s = dot(g, y);
+            let s = dot(u, &b.mobility[k * n..(k + 1) * n]);
             b.schur[i * c + k] = s;
             b.schur[k * c + i] = s;
         }
-        b.multipliers[i] = dot(g, qddot) + b.convective[i];
+        b.multipliers[i] = dot(&b.jacobian[i * n..(i + 1) * n], qddot) + b.convective[i];
     }
     let scale = b.multipliers.iter().fold(0.0_f64, |m, v| m.max(v.re().abs()));
     factor_skipping(c, &mut b.schur, &mut b.dependent);
@@ -248,15 +311,16 @@ fn schur_solve<M: Mechanism, S: Scalar>(
     }
     // Dependent rows carry no multiplier.
     backward_skipping(c, &b.schur, &b.dependent, &mut b.multipliers);
-    // q̈ = q̈_u − Y λ.
-    for i in 0..c {
-        let lambda = b.multipliers[i];
-        if b.dependent[i] {
-            continue;
-        }
-        for (a, y) in qddot.iter_mut().zip(&b.mobility[i * n..(i + 1) * n]) {
-            *a -= *y * lambda;
-        }
+    // q̈ = q̈_u − M⁻¹ Gᵀ λ = q̈_u − L⁻ᵀ D^(−1/2) Uᵀ λ: one backward substitution.
+    let (scaling, mobility, multipliers, dependent) = (&mut b.step, &b.mobility, &b.multipliers, &b.dependent);
+    for (j, w) in scaling.iter_mut().enumerate() {
+        let sum =
+            (0..c).filter(|&i| !dependent[i]).fold(S::zero(), |sum, i| sum + mobility[i * n + j] * multipliers[i]);
+        *w *= sum;
+    }
+    crate::linalg::ldlt_backward(n, factor, scaling);
+    for (a, d) in qddot.iter_mut().zip(scaling.iter()) {
+        *a -= *d;
     }
     Ok(())
 }

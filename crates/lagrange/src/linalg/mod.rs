@@ -102,6 +102,28 @@ pub(crate) fn ldlt_solve_sized<S: Scalar, N: Size>(size: N, factor: &[S], b: &mu
     }
 }
 
+/// Solve `L y = b` in place with the unit lower triangle of a factor from [`ldlt_factor`].
+pub(crate) fn ldlt_forward<S: Scalar>(n: usize, factor: &[S], b: &mut [S]) {
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= factor[i * n + k] * b[k];
+        }
+        b[i] = s;
+    }
+}
+
+/// Solve `Lᵀ x = b` in place with the unit lower triangle of a factor from [`ldlt_factor`].
+pub(crate) fn ldlt_backward<S: Scalar>(n: usize, factor: &[S], b: &mut [S]) {
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= factor[k * n + i] * b[k];
+        }
+        b[i] = s;
+    }
+}
+
 /// Factor a general matrix `a` (n × n, row-major) in place as `P A = L U` with partial pivoting;
 /// `pivots[i]` is the row swapped into row `i`. Returns `Err(j)` at an exactly zero or
 /// non-finite pivot.
@@ -198,10 +220,78 @@ pub(crate) fn mass_matrix_sized<S: Scalar, N: Size>(
     }
 }
 
+/// [`mass_matrix_sized`] for real numbers, skipping the columns of `J` that are exactly zero for
+/// a body: each body of a mechanism of many coordinates usually moves with a few of them (a
+/// link of a loop with its own angle and its neighbour's), so its outer products touch a few
+/// entries of `M` instead of `n²`. `columns` (n) is scratch. Exact zeros only, so the result is
+/// the dense one bit for bit.
+pub(crate) fn mass_matrix_sparse(
+    n: usize,
+    mass: &[f64],
+    inertia: &[f64],
+    jacobian: &[f64],
+    out: &mut [f64],
+    columns: &mut [usize],
+) {
+    let mm = &mut out[..n * n];
+    mm.fill(0.0);
+    for (b, (&m, &inertia)) in mass.iter().zip(inertia).enumerate() {
+        let rows = &jacobian[3 * b * n..3 * (b + 1) * n];
+        // The body's columns with a nonzero entry, in increasing order.
+        let mut count = 0;
+        for j in 0..n {
+            if rows[j] != 0.0 || rows[n + j] != 0.0 || rows[2 * n + j] != 0.0 {
+                columns[count] = j;
+                count += 1;
+            }
+        }
+        let columns = &columns[..count];
+        // The same operations as the dense assembly on these columns (the others add zeros).
+        if m != 0.0 {
+            for (a, &i) in columns.iter().enumerate() {
+                let (xi, yi) = (rows[i] * m, rows[n + i] * m);
+                for &j in &columns[a..] {
+                    mm[i * n + j] += xi * rows[j] + yi * rows[n + j];
+                }
+            }
+        }
+        if inertia != 0.0 {
+            for (a, &i) in columns.iter().enumerate() {
+                let ai = rows[2 * n + i] * inertia;
+                for &j in &columns[a..] {
+                    mm[i * n + j] += ai * rows[2 * n + j];
+                }
+            }
+        }
+    }
+    // Mirror the upper triangle.
+    for i in 1..n {
+        for j in 0..i {
+            mm[i * n + j] = mm[j * n + i];
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use nalgebra::{DMatrix, DVector};
+
+    #[test]
+    fn the_sparse_mass_matrix_is_the_dense_one() {
+        let (n, mass, inertia) = (5, [1.0, 2.0, 0.5], [0.1, 0.0, 0.3]);
+        // Each body moves with two or three of the five coordinates.
+        let mut jacobian = vec![0.0; 9 * n];
+        for (r, row) in jacobian.chunks_mut(n).enumerate() {
+            for j in [r % 5, (r + 2) % 5, (r / 3 + 4) % 5] {
+                row[j] = 0.3 + (r * 7 + j * 3) as f64 * 0.11;
+            }
+        }
+        let (mut dense, mut sparse, mut columns) = (vec![0.0; n * n], vec![0.0; n * n], vec![0; n]);
+        mass_matrix_sized(size::Dynamic(n), &mass, &inertia, &jacobian, &mut dense);
+        mass_matrix_sparse(n, &mass, &inertia, &jacobian, &mut sparse, &mut columns);
+        assert_eq!(dense, sparse);
+    }
 
     fn spd(n: usize) -> DMatrix<f64> {
         let b = DMatrix::from_fn(n, n, |i, j| ((i * 7 + j * 3) % 5) as f64 * 0.3 + if i == j { 1.0 } else { 0.1 });

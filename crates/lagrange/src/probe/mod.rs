@@ -8,7 +8,7 @@ use crate::mechanism::{LagrangianFunction, Mechanism};
 use crate::pose::Pose;
 use crate::seed;
 use crate::tree::Tree;
-use num_dual::{Dual, Dual2, Dual64};
+use num_dual::{Dual, Dual2, Dual64, DualSVec};
 
 /// A few fixed, generic states `(q, q̇, t)`: away from 0 and from special angles, so that an
 /// identity that holds at all of them holds structurally (it is evaluated exactly by AD).
@@ -105,6 +105,46 @@ pub(crate) fn jacobian_columns<M: Mechanism, S: crate::scalar::Scalar>(
         mechanism.poses(t_dual, q_dual, poses);
         column(j, q_dual, poses, t_dual);
         q_dual[j].eps = S::zero();
+    }
+}
+
+/// Lanes of the vector dual numbers of [`jacobian_chunks`]: the columns of one pass.
+pub(crate) const CHUNK: usize = 4;
+
+/// A vector dual number carrying [`CHUNK`] derivative lanes.
+pub(crate) type Lanes<S> = DualSVec<S, CHUNK>;
+
+/// Lane `k` of a vector dual's derivative (0 where it carries none).
+#[inline]
+pub(crate) fn lane<S: crate::scalar::Scalar>(v: &Lanes<S>, k: usize) -> S {
+    v.eps.0.as_ref().map_or(S::zero(), |e| e[k])
+}
+
+/// The pose Jacobian in chunks of [`CHUNK`] columns: one vector-dual pass of the poses per
+/// chunk, the chunk's coordinates `q_{j0} … q_{j0+w−1}` seeded in lanes `0 … w−1`;
+/// `chunk(j0, w, seeded q, seeded poses, t)` reads lane `k` as column `j0 + k` ([`lane`]).
+/// Every sine and cosine of the user's poses is evaluated once per chunk instead of once per
+/// column, which is most of the cost of a column pass.
+pub(crate) fn jacobian_chunks<M: Mechanism, S: crate::scalar::Scalar>(
+    mechanism: &M,
+    q_lanes: &mut [Lanes<S>],
+    poses: &mut [Pose<Lanes<S>>],
+    t: S,
+    q: &[S],
+    mut chunk: impl FnMut(usize, usize, &[Lanes<S>], &[Pose<Lanes<S>>], Lanes<S>),
+) {
+    let t_lanes = Lanes::from_re(t);
+    let n = q.len();
+    for j0 in (0..n).step_by(CHUNK) {
+        let width = CHUNK.min(n - j0);
+        for (j, (d, &qj)) in q_lanes.iter_mut().zip(q).enumerate() {
+            *d = Lanes::from_re(qj);
+            if (j0..j0 + width).contains(&j) {
+                *d = d.derivative(j - j0);
+            }
+        }
+        mechanism.poses(t_lanes, q_lanes, poses);
+        chunk(j0, width, q_lanes, poses, t_lanes);
     }
 }
 
