@@ -2,8 +2,10 @@
 //! (the reduced solver's three integrators together) against each rapier f64 engine, and the
 //! per-run rows.
 
-use crate::pareto::{EqualError, EqualTime, Front, Point};
-use crate::plan::{CARTESIAN_CHECK_TOLERANCE, EQUAL_ERROR, ERROR_RATIO_TARGET, Family, Setting, TIME_RATIO_TARGET};
+use crate::pareto::{EqualError, EqualTime, Front, Point, TimeToError};
+use crate::plan::{
+    ACCURACY_LEVELS, CARTESIAN_CHECK_TOLERANCE, EQUAL_ERROR, ERROR_RATIO_TARGET, Family, Setting, TIME_RATIO_TARGET,
+};
 use crate::runs::{Availability, FamilyRuns, SceneRuns};
 use crate::schema::{
     FrontPoint, MethodReport, Plots, ReferenceReport, RunReport, SceneReport, SettingsReport, Summary, Versus,
@@ -215,6 +217,7 @@ pub fn scene_report(runs: &SceneRuns, plots: Plots, wall_time: f64) -> SceneRepo
             ours: Family::OURS.iter().map(|f| f.name()).collect(),
             ours_front: front_points(&runs.families, &ours),
             versus: Family::RAPIER_F64.iter().map(|&engine| versus(runs, &ours, engine)).collect(),
+            time_to_error: ACCURACY_LEVELS.iter().map(|&error| TimeToError::new(&ours, error)).collect(),
         },
         plots,
         scene_wall_time_s: wall_time,

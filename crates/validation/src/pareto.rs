@@ -118,6 +118,33 @@ fn log_lerp(x0: f64, y0: f64, x1: f64, y1: f64, x: f64) -> f64 {
     (y0.ln() + s * (y1.ln() - y0.ln())).exp()
 }
 
+/// The wall time a front needs to reach an error level, as the report states it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TimeToError {
+    /// The error level.
+    pub error: f64,
+    /// The wall time (s) read off the front (log-log); with `at_most`, an upper bound (the
+    /// front's fastest run is already below the level); null when the front does not reach it.
+    pub seconds: Option<f64>,
+    /// Whether `seconds` is an upper bound.
+    pub at_most: bool,
+    /// The front's most accurate error and its time (s), when it does not reach the level.
+    pub best: Option<(f64, f64)>,
+}
+
+impl TimeToError {
+    /// Read `front` at `error`.
+    pub fn new(front: &Front, error: f64) -> TimeToError {
+        let (seconds, at_most, best) = match front.time_at(error) {
+            Reach::At(t) => (Some(t), false, None),
+            Reach::AlreadyBelow { fastest } => (Some(fastest), true, None),
+            Reach::Unreached { best_error, best_time } => (None, false, Some((best_error, best_time))),
+            Reach::Empty => (None, false, None),
+        };
+        TimeToError { error, seconds, at_most, best }
+    }
+}
+
 /// Where a front stands with respect to an error level.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Reach {

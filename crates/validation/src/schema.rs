@@ -2,7 +2,7 @@
 //! `crates/cli/REPORT_SCHEMA.md`. Change them only together with that document, and bump
 //! [`SCHEMA_VERSION`] when a field changes meaning or disappears.
 
-use crate::pareto::{EqualError, EqualTime};
+use crate::pareto::{EqualError, EqualTime, TimeToError};
 use crate::stability::StabilityReport;
 use serde::Serialize;
 
@@ -195,6 +195,8 @@ pub struct Summary {
     pub ours_front: Vec<FrontPoint>,
     /// One comparison per rapier f64 engine.
     pub versus: Vec<Versus>,
+    /// The wall time our front needs to reach each of [`ACCURACY_LEVELS`](crate::plan::ACCURACY_LEVELS).
+    pub time_to_error: Vec<TimeToError>,
 }
 
 /// Ours against one rapier engine.

@@ -1,6 +1,6 @@
 //! How numbers and ratios read in report.md and on the terminal.
 
-use lagrange_validation::pareto::{EqualError, EqualTime};
+use lagrange_validation::pareto::{EqualError, EqualTime, TimeToError};
 
 /// `1.23e-4`, or `—` for a metric that does not apply.
 pub fn number(value: Option<f64>) -> String {
@@ -33,6 +33,15 @@ pub fn equal_time(r: &EqualTime) -> String {
 /// The equal-error ratio as a cell.
 pub fn equal_error(r: &EqualError) -> String {
     ratio(r.value, r.lower_bound, r.met)
+}
+
+/// The time to an error level: `3.1e-3 s`, `≤ 2.0e-4 s`, or `— (best 1.4e-12)`.
+pub fn time_to_error(r: &TimeToError) -> String {
+    match (r.seconds, r.best) {
+        (Some(t), _) => format!("{}{t:.1e} s", if r.at_most { "≤ " } else { "" }),
+        (None, Some((error, _))) => format!("— (best {error:.1e})"),
+        (None, None) => "—".to_string(),
+    }
 }
 
 /// Free text as one Markdown table cell: a `|` would end the cell (GitHub-flavoured Markdown

@@ -223,6 +223,21 @@ fn scene_section(md: &mut String, scene: &SceneReport) {
     for v in &scene.summary.versus {
         ratio_lines(md, v);
     }
+    let reach: Vec<String> = scene
+        .summary
+        .time_to_error
+        .iter()
+        .map(|r| match (r.seconds, r.best) {
+            (Some(t), _) => format!("error {:.0e} in {}{t:.2e} s", r.error, if r.at_most { "at most " } else { "" }),
+            (None, Some((error, time))) => {
+                format!("error {:.0e} not reached (best {error:.2e} at {time:.2e} s)", r.error)
+            }
+            (None, None) => format!("error {:.0e}: no run", r.error),
+        })
+        .collect();
+    if !reach.is_empty() {
+        let _ = writeln!(md, "- ours (fastest on the front): {}", reach.join("; "));
+    }
     let _ = writeln!(
         md,
         "\n![work-precision of {0}]({1})\n\n![reference and errors over time of {0}]({2})\n",

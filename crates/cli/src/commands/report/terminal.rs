@@ -1,5 +1,5 @@
-//! The terminal summary: one line per scene with its reference, our best error, and the ratios
-//! against rapier; then whether the targets (docs/validation.md#targets) are met, one line per stability case, and
+//! The terminal summary: one line per scene with its reference, our best error, the ratios
+//! against rapier and the wall time our fastest run needs for errors 1e-10 and 1e-12; then whether the targets (docs/validation.md#targets) are met, one line per stability case, and
 //! where the files went.
 
 use super::cells;
@@ -24,14 +24,16 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
     );
     let _ = writeln!(
         text,
-        "{:<21} {:<17} {:>9} {:>21} {:>21} {:>21} {:>21}",
+        "{:<21} {:<17} {:>9} {:>21} {:>21} {:>21} {:>21} {:>11} {:>11}",
         "scene",
         "reference",
         "best err",
         "impulse e-ratio",
         "impulse t-ratio",
         "multibody e-ratio",
-        "multibody t-ratio"
+        "multibody t-ratio",
+        "t(1e-10)",
+        "t(1e-12)"
     );
     for scene in &report.scenes {
         let best = scene.summary.ours_front.last().map(|p| p.max_error);
@@ -47,6 +49,10 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
             } else {
                 let _ = write!(line, " {:>21} {:>21}", v.status, v.status);
             }
+        }
+        for r in &scene.summary.time_to_error {
+            let cell = if r.seconds.is_some() { cells::time_to_error(r) } else { "—".to_string() };
+            let _ = write!(line, " {cell:>11}");
         }
         let _ = writeln!(text, "{line}");
     }
