@@ -30,9 +30,10 @@ fn assert_one_line_error(args: &[&str], needle: &str) {
     assert!(err.contains(needle), "{args:?}: `{err}` does not mention `{needle}`");
 }
 
-const METHODS: [&str; 8] = [
+const METHODS: [&str; 9] = [
     "rk4",
     "adaptive",
+    "dop853",
     "variational",
     "cartesian",
     "rapier-impulse",
@@ -204,7 +205,7 @@ fn quick_report_covers_the_requested_scenes_and_methods() {
     // Cartesian solver at tol 1e-12 agrees with it to its tolerance (measured 2e-12; the
     // compare test's bound 1e-8 leaves the same margin here).
     let cart = &scenes[0];
-    assert_eq!(cart["reference"]["kind"], "reduced_adaptive");
+    assert_eq!(cart["reference"]["kind"], "reduced_dop853");
     assert!(cart["reference"]["cartesian_agreement"].as_f64().is_some_and(|a| a <= 1e-8), "{}", cart["reference"]);
     // The Atwood machine's motion is closed-form; impulse joints have no pulley and say so.
     let atwood = &scenes[1];

@@ -6,8 +6,8 @@
 use crate::Error;
 use crate::fixtures::{max_abs, max_abs_diff, nan_max, relative_energy_error};
 use crate::measure::{self, Sample};
-use crate::plan::REFERENCE_TOLERANCE;
-use lagrange::{Method, Output, State, Tolerances};
+use crate::plan::reference_method;
+use lagrange::{Output, State};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::{Params, Scene};
 
@@ -75,12 +75,7 @@ pub fn compare(
     // The reduced reference, with the same deviations.
     let mut reduced = scene.build(params)?;
     let reference = reduced
-        .simulate(
-            initial,
-            *times.last().unwrap_or(&initial.t),
-            Method::Adaptive { tol: Tolerances::uniform(REFERENCE_TOLERANCE) },
-            &Output::Times(times.clone()),
-        )
+        .simulate(initial, *times.last().unwrap_or(&initial.t), reference_method(), &Output::Times(times.clone()))
         .map_err(|source| Error::Reference { scene: id.to_string(), source })?;
     let conserves = reduced.conserves_energy();
     let cyclic: Vec<usize> =

@@ -3,8 +3,8 @@
 
 use crate::Error;
 use crate::fixtures::max_abs_diff;
-use crate::plan::REFERENCE_TOLERANCE;
-use lagrange::{Method, Output, State, Tolerances};
+use crate::plan::{REFERENCE_TOLERANCE, reference_method};
+use lagrange::{Output, State};
 use lagrange_scenes::{Params, Scene};
 
 /// Where a reference comes from.
@@ -12,16 +12,17 @@ use lagrange_scenes::{Params, Scene};
 pub enum ReferenceKind {
     /// The scene's exact solution (`Scene::exact_solution`) at every saved time.
     ClosedForm,
-    /// The reduced solver's adaptive integrator at [`REFERENCE_TOLERANCE`].
-    ReducedAdaptive,
+    /// The reduced solver at [`REFERENCE_TOLERANCE`] with [`reference_method`] (Dormand–Prince
+    /// 8(5,3)).
+    Reduced,
 }
 
 impl ReferenceKind {
-    /// `closed_form` or `reduced_adaptive`.
+    /// `closed_form` or `reduced_dop853`.
     pub fn name(self) -> &'static str {
         match self {
             ReferenceKind::ClosedForm => "closed_form",
-            ReferenceKind::ReducedAdaptive => "reduced_adaptive",
+            ReferenceKind::Reduced => "reduced_dop853",
         }
     }
 
@@ -29,7 +30,7 @@ impl ReferenceKind {
     pub fn tolerance(self) -> Option<f64> {
         match self {
             ReferenceKind::ClosedForm => None,
-            ReferenceKind::ReducedAdaptive => Some(REFERENCE_TOLERANCE),
+            ReferenceKind::Reduced => Some(REFERENCE_TOLERANCE),
         }
     }
 }
@@ -65,10 +66,10 @@ impl Reference {
         }
         let system = scene.build(params).map_err(context)?;
         let t_end = times.last().copied().unwrap_or(initial.t);
-        let method = Method::Adaptive { tol: Tolerances::uniform(REFERENCE_TOLERANCE) };
-        let trajectory = system.simulate(initial, t_end, method, &Output::Times(times.to_vec())).map_err(context)?;
+        let trajectory =
+            system.simulate(initial, t_end, reference_method(), &Output::Times(times.to_vec())).map_err(context)?;
         let q = (0..trajectory.len()).map(|k| trajectory.q(k).to_vec()).collect();
-        Ok(Reference { params: params.clone(), kind: ReferenceKind::ReducedAdaptive, q })
+        Ok(Reference { params: params.clone(), kind: ReferenceKind::Reduced, q })
     }
 
     /// `‖q − q_ref‖∞` at saved time `k`.

@@ -92,9 +92,9 @@ pub struct SceneReport {
 /// The scene's reference.
 #[derive(Clone, Debug, Serialize)]
 pub struct ReferenceReport {
-    /// `closed_form` or `reduced_adaptive`.
+    /// `closed_form` or `reduced_dop853`.
     pub kind: &'static str,
-    /// Tolerance of a `reduced_adaptive` reference (null for a closed form).
+    /// Tolerance of a `reduced_dop853` reference (null for a closed form).
     pub tolerance: Option<f64>,
     /// Tolerance of the Cartesian run it is checked against.
     pub cartesian_tolerance: f64,

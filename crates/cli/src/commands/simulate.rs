@@ -89,7 +89,7 @@ pub struct Args {
 fn method_and_every(args: &Args, span: f64) -> Result<(Method, f64), CliError> {
     let Integrator(kind) = args.integrator;
     let method = match kind.default_method() {
-        default @ (Method::Adaptive { .. } | Method::Implicit { .. }) => {
+        default @ (Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. }) => {
             if args.dt.is_some() {
                 return Err(CliError::NotForIntegrator {
                     flag: "--dt",
@@ -105,7 +105,7 @@ fn method_and_every(args: &Args, span: f64) -> Result<(Method, f64), CliError> {
                 return Err(CliError::NotForIntegrator {
                     flag: "--tol",
                     integrator: kind.name(),
-                    applies_to: "the error-controlled integrators (adaptive, implicit)",
+                    applies_to: "the error-controlled integrators (adaptive, dop853, implicit)",
                     instead: "--dt",
                 });
             }
@@ -117,7 +117,7 @@ fn method_and_every(args: &Args, span: f64) -> Result<(Method, f64), CliError> {
         (None, Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt }) => {
             dt * (span / 200.0 / dt).round().max(1.0)
         }
-        (None, Method::Adaptive { .. } | Method::Implicit { .. }) => span / 200.0,
+        (None, Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. }) => span / 200.0,
     };
     if !(every > 0.0 && every.is_finite()) {
         return Err(CliError::NotPositive { flag: "--every", value: every });
@@ -131,7 +131,9 @@ fn describe(method: Method) -> String {
         Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
             format!("{} at dt = {dt:e}", method.name())
         }
-        Method::Adaptive { tol } | Method::Implicit { tol } => format!("{} at tol = {:e}", method.name(), tol.rtol),
+        Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
+            format!("{} at tol = {:e}", method.name(), tol.rtol)
+        }
     }
 }
 
@@ -205,7 +207,9 @@ fn drift_threshold(method: Method, steps: usize, rate: Option<f64>) -> Option<f6
     let n = steps.max(1) as f64;
     let round_off = 10.0 * n * f64::EPSILON;
     let threshold = match method {
-        Method::Adaptive { tol } | Method::Implicit { tol } => 10.0 * n * tol.rtol.max(tol.atol),
+        Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
+            10.0 * n * tol.rtol.max(tol.atol)
+        }
         Method::Rk4 { dt } => 10.0 * n * (rate? * dt).powi(5) + round_off,
         Method::Variational { dt } => 10.0 * (rate? * dt).powi(2) + round_off,
         Method::Gauss { dt } => 10.0 * (rate? * dt).powi(4) + round_off,
@@ -300,7 +304,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     long_work::check_output(rows, 2 * coordinates.len() + 2 + violation_columns, args.force, "--every")?;
     let (first, flag) = match method {
         Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => (dt, "--t-end or --dt"),
-        Method::Adaptive { .. } | Method::Implicit { .. } => (0.0, "--t-end or --tol"),
+        Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. } => (0.0, "--t-end or --tol"),
     };
     if !args.force {
         // The reduced solver's steps are short: its calibration runs to its end.

@@ -1,7 +1,7 @@
 //! Running an integrator over an interval: one loop over the output times, writing each sample
 //! into a [`Sink`] (a [`Trajectory`] being one).
 
-use super::{Dopri5, Gauss4, Grid, Integrator, Method, Rk4, Sdirk4, Stats, Variational, non_finite_quantity};
+use super::{Dop853, Dopri5, Gauss4, Grid, Integrator, Method, Rk4, Sdirk4, Stats, Variational, non_finite_quantity};
 use crate::{Bounds, Dynamics, Error, State};
 
 /// When to record the state.
@@ -187,6 +187,7 @@ pub fn simulate_into<D: Dynamics, S: Sink + ?Sized>(
     match method {
         Method::Rk4 { dt } => run(system, &mut Rk4::new(n).with_step(dt)?, initial, t_end, output, sink),
         Method::Adaptive { tol } => run(system, &mut Dopri5::new(n, tol)?, initial, t_end, output, sink),
+        Method::Dop853 { tol } => run(system, &mut Dop853::new(n, tol)?, initial, t_end, output, sink),
         Method::Variational { dt } => {
             run(system, &mut Variational::new(system).with_step(dt)?, initial, t_end, output, sink)
         }

@@ -23,6 +23,12 @@ pub enum Method {
         /// Tolerances.
         tol: Tolerances,
     },
+    /// Dormand–Prince 8(5,3) ([`Dop853`](super::Dop853)) with error control, for tight
+    /// tolerances.
+    Dop853 {
+        /// Tolerances.
+        tol: Tolerances,
+    },
     /// Variational midpoint (discrete Euler–Lagrange) with fixed step `dt`.
     Variational {
         /// Step.
@@ -47,6 +53,8 @@ pub enum MethodKind {
     Rk4,
     /// [`Method::Adaptive`].
     Adaptive,
+    /// [`Method::Dop853`].
+    Dop853,
     /// [`Method::Variational`].
     Variational,
     /// [`Method::Implicit`].
@@ -57,15 +65,22 @@ pub enum MethodKind {
 
 impl MethodKind {
     /// Every kind, in the order the CLI lists them.
-    pub const ALL: [MethodKind; 5] =
-        [MethodKind::Rk4, MethodKind::Adaptive, MethodKind::Variational, MethodKind::Implicit, MethodKind::Gauss];
+    pub const ALL: [MethodKind; 6] = [
+        MethodKind::Rk4,
+        MethodKind::Adaptive,
+        MethodKind::Dop853,
+        MethodKind::Variational,
+        MethodKind::Implicit,
+        MethodKind::Gauss,
+    ];
 
-    /// Short name, as the CLI spells it and the reports print it: `rk4`, `adaptive`,
+    /// Short name, as the CLI spells it and the reports print it: `rk4`, `adaptive`, `dop853`,
     /// `variational`, `implicit`, `gauss`.
     pub const fn name(self) -> &'static str {
         match self {
             MethodKind::Rk4 => "rk4",
             MethodKind::Adaptive => "adaptive",
+            MethodKind::Dop853 => "dop853",
             MethodKind::Variational => "variational",
             MethodKind::Implicit => "implicit",
             MethodKind::Gauss => "gauss",
@@ -77,6 +92,9 @@ impl MethodKind {
         match self {
             MethodKind::Rk4 => "Classical RK4, fixed step `--dt`",
             MethodKind::Adaptive => "Dormand–Prince 5(4) with error control `--tol` and dense output",
+            MethodKind::Dop853 => {
+                "Dormand–Prince 8(5,3) (DOP853) with error control `--tol` and dense output, for tolerances of 1e-10 and below"
+            }
             MethodKind::Variational => "Variational midpoint (discrete Euler–Lagrange), fixed step `--dt`",
             MethodKind::Implicit => "L-stable implicit SDIRK4 with error control `--tol`, for stiff problems",
             MethodKind::Gauss => "Gauss–Legendre of order 4 (implicit, symplectic), fixed step `--dt`",
@@ -95,6 +113,7 @@ impl MethodKind {
         match self {
             MethodKind::Rk4 => Method::Rk4 { dt: setting },
             MethodKind::Adaptive => Method::Adaptive { tol },
+            MethodKind::Dop853 => Method::Dop853 { tol },
             MethodKind::Variational => Method::Variational { dt: setting },
             MethodKind::Implicit => Method::Implicit { tol },
             MethodKind::Gauss => Method::Gauss { dt: setting },
@@ -102,10 +121,12 @@ impl MethodKind {
     }
 
     /// The method with its default setting: a step of `1e-3`; a tolerance of `1e-10` for
-    /// [`Adaptive`](MethodKind::Adaptive) and `1e-8` for [`Implicit`](MethodKind::Implicit).
+    /// [`Adaptive`](MethodKind::Adaptive), `1e-12` for [`Dop853`](MethodKind::Dop853) and `1e-8`
+    /// for [`Implicit`](MethodKind::Implicit).
     pub fn default_method(self) -> Method {
         match self {
             MethodKind::Adaptive => self.with(1e-10),
+            MethodKind::Dop853 => self.with(1e-12),
             MethodKind::Implicit => self.with(1e-8),
             _ => self.with(1e-3),
         }
@@ -118,13 +139,14 @@ impl Method {
         match self {
             Method::Rk4 { .. } => MethodKind::Rk4,
             Method::Adaptive { .. } => MethodKind::Adaptive,
+            Method::Dop853 { .. } => MethodKind::Dop853,
             Method::Variational { .. } => MethodKind::Variational,
             Method::Implicit { .. } => MethodKind::Implicit,
             Method::Gauss { .. } => MethodKind::Gauss,
         }
     }
 
-    /// Short name: `rk4`, `adaptive`, `variational`, `implicit`, `gauss`.
+    /// Short name: `rk4`, `adaptive`, `dop853`, `variational`, `implicit`, `gauss`.
     pub fn name(&self) -> &'static str {
         self.kind().name()
     }
@@ -168,10 +190,10 @@ impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => write!(f, "{}:{dt}", self.name()),
-            Method::Adaptive { tol } | Method::Implicit { tol } if tol.rtol == tol.atol => {
+            Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } if tol.rtol == tol.atol => {
                 write!(f, "{}:{}", self.name(), tol.rtol)
             }
-            Method::Adaptive { tol } | Method::Implicit { tol } => {
+            Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
                 write!(f, "{}:{},{}", self.name(), tol.rtol, tol.atol)
             }
         }
@@ -196,7 +218,11 @@ impl FromStr for Method {
             (_, None) => Ok(kind.with(number(setting)?)),
             (false, Some((rtol, atol))) => {
                 let tol = Tolerances { rtol: number(rtol)?, atol: number(atol)? };
-                Ok(if kind == MethodKind::Adaptive { Method::Adaptive { tol } } else { Method::Implicit { tol } })
+                Ok(match kind {
+                    MethodKind::Adaptive => Method::Adaptive { tol },
+                    MethodKind::Dop853 => Method::Dop853 { tol },
+                    _ => Method::Implicit { tol },
+                })
             }
             (true, Some(_)) => Err(error("a fixed-step method takes one step")),
         }
@@ -212,7 +238,7 @@ mod tests {
     #[test]
     fn methods_parse_and_print() {
         let names: Vec<String> = MethodKind::ALL.iter().map(ToString::to_string).collect();
-        assert_eq!(names, ["rk4", "adaptive", "variational", "implicit", "gauss"]);
+        assert_eq!(names, ["rk4", "adaptive", "dop853", "variational", "implicit", "gauss"]);
         for kind in MethodKind::ALL {
             assert_eq!(kind.name().parse::<MethodKind>(), Ok(kind));
             assert_eq!(kind.name().parse::<Method>().map(|m| m.kind()), Ok(kind));

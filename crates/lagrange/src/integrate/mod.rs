@@ -17,6 +17,7 @@
 //! |---|---|---|---|
 //! | [`Rk4`] | 4, fixed step | reference workhorse | error ratio ≈ 16 per halving |
 //! | [`Dopri5`] | 5(4), adaptive, dense output | accuracy on demand | local error ≤ tolerance |
+//! | [`Dop853`] | 8(5,3), adaptive, dense output of order 7 | tight tolerances (1e-10 and below) | local error ≤ tolerance, order 8 |
 //! | [`Variational`] | 2, fixed step, implicit | long runs | cyclic momenta exact, energy error bounded |
 //! | [`Gauss4`] | 4, fixed step, implicit (Gauss–Legendre) | long runs | symplectic, A-stable; quadratic invariants to round-off |
 //! | [`Sdirk4`] | 4(3), adaptive, L-stable implicit | stiff scenes | stable at `ω h ≫ 1`, stiff modes damped, error tracks tolerance |
@@ -29,6 +30,7 @@
 //! stability regions that the stability suite measures against.
 
 mod control;
+mod dop853;
 mod dopri5;
 mod driver;
 mod gauss;
@@ -40,6 +42,7 @@ mod sdirk;
 pub mod stability;
 mod variational;
 
+pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use driver::{Output, Sample, Sink, Trajectory, run, simulate, simulate_into};
 pub use gauss::Gauss4;

@@ -274,7 +274,7 @@ impl Measurement {
             Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
                 RunSettings { dt: Some(dt), horizon_s: Some(horizon), ..RunSettings::default() }
             }
-            Method::Adaptive { tol } | Method::Implicit { tol } => {
+            Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
                 RunSettings { tolerance: Some(tol.rtol), horizon_s: Some(horizon), ..RunSettings::default() }
             }
         };

@@ -13,9 +13,10 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// One colour per family, in `Family::ALL` order; the f32 builds are lighter than their f64 twins.
-const PALETTE: [RGBColor; 8] = [
+const PALETTE: [RGBColor; Family::ALL.len()] = [
     RGBColor(31, 119, 180),  // rk4
     RGBColor(44, 160, 44),   // adaptive
+    RGBColor(23, 190, 207),  // dop853
     RGBColor(148, 103, 189), // variational
     RGBColor(30, 30, 30),    // cartesian
     RGBColor(214, 39, 40),   // rapier-impulse

@@ -14,7 +14,7 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
     let mut text = String::new();
     let _ = writeln!(
         text,
-        "lagrange report ({} mode): {} s horizon, errors at {} saved times; ours = reduced solver (rk4, adaptive, variational)",
+        "lagrange report ({} mode): {} s horizon, errors at {} saved times; ours = reduced solver (rk4, adaptive, dop853, variational)",
         report.mode, report.horizon_s, report.samples
     );
     let _ = writeln!(

@@ -77,6 +77,77 @@ fn adaptive_error_tracks_tolerance_and_dense_output_is_accurate() {
     }
 }
 
+/// DOP853's step is of order 8: on the linear oscillator (`ω = √10`, 2 s) with steps forced to
+/// `h` (a tolerance loose enough that no step is rejected, `t_limit` one step ahead), halving
+/// `h` from `ω h` = 0.4 to 0.2 divides the final error against the exact solution by between
+/// 2^7.5 and 2^9 (order 8 with the next order's term still visible: measured 366, and 1965
+/// from `ω h` = 0.8; a wrong coefficient drops a Runge–Kutta method to order 5 or less, a ratio
+/// of 32). Its dense output is of order 7 (the error of a point interpolated within a step is
+/// `O(h⁸)` locally): the largest error at the steps' midpoints falls by at least 2⁷ × 0.75
+/// (measured 292).
+#[test]
+fn dop853_is_eighth_order_with_a_seventh_order_dense_output() {
+    let (amplitude, omega) = (0.1, 10.0_f64.sqrt());
+    let model = Model::new(Spring::new(1.0, omega * omega, 0.0)).unwrap();
+    let exact = |t: f64| [amplitude * (omega * t).cos(), -amplitude * omega * (omega * t).sin()];
+    let initial = State::new(0.0, [amplitude], [0.0]);
+    let (mut final_errors, mut middle_errors) = (Vec::new(), Vec::new());
+    for steps in [16, 32] {
+        let h = 2.0 / steps as f64;
+        let mut dop = Dop853::new(1, Tolerances::uniform(0.9)).unwrap();
+        let mut ws = model.new_workspace();
+        dop.start(&model, &mut ws, 0.0, &initial.q, &initial.qdot, h).unwrap();
+        let (mut q, mut qdot) = ([0.0; 1], [0.0; 1]);
+        let mut middle: f64 = 0.0;
+        for k in 0..steps {
+            dop.step(&model, &mut ws, (k + 1) as f64 * h).unwrap();
+            let t = (k as f64 + 0.5) * h;
+            dop.interpolate(&model, &mut ws, t, &mut q, &mut qdot).unwrap();
+            middle = middle.max(max_abs_diff(&[q[0], qdot[0]], &exact(t)));
+        }
+        assert_eq!((dop.stats().steps, dop.stats().rejected), (steps, 0), "h = {h}");
+        final_errors.push(max_abs_diff(&[dop.q()[0], dop.qdot()[0]], &exact(2.0)));
+        middle_errors.push(middle);
+    }
+    for w in final_errors.windows(2) {
+        assert!((181.0..512.0).contains(&(w[0] / w[1])), "final errors {final_errors:?}");
+    }
+    for w in middle_errors.windows(2) {
+        assert!(w[0] / w[1] >= 0.75 * 128.0, "midpoint errors {middle_errors:?}");
+    }
+}
+
+/// DOP853's global error tracks its tolerance, as Dopri5's does, down to 1e-13 on the linear
+/// oscillator over 10 s (dense-output samples every 0.2 s), with fewer evaluations than Dopri5
+/// from 1e-8 down.
+#[test]
+fn dop853_error_tracks_tolerance_with_fewer_evaluations_than_dopri5() {
+    let model = Model::new(Spring::new(1.0, 10.0, 0.0)).unwrap();
+    let omega = 10.0_f64.sqrt();
+    let initial = State::new(0.0, [0.1], [0.0]);
+    let times: Vec<f64> = (0..=50).map(|k| k as f64 * 0.2).collect();
+    let mut previous = f64::INFINITY;
+    for tol in [1e-4, 1e-6, 1e-8, 1e-10, 1e-13] {
+        let run = |method| simulate(&model, &initial, 10.0, method, &Output::Times(times.clone())).unwrap();
+        let traj = run(Method::Dop853 { tol: Tolerances::uniform(tol) });
+        let err = (0..traj.len()).map(|k| (traj.q(k)[0] - 0.1 * (omega * traj.t[k]).cos()).abs()).fold(0.0, f64::max);
+        // Global error within a factor 100 of the tolerance (local control, ~16 periods of
+        // accumulation; round-off of ~1e-16 per step below 1e-13), and decreasing with it.
+        assert!(err < 100.0 * tol, "tol {tol}: error {err}");
+        assert!(err < previous, "tol {tol}: error {err} not below {previous}");
+        previous = err;
+        if tol <= 1e-8 {
+            let dopri = run(Method::Adaptive { tol: Tolerances::uniform(tol) });
+            assert!(
+                traj.stats.evaluations < dopri.stats.evaluations,
+                "tol {tol}: {:?} vs {:?}",
+                traj.stats,
+                dopri.stats
+            );
+        }
+    }
+}
+
 #[test]
 fn raw_lagrangian_of_a_body_model_matches_the_body_path() {
     let model = Model::new(cart(2.0, 1.0, 1.3)).unwrap();
