@@ -62,7 +62,7 @@ pub fn render(report: &Report) -> String {
          - **energy**: `max |E − E₀| / |E₀|`, only where the scene conserves energy (— otherwise);\n\
          - **violation**: largest constraint violation of a maximal engine, where it has one (— otherwise);\n\
          - **time**: {}; {};\n\
-         - **reference**: the scene's closed form where it has one, else the reduced solution (dop853) at tol 1e-14 \
+         - **reference**: the scene's closed form where it has one, else the reduced solution (dop853) at tol 3e-15 \
          checked against the Cartesian solver; an engine that needs a deviation from the scene is measured \
          against a reference with the same deviation.\n",
         report.timing.statistic,
