@@ -159,3 +159,64 @@ impl Controller {
         Verdict::Accept(h_new)
     }
 }
+
+/// The step `h` from `t` toward `t_limit`: the proposed `h`, or the rest of the way when that is
+/// at most 1 % longer; an error when it has collapsed to round-off of `t`
+/// ([`Error::Stiff`] once the stiffness watch has fired, [`Error::StepSizeUnderflow`] otherwise).
+pub(crate) fn step_toward(h: f64, t: f64, t_limit: f64, stats: &Stats) -> Result<f64, Error> {
+    let h = if t + h >= t_limit || t + 1.01 * h >= t_limit { t_limit - t } else { h };
+    if h.abs() <= 10.0 * f64::EPSILON * t.abs().max(1.0) {
+        return Err(if stats.stiffness.is_some() { Error::Stiff { t, h } } else { Error::StepSizeUnderflow { t, h } });
+    }
+    Ok(h)
+}
+
+/// Hairer's stiffness test of the explicit pairs (*Solving ODE I*, §II.10): `h λ` is estimated on
+/// every accepted step from two stages at the same time (`h ‖f(y₁) − f(Y)‖ / ‖y₁ − Y‖`, a
+/// Lipschitz estimate of `f` along the step); the problem is declared stiff when it exceeds the
+/// method's stability boundary on the negative real axis (less a margin) on 15 accepted steps,
+/// the count restarting after 6 accepted steps in a row below it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StiffnessWatch {
+    /// The bound on `h λ`.
+    limit: f64,
+    /// Accepted steps above the bound, and accepted steps in a row below it.
+    stiff_steps: usize,
+    non_stiff_steps: usize,
+}
+
+impl StiffnessWatch {
+    const STIFF_STEPS: usize = 15;
+    const NON_STIFF_RESET: usize = 6;
+
+    pub(crate) const fn new(limit: f64) -> Self {
+        Self { limit, stiff_steps: 0, non_stiff_steps: 0 }
+    }
+
+    /// Forget the counts (a new integration).
+    pub(crate) fn reset(&mut self) {
+        (self.stiff_steps, self.non_stiff_steps) = (0, 0);
+    }
+
+    /// `h λ` from the squared norms of the two stages' difference in `f` and in the state.
+    pub(crate) fn h_lambda(h: f64, f_difference: f64, y_difference: f64) -> f64 {
+        if y_difference > 0.0 { h.abs() * (f_difference / y_difference).sqrt() } else { 0.0 }
+    }
+
+    /// Count an accepted step starting at `t` with estimate `h_lambda`; the first time the test
+    /// fires, its time goes into [`Stats::stiffness`].
+    pub(crate) fn count(&mut self, h_lambda: f64, t: f64, stats: &mut Stats) {
+        if h_lambda > self.limit {
+            self.non_stiff_steps = 0;
+            self.stiff_steps += 1;
+            if self.stiff_steps == Self::STIFF_STEPS && stats.stiffness.is_none() {
+                stats.stiffness = Some(t);
+            }
+        } else {
+            self.non_stiff_steps += 1;
+            if self.non_stiff_steps == Self::NON_STIFF_RESET {
+                self.stiff_steps = 0;
+            }
+        }
+    }
+}

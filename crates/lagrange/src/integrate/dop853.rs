@@ -6,7 +6,7 @@
 //! Twelve stages give an 8th-order step, so at tight tolerances it needs far fewer evaluations
 //! than [`Dopri5`](super::Dopri5): the method for errors of 1e-10 and below.
 
-use super::control::{Controller, Verdict, first_step};
+use super::control::{Controller, StiffnessWatch, Verdict, first_step, step_toward};
 use super::integrator::{Integrator, Stats, check_finite, diverged, rhs};
 use super::{Tolerances, check_tolerance};
 use crate::{Dynamics, Error, State};
@@ -227,12 +227,10 @@ const D: [[f64; EXTENDED]; 4] = {
 /// factor bounded to `[1/3, 6]`.
 const CONTROL: Controller = Controller::new(1.0 / 8.0, None, 0.9, 1.0 / 3.0, 6.0);
 
-// Stiffness detection (`DOP853`, Hairer–Wanner I §II.10): `h λ ≈ h ‖f(y₁) − k₁₂‖ / ‖y₁ − Y₁₂‖`
-// (stage 12 and the new point both sit at `t + h`); the stability boundary of the method on
-// the negative real axis is about 6.1.
-const STIFF_H_LAMBDA: f64 = 6.1;
-const STIFF_STEPS: usize = 15;
-const NON_STIFF_RESET: usize = 6;
+/// Stiffness detection (`DOP853`, Hairer–Wanner I §II.10): `h λ ≈ h ‖f(y₁) − k₁₁‖ / ‖y₁ − Y₁₁‖`
+/// (the last stage and the new point both sit at `t + h`); the stability boundary of the method
+/// on the negative real axis is about 6.1.
+const STIFFNESS: StiffnessWatch = StiffnessWatch::new(6.1);
 
 /// Hairer's `DOP853` on `y = (q, q̇)`: the 8th-order step of Dormand and Prince with an error
 /// estimate that combines the embedded 5th- and 3rd-order ones,
@@ -269,9 +267,9 @@ pub struct Dop853 {
     /// Proposed next step.
     h: f64,
     control: Controller,
+    /// `h λ` estimate of the last attempted step, and the stiffness test's counts.
     h_lambda: f64,
-    stiff_steps: usize,
-    non_stiff_steps: usize,
+    stiffness: StiffnessWatch,
     stats: Stats,
 }
 
@@ -300,8 +298,7 @@ impl Dop853 {
             h: 0.0,
             control: CONTROL,
             h_lambda: 0.0,
-            stiff_steps: 0,
-            non_stiff_steps: 0,
+            stiffness: STIFFNESS,
             stats: Stats::default(),
         })
     }
@@ -348,8 +345,7 @@ impl Dop853 {
         self.y[n..].copy_from_slice(qdot);
         self.stats = Stats::default();
         self.control.reset();
-        self.stiff_steps = 0;
-        self.non_stiff_steps = 0;
+        self.stiffness.reset();
         let [k1, ..] = &mut self.k;
         let buffers = [self.f_next.as_mut_slice(), &mut self.y_stage, k1];
         self.h = first_step((system, ws), (self.tol, h_max, 1.0 / 8.0), t, &self.y, buffers, &mut self.stats)?;
@@ -377,17 +373,7 @@ impl Dop853 {
     pub fn step<D: Dynamics>(&mut self, system: &D, ws: &mut D::Workspace, t_limit: f64) -> Result<(), Error> {
         let (n, n2) = (self.n, 2 * self.n);
         loop {
-            let mut h = self.h;
-            if self.t + h >= t_limit || self.t + 1.01 * h >= t_limit {
-                h = t_limit - self.t;
-            }
-            if h.abs() <= 10.0 * f64::EPSILON * self.t.abs().max(1.0) {
-                return Err(if self.stats.stiffness.is_some() {
-                    Error::Stiff { t: self.t, h }
-                } else {
-                    Error::StepSizeUnderflow { t: self.t, h }
-                });
-            }
+            let h = step_toward(self.h, self.t, t_limit, &self.stats)?;
             let t = self.t;
             // Stage 0 is f(t, y) (first-same-as-last, or re-evaluated after a projection);
             // stages 1–11.
@@ -423,7 +409,7 @@ impl Dop853 {
             }
             let denominator = if err5 + 0.01 * err3 > 0.0 { err5 + 0.01 * err3 } else { 1.0 };
             let err = h.abs() * err5 / (denominator * n2 as f64).sqrt();
-            self.h_lambda = if den > 0.0 { h.abs() * (num / den).sqrt() } else { 0.0 };
+            self.h_lambda = StiffnessWatch::h_lambda(h, num, den);
             let h_new = match self.control.judge(err, h) {
                 Verdict::Accept(h_new) => h_new,
                 Verdict::Reject(h_new) => {
@@ -434,7 +420,7 @@ impl Dop853 {
             };
             // Accept: keep the step's ends for the dense output, then advance (the new point's
             // f is the next step's first stage).
-            self.stiffness_test(t);
+            self.stiffness.count(self.h_lambda, t, &mut self.stats);
             self.t_old = t;
             self.h_old = h;
             self.t = if h == t_limit - t { t_limit } else { t + h };
@@ -445,22 +431,6 @@ impl Dop853 {
             self.h = h_new;
             self.stats.steps += 1;
             return Ok(());
-        }
-    }
-
-    /// Count an accepted step starting at `t` in the stiffness test.
-    fn stiffness_test(&mut self, t: f64) {
-        if self.h_lambda > STIFF_H_LAMBDA {
-            self.non_stiff_steps = 0;
-            self.stiff_steps += 1;
-            if self.stiff_steps == STIFF_STEPS && self.stats.stiffness.is_none() {
-                self.stats.stiffness = Some(t);
-            }
-        } else {
-            self.non_stiff_steps += 1;
-            if self.non_stiff_steps == NON_STIFF_RESET {
-                self.stiff_steps = 0;
-            }
         }
     }
 

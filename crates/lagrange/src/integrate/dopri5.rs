@@ -2,7 +2,7 @@
 //! Nørsett & Wanner, *Solving Ordinary Differential Equations I*, §II.5, §II.6 and §II.10;
 //! the `DOPRI5` code).
 
-use super::control::{Controller, Verdict, error_norm, first_step};
+use super::control::{Controller, StiffnessWatch, Verdict, error_norm, first_step, step_toward};
 use super::integrator::{Integrator, Stats, check_finite, diverged, rhs};
 use super::{Tolerances, check_tolerance};
 use crate::{Dynamics, Error, State};
@@ -51,14 +51,10 @@ const D7: f64 = 69997945.0 / 29380423.0;
 /// with `β = 0.04`, safety 0.9, `h_new ∈ [h/10, 5h]`.
 const CONTROL: Controller = Controller::new(0.2, Some(0.04), 0.9, 0.2, 10.0);
 
-// Stiffness detection (DOPRI5, Hairer–Wanner I §II.10): `h λ` is estimated on every accepted
-// step as `h ‖k7 − k6‖ / ‖y_new − y_stage6‖` (both stages sit at `t + h`, so the quotient is a
-// Lipschitz estimate of `f` along the step); the stability boundary of DOPRI5 on the negative
-// real axis is about 3.3. The problem is declared stiff when `h λ > 3.25` on 15 accepted
-// steps, counting restarts after 6 accepted steps in a row below it.
-const STIFF_H_LAMBDA: f64 = 3.25;
-const STIFF_STEPS: usize = 15;
-const NON_STIFF_RESET: usize = 6;
+/// Stiffness detection (DOPRI5, Hairer–Wanner I §II.10): `h λ ≈ h ‖k7 − k6‖ / ‖y_new − y_stage6‖`
+/// (both stages sit at `t + h`); the stability boundary of DOPRI5 on the negative real axis is
+/// about 3.3, so the watch fires above 3.25.
+const STIFFNESS: StiffnessWatch = StiffnessWatch::new(3.25);
 
 /// The embedded Dormand–Prince 5(4) pair with PI step control, FSAL and 4th-order dense output,
 /// on `y = (q, q̇)`. The local error of each accepted step satisfies
@@ -89,11 +85,9 @@ pub struct Dopri5 {
     h: f64,
     /// Step-size controller.
     control: Controller,
-    /// `h λ` estimate of the last attempted step (stiffness test).
+    /// `h λ` estimate of the last attempted step, and the stiffness test's counts.
     h_lambda: f64,
-    /// Accepted steps with `h λ` above the bound, and accepted steps in a row below it.
-    stiff_steps: usize,
-    non_stiff_steps: usize,
+    stiffness: StiffnessWatch,
     /// Counters.
     stats: Stats,
 }
@@ -120,8 +114,7 @@ impl Dopri5 {
             h: 0.0,
             control: CONTROL,
             h_lambda: 0.0,
-            stiff_steps: 0,
-            non_stiff_steps: 0,
+            stiffness: STIFFNESS,
             stats: Stats::default(),
         })
     }
@@ -172,8 +165,7 @@ impl Dopri5 {
         self.y[n..].copy_from_slice(qdot);
         self.stats = Stats::default();
         self.control.reset();
-        self.stiff_steps = 0;
-        self.non_stiff_steps = 0;
+        self.stiffness.reset();
         let [k1, k2, ..] = &mut self.k;
         let buffers = [k1.as_mut_slice(), &mut self.y_stage, k2];
         self.h = first_step((system, ws), (self.tol, h_max, 0.2), t, &self.y, buffers, &mut self.stats)?;
@@ -212,17 +204,7 @@ impl Dopri5 {
         let n2 = 2 * self.n;
         let n = self.n;
         loop {
-            let mut h = self.h;
-            if self.t + h >= t_limit || self.t + 1.01 * h >= t_limit {
-                h = t_limit - self.t;
-            }
-            if h.abs() <= 10.0 * f64::EPSILON * self.t.abs().max(1.0) {
-                return Err(if self.stats.stiffness.is_some() {
-                    Error::Stiff { t: self.t, h }
-                } else {
-                    Error::StepSizeUnderflow { t: self.t, h }
-                });
-            }
+            let h = step_toward(self.h, self.t, t_limit, &self.stats)?;
             let t = self.t;
             let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
             let (y, ys) = (&self.y, &mut self.y_stage);
@@ -259,7 +241,7 @@ impl Dopri5 {
                 num += (k7[i] - k6[i]).powi(2);
                 den += (self.y_new[i] - ys[i]).powi(2);
             }
-            self.h_lambda = if den > 0.0 { h.abs() * (num / den).sqrt() } else { 0.0 };
+            self.h_lambda = StiffnessWatch::h_lambda(h, num, den);
             // Error estimate (stored in y_stage).
             for i in 0..n2 {
                 ys[i] = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
@@ -285,7 +267,7 @@ impl Dopri5 {
                 self.dense[3][i] = ydiff - h * k7[i] - bspl;
                 self.dense[4][i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
             }
-            self.stiffness_test(t);
+            self.stiffness.count(self.h_lambda, t, &mut self.stats);
             self.t_old = t;
             self.h_old = h;
             self.t = if h == t_limit - t { t_limit } else { t + h };
@@ -294,22 +276,6 @@ impl Dopri5 {
             self.h = h_new;
             self.stats.steps += 1;
             return Ok(());
-        }
-    }
-
-    /// Count an accepted step starting at `t` in the stiffness test.
-    fn stiffness_test(&mut self, t: f64) {
-        if self.h_lambda > STIFF_H_LAMBDA {
-            self.non_stiff_steps = 0;
-            self.stiff_steps += 1;
-            if self.stiff_steps == STIFF_STEPS && self.stats.stiffness.is_none() {
-                self.stats.stiffness = Some(t);
-            }
-        } else {
-            self.non_stiff_steps += 1;
-            if self.non_stiff_steps == NON_STIFF_RESET {
-                self.stiff_steps = 0;
-            }
         }
     }
 
