@@ -1,10 +1,11 @@
 //! Seeding dual numbers, in one place: a state lifted to duals with zero derivative parts
-//! ([`constant`]), or moving along a direction ([`along`], [`along2`]); and the seeded state of
+//! ([`constant`]), or moving along a direction ([`along`], [`along2`]), or a chunk of its
+//! coordinates seeded in the lanes of vector duals ([`chunk`]); and the seeded state of
 //! the tangent passes of an acceleration Jacobian ([`Tangent`], [`Seeds`]).
 
 use crate::error::{Error, Stage, all_finite, non_finite};
 use crate::scalar::Scalar;
-use num_dual::{Dual, Dual2, Dual64};
+use num_dual::{Dual, Dual2, Dual64, DualSVec};
 
 /// `out_i = x_i`, derivative parts zero.
 pub(crate) fn constant<S: Scalar>(out: &mut [Dual<S>], x: &[S]) {
@@ -27,6 +28,32 @@ pub(crate) fn along2<S: Scalar>(out: &mut [Dual2<S>], x: &[S], dx: &[S]) {
     for ((d, &xi), &vi) in out.iter_mut().zip(x).zip(dx) {
         *d = Dual2::new(xi, vi, S::zero());
     }
+}
+
+/// Lanes of the vector dual numbers of the chunked Jacobian passes: the columns of one pass.
+pub(crate) const CHUNK: usize = 4;
+
+/// A vector dual number carrying [`CHUNK`] derivative lanes.
+pub(crate) type Lanes<S> = DualSVec<S, CHUNK>;
+
+/// Lane `k` of a vector dual's derivative (0 where it carries none).
+#[inline]
+pub(crate) fn lane<S: Scalar>(v: &Lanes<S>, k: usize) -> S {
+    v.eps.0.as_ref().map_or(S::zero(), |e| e[k])
+}
+
+/// Seed the chunk of coordinates starting at `j0` into `out`: `x_j` in every lane, with lane
+/// `j − j0` carrying `∂/∂x_j` for the chunk's `j`; returns the chunk's width (at most
+/// [`CHUNK`]).
+pub(crate) fn chunk<S: Scalar>(out: &mut [Lanes<S>], x: &[S], j0: usize) -> usize {
+    let width = CHUNK.min(x.len() - j0);
+    for (j, (d, &xj)) in out.iter_mut().zip(x).enumerate() {
+        *d = Lanes::from_re(xj);
+        if (j0..j0 + width).contains(&j) {
+            *d = d.derivative(j - j0);
+        }
+    }
+    width
 }
 
 /// What the tangent passes of a Jacobian need besides the `f64` workspace: the workspace `W`

@@ -5,8 +5,8 @@ pub use crate::eom::constraints::ConstraintBuffers;
 use crate::mechanism::Mechanism;
 use crate::model::Model;
 use crate::pose::Pose;
-use crate::probe::Lanes;
 use crate::scalar::Scalar;
+use crate::seed::Lanes;
 use crate::seed::Tangent;
 use num_dual::{Dual, Dual2, Dual64};
 

@@ -30,9 +30,9 @@ use crate::eom::kinematics::LANES_FROM;
 use crate::error::{Error, Stage};
 use crate::mechanism::{CoordinateKind, Mechanism};
 use crate::model::Model;
-use crate::probe::{CHUNK, Lanes, lane};
 use crate::scalar::Scalar;
 use crate::seed;
+use crate::seed::{CHUNK, Lanes, lane};
 use crate::workspace::Workspace;
 use num_dual::{Dual, Dual2};
 
@@ -217,13 +217,7 @@ fn holonomic_chunks<M: Mechanism, S: Scalar>(
     let n = q.len();
     let t_lanes = Lanes::from_re(t);
     for j0 in (0..n).step_by(CHUNK) {
-        let width = CHUNK.min(n - j0);
-        for (j, (d, &qj)) in q_lanes.iter_mut().zip(q).enumerate() {
-            *d = Lanes::from_re(qj);
-            if (j0..j0 + width).contains(&j) {
-                *d = d.derivative(j - j0);
-            }
-        }
+        let width = seed::chunk(q_lanes, q, j0);
         mechanism.constraints(t_lanes, q_lanes, phi_lanes);
         for (i, phi) in phi_lanes.iter().enumerate() {
             for k in 0..width {

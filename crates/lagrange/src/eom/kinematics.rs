@@ -14,7 +14,7 @@ use num_dual::Dual;
 /// Below [`LANES_FROM`] coordinates, one first-order dual pass per coordinate `j` (seed `q_j`):
 /// the dual parts of the poses are column `j` of `J`, and the dual part of `V(q, poses(q), t)`
 /// is `∂V/∂q_j` (total derivative, through the poses). From [`LANES_FROM`] on, one vector-dual
-/// pass per chunk of [`probe::CHUNK`] coordinates (lane `k` seeds `q_{j0+k}`) gives the chunk's
+/// pass per chunk of [`seed::CHUNK`] coordinates (lane `k` seeds `q_{j0+k}`) gives the chunk's
 /// columns at once: every sine and cosine of the poses is evaluated once per chunk rather than
 /// once per column. Both keep their lanes on the stack, so no `n` allocates.
 pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
@@ -62,9 +62,9 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
         // The chunk's columns of J; the poses themselves once.
         for (b, pose) in poses.iter().enumerate() {
             for k in 0..width {
-                jacobian[3 * b * n + j0 + k] = probe::lane(&pose.x, k);
-                jacobian[(3 * b + 1) * n + j0 + k] = probe::lane(&pose.y, k);
-                jacobian[(3 * b + 2) * n + j0 + k] = probe::lane(&pose.angle, k);
+                jacobian[3 * b * n + j0 + k] = seed::lane(&pose.x, k);
+                jacobian[(3 * b + 1) * n + j0 + k] = seed::lane(&pose.y, k);
+                jacobian[(3 * b + 2) * n + j0 + k] = seed::lane(&pose.angle, k);
             }
             if j0 == 0 {
                 position[3 * b] = pose.x.re;
@@ -75,7 +75,7 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
         // ∂V/∂q_j through the same seeded poses.
         if potential && let Some(v) = model.mechanism.potential(t_lanes, q_lanes, poses) {
             for k in 0..width {
-                potential_gradient[j0 + k] = probe::lane(&v, k);
+                potential_gradient[j0 + k] = seed::lane(&v, k);
             }
             *value = v.re;
         }
@@ -83,7 +83,7 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
 }
 
 /// The number of coordinates from which the Jacobian passes (of the poses and of the
-/// constraints) seed [`probe::CHUNK`] coordinates at once: below it, one scalar dual pass per
+/// constraints) seed [`seed::CHUNK`] coordinates at once: below it, one scalar dual pass per
 /// coordinate is as fast (measured: a two-coordinate pendulum's constrained `q̈` took 121 ns
 /// with scalar passes and 166 ns with one 8-lane pass; Andrews' squeezer's, in 7 coordinates,
 /// 2.61 µs and 2.28 µs).

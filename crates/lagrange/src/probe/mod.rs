@@ -7,8 +7,9 @@ use crate::linalg::{self, size::Dynamic};
 use crate::mechanism::{LagrangianFunction, Mechanism};
 use crate::pose::Pose;
 use crate::seed;
+use crate::seed::{CHUNK, Lanes};
 use crate::tree::Tree;
-use num_dual::{Dual, Dual2, Dual64, DualSVec};
+use num_dual::{Dual, Dual2, Dual64};
 
 /// A few fixed, generic states `(q, q̇, t)`: away from 0 and from special angles, so that an
 /// identity that holds at all of them holds structurally (it is evaluated exactly by AD).
@@ -108,18 +109,6 @@ pub(crate) fn jacobian_columns<M: Mechanism, S: crate::scalar::Scalar>(
     }
 }
 
-/// Lanes of the vector dual numbers of [`jacobian_chunks`]: the columns of one pass.
-pub(crate) const CHUNK: usize = 4;
-
-/// A vector dual number carrying [`CHUNK`] derivative lanes.
-pub(crate) type Lanes<S> = DualSVec<S, CHUNK>;
-
-/// Lane `k` of a vector dual's derivative (0 where it carries none).
-#[inline]
-pub(crate) fn lane<S: crate::scalar::Scalar>(v: &Lanes<S>, k: usize) -> S {
-    v.eps.0.as_ref().map_or(S::zero(), |e| e[k])
-}
-
 /// The pose Jacobian in chunks of [`CHUNK`] columns: one vector-dual pass of the poses per
 /// chunk, the chunk's coordinates `q_{j0} … q_{j0+w−1}` seeded in lanes `0 … w−1`;
 /// `chunk(j0, w, seeded q, seeded poses, t)` reads lane `k` as column `j0 + k` ([`lane`]).
@@ -136,13 +125,7 @@ pub(crate) fn jacobian_chunks<M: Mechanism, S: crate::scalar::Scalar>(
     let t_lanes = Lanes::from_re(t);
     let n = q.len();
     for j0 in (0..n).step_by(CHUNK) {
-        let width = CHUNK.min(n - j0);
-        for (j, (d, &qj)) in q_lanes.iter_mut().zip(q).enumerate() {
-            *d = Lanes::from_re(qj);
-            if (j0..j0 + width).contains(&j) {
-                *d = d.derivative(j - j0);
-            }
-        }
+        let width = seed::chunk(q_lanes, q, j0);
         mechanism.poses(t_lanes, q_lanes, poses);
         chunk(j0, width, q_lanes, poses, t_lanes);
     }
