@@ -297,6 +297,14 @@ pub enum Error {
         /// Iterations taken.
         iterations: usize,
     },
+    /// A joint graph that is not a mechanism (`lagrange::graph`), naming the element at fault.
+    #[error("invalid joint graph: {element} {why}")]
+    InvalidGraph {
+        /// The body, joint, coupling or force element (`body `arm``).
+        element: String,
+        /// What is wrong with it.
+        why: String,
+    },
     /// A mechanism declared a property that its functions contradict.
     #[error("inconsistent mechanism: {what}")]
     Inconsistent {

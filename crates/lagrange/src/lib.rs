@@ -253,6 +253,7 @@ mod scalar;
 mod seed;
 mod state;
 
+pub mod graph;
 mod mechanism;
 pub mod tree;
 
