@@ -7,6 +7,7 @@ use crate::linkage::{LinkBody, Linkage, Point};
 use crate::params::{param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
+use lagrange::graph::{self, ForceElement, GROUND, GraphJoint, JointGraph, Profile};
 use lagrange::{Body, Coordinate, Error, Loads, Mechanism, Pose, Scalar, State};
 
 /// The consistent initial angles `(β, Θ, γ, Φ, δ, Ω, ε)` at `t = 0` (at rest), as published
@@ -441,6 +442,35 @@ impl SceneType for AndrewsSqueezer {
     }
 
     body_scene!(engine);
+
+    /// Seven pins as the spanning tree (`β`, `γ`, `δ`, `ε` at the ground, `Θ` of K2 on K1, `Φ`
+    /// of K4 on K5 and `Ω` of K6 on K7, relative angles), the three pins at `E` (K2 with K3, K4
+    /// and K6) closing the loops; the spring `C`–`D` on K3 and the torque `mom` on K1.
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let s = self;
+        let (a, e) = ([s.xa, s.ya], [s.da - s.d, 0.0]);
+        let mut graph = crate::scene::graph_of(Self::ID, self)
+            .with_joint(GraphJoint::revolute("β", GROUND, [0.0, 0.0], "K1", [-s.ra, 0.0]))
+            .with_joint(GraphJoint::revolute("Θ", "K1", [s.rr - s.ra, 0.0], "K2", [s.da, 0.0]))
+            .with_joint(GraphJoint::revolute("γ", GROUND, [s.xb, s.yb], "K3", [-s.sa, s.sb]))
+            .with_joint(GraphJoint::revolute("Φ", "K5", [s.zt - s.ta, s.tb], "K4", [0.0, s.e - s.ea]))
+            .with_joint(GraphJoint::revolute("δ", GROUND, a, "K5", [-s.ta, s.tb]))
+            .with_joint(GraphJoint::revolute("Ω", "K7", [-s.ua, s.ub - s.u], "K6", [-(s.zf - s.fa), 0.0]))
+            .with_joint(GraphJoint::revolute("ε", GROUND, a, "K7", [-s.ua, s.ub]))
+            .with_joint(GraphJoint::revolute("E (K2–K3)", "K2", e, "K3", [-s.sa, s.sb - s.ss]).closing())
+            .with_joint(GraphJoint::revolute("E (K2–K4)", "K2", e, "K4", [0.0, -s.ea]).closing())
+            .with_joint(GraphJoint::revolute("E (K2–K6)", "K2", e, "K6", [s.fa, 0.0]).closing())
+            .with_force(ForceElement::Spring {
+                a: graph::Point::world([s.xc, s.yc]),
+                b: graph::Point::on("K3", [s.sd - s.sa, s.sb - s.sc]),
+                stiffness: s.c0,
+                rest_length: s.l0,
+            });
+        if s.mom != 0.0 {
+            graph = graph.with_force(ForceElement::Torque { body: "K1".into(), torque: Profile::constant(s.mom) });
+        }
+        Some(graph)
+    }
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@ use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
+use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -177,6 +178,17 @@ impl SceneType for CartPendulum {
     }
 
     body_scene!();
+
+    /// The cart on a prismatic joint along x, the bob on a revolute joint at the cart's centre,
+    /// its angle `θ` absolute (from the downward vertical: the rod's end `(0, r)` in the bob's
+    /// frame).
+    fn joint_graph(&self) -> Option<JointGraph> {
+        Some(
+            crate::scene::graph_of(Self::ID, self)
+                .with_joint(GraphJoint::prismatic("X", GROUND, [0.0, 0.0], "cart", [0.0, 0.0], [1.0, 0.0]))
+                .with_joint(GraphJoint::revolute("θ", "cart", [0.0, 0.0], "bob", [0.0, self.rod_length]).absolute()),
+        )
+    }
 }
 
 #[cfg(test)]

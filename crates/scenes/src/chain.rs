@@ -3,6 +3,7 @@
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
+use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 use nalgebra::{DMatrix, DVector};
@@ -165,6 +166,21 @@ impl SceneType for Chain {
     }
 
     body_scene!();
+
+    /// Rods hinged at their ends: link 1's top `(0, l/2)` at the origin, each link's top at the
+    /// previous link's bottom `(0, −l/2)`; absolute angles from the downward vertical.
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let half = 0.5 * self.link_length;
+        let mut graph = crate::scene::graph_of(Self::ID, self);
+        let names: Vec<String> = graph.bodies.iter().map(|b| b.name.clone()).collect();
+        for (i, name) in names.iter().enumerate() {
+            let (parent, anchor) = if i == 0 { (GROUND, [0.0, 0.0]) } else { (names[i - 1].as_str(), [0.0, -half]) };
+            let coordinate = lagrange::Mechanism::coordinates(self)[i].name.clone();
+            graph = graph
+                .with_joint(GraphJoint::revolute(coordinate, parent, anchor, name.as_str(), [0.0, half]).absolute());
+        }
+        Some(graph)
+    }
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@ use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
+use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::tree::{Joint, Parent, Tree};
 use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
@@ -192,6 +193,16 @@ impl SceneType for DoublePendulum {
     }
 
     body_scene!();
+
+    /// Revolute joints at the origin and at bob 1's centre, absolute angles from the downward
+    /// vertical (each rod's end `(0, l_i)` in its bob's frame).
+    fn joint_graph(&self) -> Option<JointGraph> {
+        Some(
+            crate::scene::graph_of(Self::ID, self)
+                .with_joint(GraphJoint::revolute("θ1", GROUND, [0.0, 0.0], "bob 1", [0.0, self.length_1]).absolute())
+                .with_joint(GraphJoint::revolute("θ2", "bob 1", [0.0, 0.0], "bob 2", [0.0, self.length_2]).absolute()),
+        )
+    }
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use crate::linkage::{LinkBody, Linkage, Point, solve2};
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
+use lagrange::graph::{ForceElement, GROUND, GraphJoint, JointGraph, Profile};
 use lagrange::{Body, Coordinate, Error, Loads, Mechanism, Pose, Scalar, State};
 use std::f64::consts::FRAC_PI_3;
 
@@ -253,6 +254,22 @@ impl SceneType for FourBar {
     }
 
     body_scene!(engine);
+
+    /// Pins at `O2`, `A` and `O4` as tree joints (the coupler's angle absolute), the pin at `B`
+    /// between coupler and rocker closing the loop; the crank torque.
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let [a, b, c, d] = self.lengths();
+        let mut graph = crate::scene::graph_of(Self::ID, self)
+            .with_joint(GraphJoint::revolute("θ2", GROUND, [0.0, 0.0], "crank", [-a / 2.0, 0.0]))
+            .with_joint(GraphJoint::revolute("θ3", "crank", [a / 2.0, 0.0], "coupler", [-b / 2.0, 0.0]).absolute())
+            .with_joint(GraphJoint::revolute("θ4", GROUND, [d, 0.0], "rocker", [-c / 2.0, 0.0]))
+            .with_joint(GraphJoint::revolute("B", "coupler", [b / 2.0, 0.0], "rocker", [c / 2.0, 0.0]).closing());
+        if self.torque != 0.0 {
+            graph =
+                graph.with_force(ForceElement::Torque { body: "crank".into(), torque: Profile::constant(self.torque) });
+        }
+        Some(graph)
+    }
 }
 
 /// The four-bar in its crank angle alone, `q = (θ2)`: the coupler and rocker angles come from

@@ -4,6 +4,7 @@ use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, SceneType};
+use lagrange::graph::{ForceElement, GROUND, GraphJoint, JointGraph};
 use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -132,6 +133,17 @@ impl SceneType for HarmonicOscillator {
     }
 
     body_scene!();
+
+    /// A prismatic joint along x with a spring `½ k x²` on it and, when `c > 0`, a damper.
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let mut graph = crate::scene::graph_of(Self::ID, self)
+            .with_joint(GraphJoint::prismatic("x", GROUND, [0.0, 0.0], "mass", [0.0, 0.0], [1.0, 0.0]))
+            .with_force(ForceElement::JointSpring { joint: "x".into(), stiffness: self.stiffness, rest: 0.0 });
+        if self.damping != 0.0 {
+            graph = graph.with_force(ForceElement::JointDamper { joint: "x".into(), coefficient: self.damping });
+        }
+        Some(graph)
+    }
 }
 
 #[cfg(test)]

@@ -107,6 +107,8 @@ macro_rules! for_each_scene {
 
 mod checks;
 mod conserved;
+#[cfg(test)]
+mod graph_tests;
 mod linkage;
 mod params;
 mod scene;

@@ -4,6 +4,7 @@
 
 use crate::checks::{check_dimensions, check_state};
 use crate::{ClosedForm, Conserved, MechanismVisitor, ParamSpec, Params};
+use lagrange::graph::JointGraph;
 use lagrange::{Coordinate, Error, State, System};
 use std::marker::PhantomData;
 
@@ -89,6 +90,12 @@ pub trait Scene: Send + Sync {
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid parameters.
     fn conserved_quantities(&self, params: &Params) -> Result<Vec<Conserved>, Error>;
+
+    /// The scene as a joint graph with `params` ([`SceneType::joint_graph`]), if it is one.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid parameters.
+    fn joint_graph(&self, params: &Params) -> Result<Option<JointGraph>, Error>;
 }
 
 /// A scene as one type: its identity, its parameter table and constructor from parameters, its
@@ -164,6 +171,16 @@ pub trait SceneType: Clone + Send + Sync + Sized + 'static {
     /// Run `visitor` on the scene as a [`Mechanism`](lagrange::Mechanism); `None` for a raw
     /// [`Lagrangian`](lagrange::Lagrangian).
     fn visit<V: MechanismVisitor>(self, visitor: V) -> Option<V::Output>;
+
+    /// The scene as bodies and joints ([`JointGraph`]), with the scene's bodies in its order and
+    /// its coordinates as the graph's coordinate joints (same names, order, signs and zeros), or
+    /// `None` where the scene is not a joint graph (its coordinates are the point: polar,
+    /// Cartesian, rope lengths) — the default. The maximal builds (Cartesian, rapier) of a scene
+    /// with a graph follow from the graph (crate `lagrange-maximal`), and the graph's reduced
+    /// model is checked against the scene's own.
+    fn joint_graph(&self) -> Option<JointGraph> {
+        None
+    }
 }
 
 /// [`SceneType::closed_form`] from the scene's own `closed_form_accelerations(q, q̇)`.
@@ -304,6 +321,10 @@ impl<T: SceneType> Scene for Registered<T> {
 
     fn conserved_quantities(&self, params: &Params) -> Result<Vec<Conserved>, Error> {
         Ok(T::from_params(params)?.conserved())
+    }
+
+    fn joint_graph(&self, params: &Params) -> Result<Option<JointGraph>, Error> {
+        Ok(T::from_params(params)?.joint_graph())
     }
 }
 
@@ -476,4 +497,16 @@ mod tests {
             assert!(matches!(error, Some(Error::InvalidParameter { .. })), "{}: {error:?}", scene.id());
         }
     }
+}
+
+/// An empty joint graph named `id` with the bodies (names, masses, inertias) and gravity of
+/// `mechanism`, for a scene's [`SceneType::joint_graph`].
+pub(crate) fn graph_of<M: lagrange::Mechanism>(id: &str, mechanism: &M) -> JointGraph {
+    let mut graph = JointGraph::new(id, mechanism.gravity());
+    graph.bodies = mechanism
+        .bodies()
+        .iter()
+        .map(|b| lagrange::graph::GraphBody::rigid(b.name.clone(), b.mass, b.inertia))
+        .collect();
+    graph
 }

@@ -6,6 +6,7 @@ use crate::linkage::{LinkBody, Linkage, Point};
 use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::{body_scene, fields};
 use crate::{Conserved, Domain, Invariant, SceneType};
+use lagrange::graph::{ForceElement, GROUND, GraphJoint, JointGraph, Profile};
 use lagrange::{Body, Coordinate, Error, Loads, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -212,6 +213,22 @@ impl SceneType for SliderCrank {
     }
 
     body_scene!(engine);
+
+    /// Pins at the origin and at the crank pin `P` (the rod's angle absolute), the slider on a
+    /// prismatic joint along x, the rod–slider pin closing the loop; the crank torque.
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let (r, l) = (self.crank, self.rod);
+        let mut graph = crate::scene::graph_of(Self::ID, self)
+            .with_joint(GraphJoint::revolute("φ", GROUND, [0.0, 0.0], "crank", [-r / 2.0, 0.0]))
+            .with_joint(GraphJoint::revolute("ψ", "crank", [r / 2.0, 0.0], "rod", [-l / 2.0, 0.0]).absolute())
+            .with_joint(GraphJoint::prismatic("x", GROUND, [0.0, 0.0], "slider", [0.0, 0.0], [1.0, 0.0]))
+            .with_joint(GraphJoint::revolute("rod–slider pin", "rod", [l / 2.0, 0.0], "slider", [0.0, 0.0]).closing());
+        if self.torque != 0.0 {
+            graph =
+                graph.with_force(ForceElement::Torque { body: "crank".into(), torque: Profile::constant(self.torque) });
+        }
+        Some(graph)
+    }
 }
 
 /// The slider-crank in its crank angle alone, `q = (φ)`: `ψ` and `x` from

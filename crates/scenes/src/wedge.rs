@@ -4,6 +4,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
+use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::FRAC_PI_2;
 
@@ -110,6 +111,24 @@ impl SceneType for Wedge {
     }
 
     constant_force_scene!();
+
+    /// The wedge on a prismatic joint along x; the block on a prismatic joint of the wedge along
+    /// the slope `(cos α, −sin α)` from the top corner `(0, L sin α)`.
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let (sin, cos) = self.angle.sin_cos();
+        Some(
+            crate::scene::graph_of(Self::ID, self)
+                .with_joint(GraphJoint::prismatic("x", GROUND, [0.0, 0.0], "wedge", [0.0, 0.0], [1.0, 0.0]))
+                .with_joint(GraphJoint::prismatic(
+                    "x'",
+                    "wedge",
+                    [0.0, self.incline_length * sin],
+                    "block",
+                    [0.0, 0.0],
+                    [cos, -sin],
+                )),
+        )
+    }
 }
 
 #[cfg(test)]

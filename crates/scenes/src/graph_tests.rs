@@ -1,0 +1,80 @@
+//! Every scene that is a joint graph: the graph's reduced model (`lagrange::graph`) against the
+//! scene's own, hand-written one.
+
+use crate::testing::{ENGINE_VS_CLOSED_FORM, assert_close, max_abs};
+use crate::{Params, Scene, all};
+use lagrange::graph::GraphMechanism;
+use lagrange::{Dynamics, Model, State};
+
+/// Parameter changes that switch on what the defaults leave off (a torque, damping, a compound
+/// bob), per scene.
+const CHANGES: &[(&str, &str, f64)] = &[
+    ("cart_pendulum", "bob_inertia", 0.05),
+    ("double_pendulum", "inertia_2", 0.03),
+    ("harmonic_oscillator", "damping", 0.4),
+    ("four_bar", "torque", 1.5),
+    ("slider_crank", "torque", -2.0),
+];
+
+/// States around the default one: the default, then shifted coordinates and velocities (brought
+/// onto the constraints with the first coordinate held, for the loops).
+fn states(model: &Model<GraphMechanism>, default: &State) -> Vec<State> {
+    let mut states = vec![default.clone()];
+    for (k, shift) in [0.13, -0.29, 0.41].into_iter().enumerate() {
+        let q: Vec<f64> = default.q.iter().enumerate().map(|(i, q)| q + shift * (1.0 + 0.3 * i as f64)).collect();
+        let qdot: Vec<f64> = default.qdot.iter().enumerate().map(|(i, v)| v + shift * (0.7 - 0.2 * i as f64)).collect();
+        let approximate = State::new(default.t + 0.1 * k as f64, q, qdot);
+        let mut held = vec![false; default.q.len()];
+        held[0] = true;
+        states.push(model.assemble(&approximate, &held).expect("assembles near the default state"));
+    }
+    states
+}
+
+fn check(scene: &dyn Scene, params: &Params) -> usize {
+    let Some(graph) = scene.joint_graph(params).unwrap() else { return 0 };
+    let model = Model::new(GraphMechanism::new(graph).unwrap()).unwrap();
+    let mut system = scene.build(params).unwrap();
+    assert_eq!(model.coordinates(), &scene.coordinates(params).unwrap()[..], "{}: coordinates", scene.id());
+    let mut ws = Dynamics::new_workspace(&model);
+    let default = scene.default_state(params).unwrap();
+    for state in states(&model, &default) {
+        let expected = system.accelerations(state.t, &state.q, &state.qdot).unwrap().to_vec();
+        let mut got = vec![0.0; expected.len()];
+        Dynamics::accelerations(&model, &mut ws, state.t, &state.q, &state.qdot, &mut got).unwrap();
+        // Two exact formulas for the same q̈ (as for the closed forms): round-off only.
+        let what = format!("{}: graph q̈ vs the scene's at {state:?}", scene.id());
+        assert_close(&what, &expected, &got, ENGINE_VS_CLOSED_FORM * max_abs(&expected).max(1.0));
+    }
+    1
+}
+
+/// The graph's reduced model has the scene's coordinates and its `q̈` at the defaults and with
+/// each change in [`CHANGES`].
+#[test]
+fn joint_graph_reduced_models_equal_the_hand_written_ones() {
+    let mut checked = Vec::new();
+    for scene in all() {
+        let mut params = scene.default_params();
+        if check(*scene, &params) == 1 {
+            checked.push(scene.id());
+        }
+        for &(_, name, value) in CHANGES.iter().filter(|(id, ..)| *id == scene.id()) {
+            params.set(name, value).unwrap();
+            check(*scene, &params);
+        }
+    }
+    assert_eq!(
+        checked,
+        [
+            "cart_pendulum",
+            "harmonic_oscillator",
+            "wedge",
+            "double_pendulum",
+            "chain",
+            "four_bar",
+            "slider_crank",
+            "andrews_squeezer"
+        ]
+    );
+}
