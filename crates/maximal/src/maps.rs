@@ -5,6 +5,7 @@
 
 use crate::BodyState;
 use crate::scenes::{MaximalScene, MaximalVisitor};
+use lagrange::graph::GraphMechanism;
 use lagrange::num_dual::Dual64;
 use lagrange::{Body, Error, Mechanism, Pose, State};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, visit_mechanism};
@@ -40,6 +41,9 @@ pub fn gravity(params: &Params) -> f64 {
 /// # Errors
 /// Invalid parameters, an unknown scene, or a state of the wrong size.
 pub fn body_states(scene: &str, params: &Params, state: &State) -> Result<Vec<BodyState>, Error> {
+    if let Some(mechanism) = crate::scenes::graph(scene, params)? {
+        return graph_body_states(&mechanism, state);
+    }
     struct States<'a>(&'a State);
     impl MechanismVisitor for States<'_> {
         type Output = Result<Vec<BodyState>, Error>;
@@ -81,6 +85,9 @@ pub fn generalized(
     bodies: &[BodyState],
     reference: &[f64],
 ) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    if let Some(mechanism) = crate::scenes::graph(scene, params)? {
+        return Ok(graph_generalized(&mechanism, bodies, reference));
+    }
     let z: Vec<[Dual64; 3]> =
         bodies.iter().map(|b| std::array::from_fn(|c| Dual64::new(b.pose[c], b.velocity[c]))).collect();
     struct Inverse<'a>(Dual64, &'a [[Dual64; 3]]);
@@ -132,6 +139,9 @@ pub fn potential(
     states: &[BodyState],
     gradient: Option<&mut [f64]>,
 ) -> Result<(f64, bool), Error> {
+    if let Some(mechanism) = crate::scenes::graph(scene, params)? {
+        return Ok(graph_potential(&mechanism, states, gradient));
+    }
     struct Potential<'a> {
         q: Vec<f64>,
         t: f64,
@@ -171,4 +181,73 @@ fn set_eps(pose: &mut Pose<Dual64>, component: usize, eps: f64) {
         1 => pose.y.eps = eps,
         _ => pose.angle.eps = eps,
     }
+}
+
+/// The body states of a joint graph's reduced model at `state`: poses by forward kinematics,
+/// velocities by one dual pass along `(q̇, 1)`.
+///
+/// # Errors
+/// A state of the wrong size.
+pub fn graph_body_states(mechanism: &GraphMechanism, state: &State) -> Result<Vec<BodyState>, Error> {
+    let n = mechanism.coordinates().len();
+    if state.q.len() != n || state.qdot.len() != n {
+        return Err(Error::DimensionMismatch { what: "state", expected: n, got: state.q.len() });
+    }
+    let q: Vec<Dual64> = state.q.iter().zip(&state.qdot).map(|(q, v)| Dual64::new(*q, *v)).collect();
+    let mut poses = vec![Pose::<Dual64>::default(); mechanism.bodies().len()];
+    mechanism.poses(Dual64::new(state.t, 1.0), &q, &mut poses);
+    Ok(poses
+        .iter()
+        .map(|p| BodyState { pose: [p.x.re, p.y.re, p.angle.re], velocity: [p.x.eps, p.y.eps, p.angle.eps] })
+        .collect())
+}
+
+/// `(q, q̇)` of a joint graph from body states: every coordinate joint's value from its two
+/// bodies (relative or absolute angle, slide along the axis; [`GraphMechanism::coordinates_of`])
+/// and its rate by one dual pass; angles unwrapped to the branch nearest `reference`.
+pub fn graph_generalized(mechanism: &GraphMechanism, bodies: &[BodyState], reference: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let poses: Vec<Pose<Dual64>> = bodies
+        .iter()
+        .map(|b| {
+            Pose::new(
+                Dual64::new(b.pose[0], b.velocity[0]),
+                Dual64::new(b.pose[1], b.velocity[1]),
+                Dual64::new(b.pose[2], b.velocity[2]),
+            )
+        })
+        .collect();
+    let mut q = vec![Dual64::from(0.0); mechanism.coordinates().len()];
+    mechanism.coordinates_of(&poses, &mut q);
+    let mut values: Vec<f64> = q.iter().map(|v| v.re).collect();
+    for (i, c) in mechanism.coordinates().iter().enumerate() {
+        if c.kind == lagrange::CoordinateKind::Angle && i < reference.len() {
+            values[i] += 2.0 * PI * ((reference[i] - values[i]) / (2.0 * PI)).round();
+        }
+    }
+    (values, q.iter().map(|v| v.eps).collect())
+}
+
+/// A joint graph's spring potential at body states and, with `gradient`, `∂V/∂p_b` (3B); the
+/// flag says whether the graph has springs.
+pub fn graph_potential(mechanism: &GraphMechanism, states: &[BodyState], gradient: Option<&mut [f64]>) -> (f64, bool) {
+    let poses: Vec<Pose<f64>> = states.iter().map(|s| Pose::from_array(s.pose)).collect();
+    if let Some(gradient) = gradient {
+        gradient.fill(0.0);
+        if mechanism.has_potential() {
+            // body_wrenches adds −∂V/∂p_b (and the non-conservative loads, left out here).
+            let mut spring_only = mechanism.graph().clone();
+            spring_only.forces.retain(|f| {
+                matches!(
+                    f,
+                    lagrange::graph::ForceElement::Spring { .. } | lagrange::graph::ForceElement::JointSpring { .. }
+                )
+            });
+            if let Ok(springs) = GraphMechanism::new(spring_only) {
+                let still = vec![[0.0; 3]; states.len()];
+                springs.body_wrenches(0.0, &poses, &still, gradient);
+                gradient.iter_mut().for_each(|g| *g = -*g);
+            }
+        }
+    }
+    (mechanism.force_potential(&poses), mechanism.has_potential())
 }

@@ -94,7 +94,7 @@ pub(crate) enum Element {
 /// approx::assert_relative_eq!(qddot[0], expected, max_relative = 1e-13);
 /// # Ok::<(), lagrange::Error>(())
 /// ```
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct GraphMechanism {
     graph: JointGraph,
     bodies: Vec<Body>,
@@ -681,16 +681,33 @@ impl GraphMechanism {
 
     /// Write joint `j`'s constraint rows (a loop-closing joint) at `(t, q)`.
     fn closing_rows<S: Scalar, Q: Fn(usize) -> S>(&self, j: usize, t: S, q: &Q, rows: &mut [S]) {
-        let spec = &self.graph.joints[j];
         let joint = &self.joints[j];
         let (parent, child) = (self.end_pose(joint.parent, t, q), self.end_pose(joint.child, t, q));
-        let (parent, child) = (parent.as_ref(), child.as_ref());
+        let source = |k: usize| self.value(k, t, q);
+        self.residuals(j, t, parent.as_ref(), child.as_ref(), &source, rows);
+    }
+
+    /// Joint `j`'s residuals between its bodies' poses (`None`: the ground): the joint itself
+    /// (revolute: the parent's anchor less the child's, x and y; prismatic: the child anchor's offset from
+    /// the slide line and the relative angle; fixed: the separation and the relative angle less
+    /// its angle), then its drive (`value − q(t)`) or coupling (`value − ratio · source − offset`,
+    /// the source's value from `source`).
+    fn residuals<S: Scalar>(
+        &self,
+        j: usize,
+        t: S,
+        parent: Option<&Pose<S>>,
+        child: Option<&Pose<S>>,
+        source: &dyn Fn(usize) -> S,
+        rows: &mut [S],
+    ) {
+        let spec = &self.graph.joints[j];
         let angle = |p: Option<&Pose<S>>| p.map_or(S::zero(), |p| p.angle);
         let (a, c) = (point(parent, spec.parent_anchor), point(child, spec.child_anchor));
         let used = match spec.kind {
             JointType::Revolute => {
-                rows[0] = c[0] - a[0];
-                rows[1] = c[1] - a[1];
+                rows[0] = a[0] - c[0];
+                rows[1] = a[1] - c[1];
                 2
             }
             JointType::Prismatic { axis } => {
@@ -700,19 +717,80 @@ impl GraphMechanism {
                 2
             }
             JointType::Fixed { angle: turn } => {
-                rows[0] = c[0] - a[0];
-                rows[1] = c[1] - a[1];
+                rows[0] = a[0] - c[0];
+                rows[1] = a[1] - c[1];
                 rows[2] = angle(child) - angle(parent) - turn;
                 3
             }
         };
-        match joint.value {
+        match self.joints[j].value {
             JointValue::Driven(profile) => rows[used] = self.joint_value(j, parent, child) - profile.at(t),
-            JointValue::Coupled { source, ratio, offset } => {
-                rows[used] = self.joint_value(j, parent, child) - self.value(source, t, q) * ratio - offset;
+            JointValue::Coupled { source: k, ratio, offset } => {
+                rows[used] = self.joint_value(j, parent, child) - source(k) * ratio - offset;
             }
             JointValue::Coordinate(_) | JointValue::Fixed => {}
         }
+    }
+
+    /// The number of residuals of joint `j` as a constraint between two free bodies (every
+    /// joint, tree or loop-closing): 2 for a revolute or prismatic joint, 3 for a fixed one, one
+    /// more for a drive or a coupling — what a Cartesian model of the graph needs.
+    pub fn joint_rows(&self, j: usize) -> usize {
+        let base = match self.graph.joints[j].kind {
+            JointType::Fixed { .. } => 3,
+            _ => 2,
+        };
+        base + usize::from(matches!(self.joints[j].value, JointValue::Driven(_) | JointValue::Coupled { .. }))
+    }
+
+    /// The names of joint `j`'s [`joint_rows`](Self::joint_rows) residuals.
+    pub fn joint_row_names(&self, j: usize) -> Vec<String> {
+        let spec = &self.graph.joints[j];
+        let mut names: Vec<String> = match spec.kind {
+            JointType::Revolute => vec!["x", "y"],
+            JointType::Prismatic { .. } => vec!["off the axis", "angle"],
+            JointType::Fixed { .. } => vec!["x", "y", "angle"],
+        }
+        .into_iter()
+        .map(|w| format!("{} ({w})", spec.name))
+        .collect();
+        match self.joints[j].value {
+            JointValue::Driven(_) => names.push(format!("{} (drive)", spec.name)),
+            JointValue::Coupled { .. } => names.push(format!("{} (coupling)", spec.name)),
+            _ => {}
+        }
+        names
+    }
+
+    /// Joint `j`'s [`joint_rows`](Self::joint_rows) residuals at time `t` for bodies at
+    /// `pose(b)`, every joint as a constraint between free bodies (the Cartesian model's
+    /// `Φ(z, t)`), into `rows`.
+    pub fn joint_residuals<S: Scalar>(&self, j: usize, t: S, pose: &dyn Fn(usize) -> Pose<S>, rows: &mut [S]) {
+        let joint = &self.joints[j];
+        let (parent, child) = (joint.parent.map(pose), joint.child.map(pose));
+        let source = |k: usize| {
+            let s = &self.joints[k];
+            let (p, c) = (s.parent.map(pose), s.child.map(pose));
+            self.joint_value(k, p.as_ref(), c.as_ref())
+        };
+        self.residuals(j, t, parent.as_ref(), child.as_ref(), &source, rows);
+    }
+
+    /// The pose of body `b` at `(t, q)`, by forward kinematics along its path from the ground.
+    pub fn body_pose<S: Scalar>(&self, b: usize, t: S, q: &[S]) -> Pose<S> {
+        self.pose_of(b, t, &|i: usize| q[i])
+    }
+
+    /// Whether body `b`'s pose is a function of time alone: every joint on its path from the
+    /// ground is fixed or driven.
+    pub fn is_kinematic(&self, b: usize) -> bool {
+        self.paths[b].iter().all(|&j| matches!(self.joints[j].value, JointValue::Driven(_) | JointValue::Fixed))
+    }
+
+    /// The tree joints in forward-kinematics order, each with the body it places: parents
+    /// before children.
+    pub fn tree_order(&self) -> &[(usize, usize)] {
+        &self.order
     }
 }
 

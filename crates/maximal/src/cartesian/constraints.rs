@@ -6,7 +6,9 @@
 //! Every constraint is evaluated generically over the scalar, so that `Φ_z`, `Φ_t` and the
 //! convective term `γ_Φ` come from dual-number passes over the same code.
 
-use lagrange::Scalar;
+use lagrange::graph::{GraphMechanism, JointValue};
+use lagrange::{Pose, Scalar};
+use std::sync::Arc;
 
 /// Index of `x` within a body's pose.
 pub(crate) const X: usize = 0;
@@ -80,8 +82,6 @@ pub(crate) enum Joint {
         /// `c₀`.
         constant: f64,
     },
-    /// Two anchors coincide (two equations, `x` then `y`): a revolute pin.
-    Pin(Anchor, Anchor),
     /// The distance between two anchors is `length` (one equation): a massless rod between
     /// point masses, or a point mass and a support.
     Distance {
@@ -91,6 +91,14 @@ pub(crate) enum Joint {
         to: Anchor,
         /// The rod's length (m).
         length: f64,
+    },
+    /// Joint `joint` of a joint graph between its two bodies' poses
+    /// ([`GraphMechanism::joint_residuals`]): the joint's own rows, then its drive or coupling.
+    Graph {
+        /// The graph's model.
+        mechanism: Arc<GraphMechanism>,
+        /// The joint's index.
+        joint: usize,
     },
 }
 
@@ -106,9 +114,9 @@ pub(crate) struct Constraint {
 impl Constraint {
     /// Number of scalar equations.
     pub(crate) fn equations(&self) -> usize {
-        match self.joint {
-            Joint::Pin(..) => 2,
+        match &self.joint {
             Joint::Linear { .. } | Joint::Distance { .. } => 1,
+            Joint::Graph { mechanism, joint } => mechanism.joint_rows(*joint),
         }
     }
 
@@ -116,7 +124,10 @@ impl Constraint {
     pub(crate) fn is_rheonomic(&self) -> bool {
         match &self.joint {
             Joint::Linear { .. } => false,
-            Joint::Pin(a, b) | Joint::Distance { from: a, to: b, .. } => a.is_driven() || b.is_driven(),
+            Joint::Distance { from: a, to: b, .. } => a.is_driven() || b.is_driven(),
+            Joint::Graph { mechanism, joint } => {
+                matches!(mechanism.joints()[*joint].value, JointValue::Driven(p) if p.varies())
+            }
         }
     }
 
@@ -130,15 +141,14 @@ impl Constraint {
                 }
                 out[0] = value;
             }
-            Joint::Pin(a, b) => {
-                let ([xa, ya], [xb, yb]) = (a.position(z, t), b.position(z, t));
-                out[0] = xa - xb;
-                out[1] = ya - yb;
-            }
             Joint::Distance { from, to, length } => {
                 let ([xa, ya], [xb, yb]) = (from.position(z, t), to.position(z, t));
                 let (dx, dy) = (xa - xb, ya - yb);
                 out[0] = (dx * dx + dy * dy).sqrt() - *length;
+            }
+            Joint::Graph { mechanism, joint } => {
+                let pose = |b: usize| Pose::new(z[3 * b + X], z[3 * b + Y], z[3 * b + ANGLE]);
+                mechanism.joint_residuals(*joint, t, &pose, out);
             }
         }
     }
@@ -160,7 +170,9 @@ pub(crate) fn evaluate_all<S: Scalar>(constraints: &[Constraint], z: &[S], t: S,
 pub(crate) fn equation_names(constraints: &[Constraint]) -> Vec<String> {
     let mut names = Vec::new();
     for constraint in constraints {
-        if constraint.equations() == 2 {
+        if let Joint::Graph { mechanism, joint } = &constraint.joint {
+            names.extend(mechanism.joint_row_names(*joint));
+        } else if constraint.equations() == 2 {
             names.push(format!("{} (x)", constraint.name));
             names.push(format!("{} (y)", constraint.name));
         } else {
@@ -189,11 +201,6 @@ pub(crate) fn no_turning(body: usize, names: &[String]) -> Constraint {
 /// A point mass hung at a fixed horizontal position `x_b = x`, not turning (2 constraints).
 pub(crate) fn hanging(body: usize, x: f64, names: &[String]) -> [Constraint; 2] {
     [fix(body, X, x, format!("{} hangs at x = {x}", names[body])), no_turning(body, names)]
-}
-
-/// A revolute pin between two anchors.
-pub(crate) fn pin(a: Anchor, b: Anchor, name: String) -> Constraint {
-    Constraint { name, joint: Joint::Pin(a, b) }
 }
 
 /// The frame a vector of a [`VelocityConstraint`] is fixed in.

@@ -19,13 +19,15 @@
 
 mod dynamics;
 
-use super::constraints::{Constraint, VelocityConstraint, equation_names, evaluate_all};
+use super::constraints::{Constraint, Joint, VelocityConstraint, equation_names, evaluate_all, no_turning};
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError, maps};
+use lagrange::graph::GraphMechanism;
 use lagrange::num_dual::{Dual2_64, Dual64};
 use lagrange::{Body, Coordinate, Error, Stage};
 use lagrange_scenes::Params;
 use nalgebra::{DMatrix, DVector};
+use std::sync::Arc;
 
 /// Relative pivot below which a symmetric positive (semi-)definite factorization is declared
 /// singular: the pivot after eliminating the earlier rows, relative to its own diagonal entry
@@ -51,22 +53,10 @@ const PROJECTION_ACCEPT: f64 = 1e-10;
 pub(crate) enum AppliedForce {
     /// None.
     None,
-    /// Linear damping `−c ẋ` on body 0 (the harmonic oscillator).
-    Damping {
-        /// `c` (kg/s).
-        coefficient: f64,
-    },
     /// The Lorentz force `e B (ẏ, −ẋ)` on body 0 in the field `B ẑ` (the charged particle).
     Lorentz {
         /// `e B` (kg/s).
         charge_field: f64,
-    },
-    /// A constant torque on one body (a driven crank).
-    Torque {
-        /// Index of the body.
-        body: usize,
-        /// The torque (N m), counter-clockwise.
-        torque: f64,
     },
 }
 
@@ -101,6 +91,8 @@ pub(crate) struct CartesianSystem {
     has_potential: bool,
     /// Whether a constraint depends on time.
     rheonomic: bool,
+    /// The joint graph the system was built from, whose force elements act on the bodies.
+    graph: Option<Arc<GraphMechanism>>,
 }
 
 /// Every buffer an evaluation needs, allocated once per simulation. Shapes use `n = 3B`
@@ -157,6 +149,9 @@ impl CartesianSystem {
     pub(crate) fn new(scene: &str, params: &Params) -> Result<Self, BuildError> {
         // Validates the parameters (and the scene id) before any parameter is read by name.
         let bodies = maps::bodies(scene, params)?;
+        if let Some(mechanism) = crate::scenes::graph(scene, params)? {
+            return Ok(Self::from_graph(scene, params, Arc::new(mechanism)));
+        }
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
         // The scene's constraints and non-conservative forces, from its maximal description.
         struct Description<'a>(&'a [String]);
@@ -197,7 +192,80 @@ impl CartesianSystem {
             applied,
             has_potential,
             rheonomic,
+            graph: None,
         })
+    }
+
+    /// The Cartesian system of a joint graph: every joint (tree or loop-closing) as constraints
+    /// between its bodies' poses ([`GraphMechanism::joint_residuals`]), the force elements as
+    /// body wrenches ([`GraphMechanism::body_wrenches`]), and `φ_b = φ_b(0)` for a body without
+    /// inertia whose angle no joint involves (its column of `Φ_z` vanishes identically: all
+    /// its joints act at its centre).
+    pub(crate) fn from_graph(name: &str, params: &Params, mechanism: Arc<GraphMechanism>) -> Self {
+        use lagrange::Mechanism;
+        let bodies = mechanism.bodies().to_vec();
+        let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
+        let mut constraints: Vec<Constraint> = (0..mechanism.joints().len())
+            .map(|joint| Constraint {
+                name: mechanism.graph().joints[joint].name.clone(),
+                joint: Joint::Graph { mechanism: Arc::clone(&mechanism), joint },
+            })
+            .collect();
+        // Which angles the joints involve, from Φ_z at a generic configuration.
+        let q: Vec<f64> = (0..mechanism.coordinates().len()).map(|i| 0.37 + 0.11 * i as f64).collect();
+        let mut z = vec![0.0; 3 * bodies.len()];
+        for b in 0..bodies.len() {
+            z[3 * b..3 * b + 3].copy_from_slice(&mechanism.body_pose(b, 0.23, &q).to_array());
+        }
+        let mut involved = vec![false; bodies.len()];
+        for constraint in &constraints {
+            let rows = constraint.equations();
+            for b in 0..bodies.len() {
+                let mut seeded: Vec<Dual64> = z.iter().map(|v| Dual64::from(*v)).collect();
+                seeded[3 * b + 2].eps = 1.0;
+                let mut out = vec![Dual64::from(0.0); rows];
+                constraint.evaluate(&seeded, Dual64::from(0.23), &mut out);
+                involved[b] |= out.iter().any(|v| v.eps != 0.0);
+            }
+        }
+        for (b, body) in bodies.iter().enumerate() {
+            if body.inertia == 0.0 && !involved[b] {
+                constraints.push(no_turning(b, &names));
+            }
+        }
+        let coordinates = names
+            .iter()
+            .flat_map(|name| {
+                [
+                    Coordinate::length(format!("x[{name}]")),
+                    Coordinate::length(format!("y[{name}]")),
+                    Coordinate::angle(format!("φ[{name}]")),
+                ]
+            })
+            .collect();
+        let velocity = Vec::new();
+        Self {
+            scene: name.into(),
+            params: params.clone(),
+            cyclic: vec![false; 3 * bodies.len()],
+            gravity: mechanism.graph().gravity,
+            equation_names: all_names(&constraints, &velocity),
+            holonomic: equation_names(&constraints).len(),
+            velocity,
+            mass: bodies.iter().flat_map(|b| [b.mass, b.mass, b.inertia]).collect(),
+            bodies,
+            coordinates,
+            rheonomic: constraints.iter().any(Constraint::is_rheonomic),
+            constraints,
+            applied: AppliedForce::None,
+            has_potential: false,
+            graph: Some(mechanism),
+        }
+    }
+
+    /// The joint graph's force elements, if the system was built from one.
+    pub(crate) fn graph(&self) -> Option<&GraphMechanism> {
+        self.graph.as_deref()
     }
 
     /// The same system with other constraints (tests of ill-posed constraint sets).
@@ -259,7 +327,7 @@ impl CartesianSystem {
     /// Largest `|Φ_i(z, t)|`, without a workspace.
     pub(crate) fn violation(&self, t: f64, z: &[f64]) -> f64 {
         let mut worst = 0.0_f64;
-        let mut values = [0.0; 2];
+        let mut values = [0.0; 4];
         for constraint in &self.constraints {
             let rows = constraint.equations();
             constraint.evaluate(z, t, &mut values[..rows]);
@@ -380,15 +448,24 @@ impl CartesianSystem {
                 *f -= g;
             }
         }
+        // A joint graph's force elements.
+        if let Some(graph) = &self.graph {
+            let poses: Vec<lagrange::Pose<f64>> =
+                (0..self.bodies.len()).map(|b| lagrange::Pose::new(z[3 * b], z[3 * b + 1], z[3 * b + 2])).collect();
+            let velocities: Vec<[f64; 3]> =
+                (0..self.bodies.len()).map(|b| [zdot[3 * b], zdot[3 * b + 1], zdot[3 * b + 2]]).collect();
+            graph.body_wrenches(t, &poses, &velocities, &mut ws.force);
+            if !ws.force.iter().all(|f| f.is_finite()) {
+                return Err(Error::NonFinite { stage: Stage::AppliedForce, t, q: z.to_vec() });
+            }
+        }
         // Non-conservative forces.
         match self.applied {
             AppliedForce::None => {}
-            AppliedForce::Damping { coefficient } => ws.force[0] -= coefficient * zdot[0],
             AppliedForce::Lorentz { charge_field } => {
                 ws.force[0] += charge_field * zdot[1];
                 ws.force[1] -= charge_field * zdot[0];
             }
-            AppliedForce::Torque { body, torque } => ws.force[3 * body + 2] += torque,
         }
         Ok(())
     }
@@ -578,6 +655,11 @@ impl CartesianSystem {
         if self.has_potential {
             Self::fill_states(&mut ws.states, z, zdot);
             energy += maps::potential(&self.scene, &self.params, t, &ws.states, None)?.0;
+        }
+        if let Some(graph) = &self.graph {
+            let poses: Vec<lagrange::Pose<f64>> =
+                (0..self.bodies.len()).map(|b| lagrange::Pose::new(z[3 * b], z[3 * b + 1], z[3 * b + 2])).collect();
+            energy += graph.force_potential(&poses);
         }
         Ok(energy)
     }

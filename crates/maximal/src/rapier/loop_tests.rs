@@ -3,9 +3,7 @@
 //! joint (impulse joints throughout, and a multibody tree closed by an impulse joint), a rod
 //! pulled by a spring and driven by a torque, and a disc rolling down an incline on colliders.
 
-use super::plan::{
-    BodySpec, BodyTorque, ColliderSpec, JointKind, JointMode, JointSpec, Motion, Plan, PointSpring, Shape, StepForces,
-};
+use super::plan::{BodySpec, ColliderSpec, JointKind, JointMode, JointSpec, Motion, Plan, Shape, StepForces};
 use super::{double, single};
 use crate::{BodyState, Engine, MaximalSimulation, Settings};
 use lagrange_scenes::Params;
@@ -58,6 +56,7 @@ fn plan(mode: JointMode, gravity: f64, bodies: Vec<BodySpec>, joints: Vec<JointS
         reduced_bodies: bodies.iter().filter(|b| b.reduced.is_some()).count(),
         bodies,
         joints,
+        graph: None,
         couplings: Vec::new(),
         rope_pulleys: Vec::new(),
         forces,
@@ -223,12 +222,21 @@ fn the_closing_joint_acts_in_multibody_mode() {
 /// spring from the fixed point `C` to its lower end and driven by a constant torque:
 /// `(m l²/3) θ̈ = τ + (D × F)(θ)` about the pivot.
 fn sprung_rod(mode: JointMode) -> (Plan, impl Fn(f64) -> f64) {
+    use lagrange::graph::{ForceElement, GROUND, GraphBody, GraphJoint, GraphMechanism, JointGraph, Point, Profile};
     let (m, l, k, l0, tau, c) = (0.5, 0.4, 30.0, 0.2, 0.3, [0.45, 0.1]);
-    let bodies = vec![ground([0.0; 3]), dynamic(m, m * l * l / 12.0, [0.0, -0.5 * l, 0.0], [0.0; 3], 0)];
-    let joints = vec![revolute(0, 1, [0.0, 0.0], [0.0, 0.5 * l])];
-    let spring = PointSpring { body: 1, local: [0.0, -0.5 * l], fixed: c, stiffness: k, rest_length: l0 };
-    let forces =
-        StepForces { spring: Some(spring), torque: Some(BodyTorque { body: 1, torque: tau }), ..StepForces::default() };
+    let graph = JointGraph::new("sprung rod", 0.0)
+        .with_body(GraphBody::rigid("rod", m, m * l * l / 12.0))
+        .with_joint(GraphJoint::revolute("θ", GROUND, [0.0, 0.0], "rod", [0.0, 0.5 * l]))
+        .with_force(ForceElement::Spring {
+            a: Point::world(c),
+            b: Point::on("rod", [0.0, -0.5 * l]),
+            stiffness: k,
+            rest_length: l0,
+        })
+        .with_force(ForceElement::Torque { body: "rod".into(), torque: Profile::constant(tau) });
+    let mechanism = GraphMechanism::new(graph).unwrap();
+    let initial = lagrange::State::new(0.0, [0.0], [0.0]);
+    let plan = super::graph::plan(engine(mode, false), mode, "sprung rod", mechanism, &initial).unwrap().plan;
     let accel = move |theta: f64| {
         let d = [l * theta.sin(), -l * theta.cos()];
         let r = [d[0] - c[0], d[1] - c[1]];
@@ -236,7 +244,7 @@ fn sprung_rod(mode: JointMode) -> (Plan, impl Fn(f64) -> f64) {
         let f = [-k * (length - l0) * r[0] / length, -k * (length - l0) * r[1] / length];
         (tau + d[0] * f[1] - d[1] * f[0]) / (m * l * l / 3.0)
     };
-    (plan(mode, 0.0, bodies, joints, forces), accel)
+    (plan, accel)
 }
 
 /// The spring and the torque applied each step: first order towards the quadrature, in both

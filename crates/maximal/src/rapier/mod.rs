@@ -32,6 +32,7 @@
 //! stabilization sweeps off, speed caps off (see `world.rs`'s integration parameters).
 
 mod double;
+pub(crate) mod graph;
 #[cfg(test)]
 mod loop_tests;
 pub(crate) mod plan;

@@ -4,7 +4,9 @@
 //! rapier world (once for f64, once for f32).
 
 use crate::BodyState;
+use lagrange::graph::GraphMechanism;
 use lagrange_scenes::Params;
+use std::sync::Arc;
 
 /// Impulse joints (maximal coordinates, velocity-level constraints solved by PGS) or multibody
 /// joints (reduced coordinates along a tree, Featherstone-style).
@@ -29,6 +31,13 @@ pub(crate) enum Motion {
         amplitude: f64,
         /// Angular frequency `ω` (rad/s).
         frequency: f64,
+    },
+    /// A kinematic, position-based body moved before every step to the pose of body `body` of
+    /// the plan's joint graph, a function of time alone (driven and fixed joints from the
+    /// ground).
+    Kinematic {
+        /// The graph body.
+        body: usize,
     },
 }
 
@@ -105,6 +114,11 @@ pub(crate) enum JointKind {
         /// Rope length (m).
         length: f64,
     },
+    /// The anchors coincide and the child is turned by `angle` from the parent.
+    Fixed {
+        /// `φ_child − φ_parent` (rad).
+        angle: f64,
+    },
 }
 
 /// A joint between two plan bodies, anchored at points given in each body's frame.
@@ -151,49 +165,6 @@ pub(crate) struct RopePulley {
     pub radius: f64,
 }
 
-/// A linear spring between a fixed point `C` and a point `D` of a body: the force on the body at
-/// `D` is `−k (L − l₀) (D − C)/L`, `L = |D − C|`, plus its moment about the centre of mass
-/// (potential `½ k (L − l₀)²`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct PointSpring {
-    /// The plan body carrying `D`.
-    pub body: usize,
-    /// `D` in the body's frame.
-    pub local: [f64; 2],
-    /// `C` in the world frame.
-    pub fixed: [f64; 2],
-    /// Stiffness `k` (N/m).
-    pub stiffness: f64,
-    /// Natural length `l₀` (m).
-    pub rest_length: f64,
-}
-
-impl PointSpring {
-    /// The force on the body (world frame) and its moment about the centre of mass, for the
-    /// body in `state`.
-    pub fn wrench(&self, state: &BodyState) -> [f64; 3] {
-        let (d, _) = point_of(state, self.local);
-        let r = [d[0] - self.fixed[0], d[1] - self.fixed[1]];
-        let length = r[0].hypot(r[1]);
-        if length == 0.0 {
-            return [0.0; 3];
-        }
-        let scale = -self.stiffness * (length - self.rest_length) / length;
-        let force = [scale * r[0], scale * r[1]];
-        let arm = [d[0] - state.pose[0], d[1] - state.pose[1]];
-        [force[0], force[1], arm[0] * force[1] - arm[1] * force[0]]
-    }
-}
-
-/// A constant torque on a body (its reaction on the ground, which does not move).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct BodyTorque {
-    /// The plan body.
-    pub body: usize,
-    /// Torque (N m, counter-clockwise).
-    pub torque: f64,
-}
-
 /// Forces applied with `add_force`/`add_torque` before every step, from the body states at the
 /// start of the step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -204,18 +175,19 @@ pub(crate) struct StepForces {
     pub damping: f64,
     /// `e B` of the charged particle: the Lorentz force `e B (ẏ, −ẋ)` on reduced body 0.
     pub lorentz: f64,
-    /// A spring from a fixed point to a point of a body.
-    pub spring: Option<PointSpring>,
-    /// A constant torque on a body. Constant, so it does not need the per-step treatment: rapier
-    /// applies it in every substep.
-    pub torque: Option<BodyTorque>,
+    /// The plan's joint graph has force elements that depend on the state or on time (springs,
+    /// dampers, varying torques or forces): its wrenches ([`GraphMechanism::body_wrenches`])
+    /// are applied per step.
+    pub graph_varying: bool,
+    /// The plan's joint graph has only constant torques and forces (applied in every substep).
+    pub graph_constant: bool,
 }
 
 impl StepForces {
     /// Whether any state-dependent force is applied per step (the scene then runs with one
     /// substep).
     pub fn any(&self) -> bool {
-        self.potential || self.damping != 0.0 || self.lorentz != 0.0 || self.spring.is_some()
+        self.potential || self.damping != 0.0 || self.lorentz != 0.0 || self.graph_varying
     }
 }
 
@@ -247,6 +219,9 @@ pub(crate) struct Plan {
     pub forces: StepForces,
     /// Time of the initial state.
     pub t0: f64,
+    /// The joint graph the plan was built from (its force elements and kinematic bodies), if
+    /// any; its bodies are the reduced bodies.
+    pub graph: Option<Arc<GraphMechanism>>,
 }
 
 /// The rotation of `v` by `angle`.
@@ -288,6 +263,7 @@ impl JointSpec {
                 let rate = if length > 0.0 { (d[0] * d_dot[0] + d[1] * d_dot[1]) / length } else { 0.0 };
                 (length, rate)
             }
+            JointKind::Fixed { .. } => (0.0, 0.0),
         }
     }
 
@@ -306,6 +282,7 @@ impl JointSpec {
                 off_axis.max(wrap(child.pose[2] - parent.pose[2]).abs())
             }
             JointKind::Rope { length } => (d[0].hypot(d[1]) - length).abs(),
+            JointKind::Fixed { angle } => d[0].hypot(d[1]).max(wrap(child.pose[2] - parent.pose[2] - angle).abs()),
         }
     }
 }
@@ -345,30 +322,6 @@ mod tests {
         let expected = (at(h) - at(-h)) / (2.0 * h);
         let (_, got) = joint.coordinate(&parent, &child);
         assert!((got - expected).abs() < 1e-8, "expected {expected}, got {got}, residual {:e}", got - expected);
-    }
-
-    /// The spring's wrench is minus the gradient of `½ k (L − l₀)²` in the body's pose
-    /// (central differences).
-    #[test]
-    fn point_spring_wrench_is_minus_the_gradient_of_its_potential() {
-        let spring = PointSpring { body: 0, local: [0.2, -0.1], fixed: [0.5, 0.7], stiffness: 40.0, rest_length: 0.3 };
-        let body = state([0.1, -0.3, 0.8], [0.0; 3]);
-        let potential = |b: &BodyState| {
-            let (d, _) = point_of(b, spring.local);
-            let length = (d[0] - spring.fixed[0]).hypot(d[1] - spring.fixed[1]);
-            0.5 * spring.stiffness * (length - spring.rest_length).powi(2)
-        };
-        let wrench = spring.wrench(&body);
-        let h = 1e-6;
-        for c in 0..3 {
-            let shifted = |s: f64| {
-                let mut b = body;
-                b.pose[c] += s;
-                potential(&b)
-            };
-            let expected = -(shifted(h) - shifted(-h)) / (2.0 * h);
-            assert!((wrench[c] - expected).abs() < 1e-7, "component {c}: {} vs {expected}", wrench[c]);
-        }
     }
 
     #[test]

@@ -3,8 +3,7 @@
 //! deviations from the requested scene that rapier needs.
 
 use super::plan::{
-    BodySpec, BodyTorque, ColliderSpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, PointSpring,
-    RopePulley, Shape, StepForces,
+    BodySpec, ColliderSpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, RopePulley, Shape, StepForces,
 };
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError, Engine, maps};
@@ -13,7 +12,7 @@ use lagrange_scenes::Params;
 
 /// Relative inertia `I_b = 1e-2 m r²` given to point bobs on impulse revolute joints, which
 /// freeze the rotation of a body with zero inertia (docs/rapier.md#bodies-and-mass).
-const COMPOUND_BOB: f64 = 1e-2;
+pub(crate) const COMPOUND_BOB: f64 = 1e-2;
 
 /// Mass given to massless movable pulleys of multibody Atwood machines, whose coordinate would
 /// otherwise move no mass (a singular mass matrix, docs/rapier.md#couplings).
@@ -62,6 +61,16 @@ pub(crate) fn plan(
         }
     }
     check_input(scene, params, initial)?;
+    if crate::scenes::graph(scene, params)?.is_some() {
+        // A joint-graph scene: the scene's deviations on its parameters, then the graph's plan.
+        let (params, deviations) = with_deviations(crate::scenes::graph_deviations(scene, mode), params)?;
+        let mechanism = crate::scenes::graph(scene, &params)?.ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
+        let built = super::graph::plan(engine, mode, scene, mechanism, initial)?;
+        let mut plan = built.plan;
+        plan.params = params;
+        plan.deviations = deviations.into_iter().chain(built.deviations).collect();
+        return Ok(plan);
+    }
     crate::scenes::visit(scene, params, Planner { engine, mode, params, initial })?
 }
 
@@ -69,7 +78,7 @@ pub(crate) fn plan(
 pub(crate) const DOWN: [f64; 2] = [0.0, -1.0];
 
 /// Scene, parameters and state are valid and fit together (before any `Params::get`).
-fn check_input(scene: &str, params: &Params, initial: &State) -> Result<(), BuildError> {
+pub(crate) fn check_input(scene: &str, params: &Params, initial: &State) -> Result<(), BuildError> {
     let Some(found) = lagrange_scenes::find(scene) else {
         return Err(Error::InvalidParameter {
             name: "scene".into(),
@@ -245,13 +254,6 @@ impl Draft {
         self.joints.len() - 1
     }
 
-    /// Make joint `joint` a loop-closing joint: an impulse joint in both joint modes
-    /// (docs/rapier.md#loops). With multibody joints, the joints not closing a loop must form a
-    /// tree rooted at the ground.
-    pub(crate) fn close_loop(&mut self, joint: usize) {
-        self.joints[joint].closing = true;
-    }
-
     pub(crate) fn revolute(
         &mut self,
         parent: usize,
@@ -276,18 +278,6 @@ impl Draft {
     /// A rope between the two bodies' centres.
     pub(crate) fn rope(&mut self, parent: usize, child: usize, length: f64) -> usize {
         self.joint(parent, child, JointKind::Rope { length }, [0.0, 0.0], [0.0, 0.0])
-    }
-
-    /// A spring of stiffness `stiffness` and natural length `rest_length` from the fixed point
-    /// `fixed` to the point `local` of plan body `body`, applied each step
-    /// (docs/rapier.md#forces-and-springs).
-    pub(crate) fn spring(&mut self, body: usize, local: [f64; 2], fixed: [f64; 2], stiffness: f64, rest_length: f64) {
-        self.forces.spring = Some(PointSpring { body, local, fixed, stiffness, rest_length });
-    }
-
-    /// A constant torque on plan body `body` (none if it is 0).
-    pub(crate) fn torque(&mut self, body: usize, torque: f64) {
-        self.forces.torque = (torque != 0.0).then_some(BodyTorque { body, torque });
     }
 
     /// `q_to = coeff · q_from + offset`, the offset taken from the initial state.
@@ -318,6 +308,7 @@ impl Draft {
             rope_pulleys: self.rope_pulleys,
             forces: self.forces,
             t0,
+            graph: None,
         }
     }
 }

@@ -5,14 +5,14 @@
 
 use super::rapier::math::{Pose, Real, Vector};
 use super::rapier::prelude::{
-    ColliderBuilder, GenericJoint, IntegrationParameters, MassProperties, Multibody, MultibodyDofCoupling,
-    MultibodyIndex, PhysicsWorld, PrismaticJointBuilder, RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle,
-    RopeJointBuilder,
+    ColliderBuilder, FixedJointBuilder, GenericJoint, IntegrationParameters, MassProperties, Multibody,
+    MultibodyDofCoupling, MultibodyIndex, PhysicsWorld, PrismaticJointBuilder, RevoluteJointBuilder, RigidBodyBuilder,
+    RigidBodyHandle, RopeJointBuilder,
 };
 use super::{real, wide};
 use crate::rapier::plan::{ColliderSpec, JointKind, JointMode, JointSpec, Motion, Plan, Shape, wrap};
 use crate::{BodyState, Engine, MaximalSimulation, Settings, maps};
-use lagrange::Error;
+use lagrange::{Error, Mechanism};
 
 /// PGS sweeps per substep for multibodies with couplings: the couplings of one multibody are
 /// coupled through its mass matrix, and Gauss–Seidel needs several sweeps to solve them to
@@ -164,16 +164,25 @@ impl RapierSimulation {
         if forces.potential {
             maps::potential(&self.plan.scene, &self.plan.params, t, &reduced, Some(&mut gradient))?;
         }
-        // The spring at the start of the step (D from the body's pose then), the constant torque.
+        // The spring at the start of the step (D from the body's pose then), the constant torque,
+        // a joint graph's force elements.
         let mut applied = Vec::new();
-        if forces.spring.is_some() || forces.torque.is_some() {
+        if self.plan.graph.is_some() {
             applied = vec![[0.0; 3]; self.plan.bodies.len()];
-            if let Some(spring) = forces.spring {
-                let w = spring.wrench(&plan_states[spring.body]);
-                applied[spring.body].iter_mut().zip(w).for_each(|(a, w)| *a += w);
-            }
-            if let Some(torque) = forces.torque {
-                applied[torque.body][2] += torque.torque;
+            if let Some(graph) = &self.plan.graph {
+                let poses: Vec<lagrange::Pose<f64>> =
+                    reduced.iter().map(|s| lagrange::Pose::from_array(s.pose)).collect();
+                let velocities: Vec<[f64; 3]> = reduced.iter().map(|s| s.velocity).collect();
+                let mut wrench = vec![0.0; 3 * reduced.len()];
+                graph.body_wrenches(t, &poses, &velocities, &mut wrench);
+                if !wrench.iter().all(|w| w.is_finite()) {
+                    return Err(Error::NonFinite { stage: lagrange::Stage::AppliedForce, t, q: wrench });
+                }
+                for (b, spec) in self.plan.bodies.iter().enumerate() {
+                    if let (Some(r), Motion::Dynamic) = (spec.reduced, spec.motion) {
+                        applied[b] = [wrench[3 * r], wrench[3 * r + 1], wrench[3 * r + 2]];
+                    }
+                }
             }
         }
         for (b, (spec, &handle)) in self.plan.bodies.iter().zip(&self.handles).enumerate() {
@@ -211,7 +220,7 @@ impl RapierSimulation {
         let t = self.t();
         let start = self.plan_states();
         let forces = self.plan.forces;
-        let (gradient, applied) = if forces.any() || forces.torque.is_some() {
+        let (gradient, applied) = if forces.any() || forces.graph_constant {
             self.apply_step_forces(t, &start)?
         } else {
             (Vec::new(), Vec::new())
@@ -223,6 +232,15 @@ impl RapierSimulation {
             {
                 let x = amplitude * (frequency * (t + self.dt)).sin();
                 rb.set_next_kinematic_translation(Vector::new(real(x), 0.0));
+            }
+            // A graph body driven from the ground: its pose at the end of the step (a function of
+            // time alone, whatever the coordinates).
+            if let (Motion::Kinematic { body }, Some(graph)) = (spec.motion, &self.plan.graph)
+                && let Some(rb) = self.world.bodies.get_mut(handle)
+            {
+                let q = vec![0.0; graph.coordinates().len()];
+                let [x, y, angle] = graph.body_pose(body, t + self.dt, &q).to_array();
+                rb.set_next_kinematic_position(Pose::new(Vector::new(real(x), real(y)), real(angle)));
             }
         }
         self.world.step();
@@ -389,7 +407,7 @@ fn body_builder(body: &crate::rapier::plan::BodySpec) -> RigidBodyBuilder {
     let pose = Pose::new(Vector::new(real(x), real(y)), real(angle));
     let builder = match body.motion {
         Motion::Ground => RigidBodyBuilder::fixed(),
-        Motion::Support { .. } => RigidBodyBuilder::kinematic_position_based(),
+        Motion::Support { .. } | Motion::Kinematic { .. } => RigidBodyBuilder::kinematic_position_based(),
         Motion::Dynamic => {
             let [vx, vy, omega] = body.initial.velocity;
             let builder = RigidBodyBuilder::dynamic();
@@ -430,6 +448,11 @@ fn generic_joint(joint: &JointSpec) -> GenericJoint {
         JointKind::Rope { length } => {
             RopeJointBuilder::new(real(length)).local_anchor1(anchor1).local_anchor2(anchor2).into()
         }
+        // The frames meet when the child is turned by `angle` from the parent.
+        JointKind::Fixed { angle } => FixedJointBuilder::new()
+            .local_frame1(Pose::new(anchor1, 0.0))
+            .local_frame2(Pose::new(anchor2, real(-angle)))
+            .into(),
     }
 }
 
@@ -438,7 +461,7 @@ fn generic_joint(joint: &JointSpec) -> GenericJoint {
 fn free_axis(joint: &JointSpec) -> usize {
     match joint.kind {
         JointKind::Prismatic { .. } => 0,
-        JointKind::Revolute | JointKind::Rope { .. } => 2,
+        JointKind::Revolute | JointKind::Rope { .. } | JointKind::Fixed { .. } => 2,
     }
 }
 

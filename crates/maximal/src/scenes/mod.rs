@@ -1,37 +1,72 @@
-//! Every scene's maximal-coordinate description, one file per scene, found through the scene's
+//! Every scene's maximal-coordinate description. A scene that is a joint graph
+//! ([`SceneType::joint_graph`]) needs none: its Cartesian model, rapier builds and read-back
+//! follow from the graph ([`graph`]). The others — whose coordinates are the point (polar,
+//! Cartesian, rope depths, a rolling contact) — have one file here, found through the scene's
 //! type: the inverse map `q = g(z)` that reads body poses back into generalized coordinates, the
-//! Cartesian constraints `Φ(z, t) = 0` and non-conservative forces, and the rapier construction.
-//!
-//! Dispatch from a scene id runs through the scenes crate's one registry list
-//! ([`lagrange_scenes::for_each_scene!`]): a scene without a [`MaximalScene`] implementation
-//! does not compile.
+//! Cartesian constraints `Φ(z, t) = 0` and non-conservative forces, and the rapier
+//! construction. [`hand_written!`] lists them; a registered scene in neither group has no
+//! maximal build, which [`visit`] reports.
 
-mod andrews_squeezer;
 mod atwood;
-mod cart_pendulum;
-mod chain;
 mod chaplygin_sleigh;
 mod charged_particle;
 mod double_atwood;
 mod double_double_atwood;
-mod double_pendulum;
 mod driven_pendulum;
-mod four_bar;
-mod harmonic_oscillator;
 mod isotropic_oscillator;
 mod kepler;
 mod nonminimal_pendulum;
 mod rolling_disc;
-mod slider_crank;
 mod spring_pendulum;
-mod wedge;
 
 use crate::cartesian::constraints::{Constraint, VelocityConstraint};
 use crate::cartesian::system::AppliedForce;
 use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
+use lagrange::graph::GraphMechanism;
 use lagrange::{Error, Scalar, State};
 use lagrange_scenes::{Params, SceneType};
+
+/// Call `$callback!` with every scene type that has a hand-written maximal description (the
+/// scenes that are not joint graphs).
+macro_rules! hand_written {
+    ($callback:ident) => {
+        $callback! {
+            lagrange_scenes::Kepler,
+            lagrange_scenes::IsotropicOscillator,
+            lagrange_scenes::Atwood,
+            lagrange_scenes::DoubleAtwood,
+            lagrange_scenes::DoubleDoubleAtwood,
+            lagrange_scenes::SpringPendulum,
+            lagrange_scenes::DrivenPendulum,
+            lagrange_scenes::ChargedParticle,
+            lagrange_scenes::NonminimalPendulum,
+            lagrange_scenes::ChaplyginSleigh,
+            lagrange_scenes::RollingDisc
+        }
+    };
+}
+
+/// The resolved joint graph of `scene` with `params`, if the scene is one.
+///
+/// # Errors
+/// An unknown scene, invalid parameters, or a graph that is not a mechanism.
+pub(crate) fn graph(scene: &str, params: &Params) -> Result<Option<GraphMechanism>, Error> {
+    let found = lagrange_scenes::find(scene).ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
+    found.joint_graph(params)?.map(GraphMechanism::new).transpose()
+}
+
+/// The rapier deviations of the joint-graph scenes, as [`MaximalScene::rapier_deviations`]
+/// gives them for the others: the point bobs of the pendulums on impulse revolute joints.
+pub(crate) fn graph_deviations(scene: &str, mode: JointMode) -> &'static [(&'static str, &'static str, &'static str)] {
+    match (scene, mode) {
+        ("cart_pendulum", JointMode::Impulse) => &[("bob_inertia", "bob_mass", "rod_length")],
+        ("double_pendulum", JointMode::Impulse) => {
+            &[("inertia_1", "mass_1", "length_1"), ("inertia_2", "mass_2", "length_2")]
+        }
+        _ => &[],
+    }
+}
 
 /// A scene's description in maximal coordinates: every body's full planar pose
 /// `z_b = (x_b, y_b, φ_b)`, bodies in the reduced model's order.
@@ -96,8 +131,13 @@ pub(crate) fn visit<V: MaximalVisitor>(id: &str, params: &Params, visitor: V) ->
             })*
         };
     }
-    lagrange_scenes::for_each_scene!(dispatch);
-    Err(lagrange_scenes::unknown_scene(id))
+    hand_written!(dispatch);
+    lagrange_scenes::find(id).ok_or_else(|| lagrange_scenes::unknown_scene(id))?;
+    Err(Error::InvalidParameter {
+        name: "scene".into(),
+        value: f64::NAN,
+        why: format!("`{id}` has neither a joint graph nor a hand-written maximal description"),
+    })
 }
 
 /// The angle from the downward vertical of the vector `(dx, dy)`.

@@ -33,23 +33,21 @@ impl LagrangianFunction for CartesianSystem {
             let value = maps::potential(&self.scene, &self.params, t.re(), &states, None).map_or(f64::NAN, |v| v.0);
             lagrangian -= S::from(value);
         }
+        if let Some(graph) = self.graph() {
+            let poses: Vec<lagrange::Pose<f64>> = (0..self.bodies.len())
+                .map(|b| lagrange::Pose::new(z[3 * b].re(), z[3 * b + 1].re(), z[3 * b + 2].re()))
+                .collect();
+            lagrangian -= S::from(graph.force_potential(&poses));
+        }
         lagrangian
     }
 
     fn generalized_force_with<S: Scalar>(&self, _: &mut (), _t: S, _z: &[S], zdot: &[S], force: &mut [S]) -> bool {
         match self.applied {
             AppliedForce::None => false,
-            AppliedForce::Damping { coefficient } => {
-                force[0] -= zdot[0] * coefficient;
-                true
-            }
             AppliedForce::Lorentz { charge_field } => {
                 force[0] += zdot[1] * charge_field;
                 force[1] -= zdot[0] * charge_field;
-                true
-            }
-            AppliedForce::Torque { body, torque } => {
-                force[3 * body + 2] += S::from(torque);
                 true
             }
         }
@@ -120,14 +118,14 @@ impl Dynamics for CartesianSystem {
     }
 
     fn has_generalized_force(&self) -> bool {
-        self.applied != AppliedForce::None
+        self.applied != AppliedForce::None || self.graph().is_some_and(|g| g.has_non_conservative_forces())
     }
 
     /// Energy is conserved by scleronomic constraints and forces that do no work (gravity,
     /// potentials, the Lorentz force); not by damping, a driven support, or a driving torque
     /// (which conserves `h − τ φ_b` instead).
     fn conserves_energy(&self) -> bool {
-        !self.rheonomic && !matches!(self.applied, AppliedForce::Damping { .. } | AppliedForce::Torque { .. })
+        !self.rheonomic && !self.graph().is_some_and(|g| g.has_non_conservative_forces())
     }
 
     fn bodies(&self) -> &[Body] {

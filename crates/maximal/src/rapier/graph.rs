@@ -1,0 +1,239 @@
+//! The rapier plan of a joint graph, written generically: one rapier body per graph body, one
+//! rapier joint per graph joint (impulse joints throughout, or multibody joints along the
+//! spanning tree with the loop-closing joints as impulse joints), couplings as multibody
+//! couplings, the force elements applied per step, bodies driven from the ground as kinematic
+//! bodies (docs/graphs.md#rapier).
+
+use super::plan::{BodySpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, StepForces};
+use super::scenes::{COMPOUND_BOB, NO_PULLEY_JOINT, NO_RHEONOMIC_MULTIBODY};
+use crate::{BodyState, BuildError, Engine, maps};
+use lagrange::State;
+use lagrange::graph::{ForceElement, GraphMechanism, JointType, JointValue, Shape};
+use lagrange::tree::AngleReference;
+use lagrange_scenes::Params;
+use std::sync::Arc;
+
+/// A graph's plan, with what it changed in the graph.
+pub(crate) struct GraphPlan {
+    /// The plan.
+    pub plan: Plan,
+    /// One sentence per change of the graph (compound bodies for impulse revolute joints).
+    pub deviations: Vec<String>,
+}
+
+/// Mass and inertia of a shaped body from parry's mass properties of its shape at the density
+/// that gives the body's mass.
+fn parry_mass_properties(shape: Shape, mass: f64) -> (f64, f64) {
+    use rapier2d_f64::parry::shape::{Ball, Cuboid, Shape as _};
+    let density = mass / shape.area();
+    let properties = match shape {
+        Shape::Disc { radius } => Ball::new(radius).mass_properties(density),
+        Shape::Rectangle { half_extents: [a, b] } => {
+            Cuboid::new(rapier2d_f64::math::Vector::new(a, b)).mass_properties(density)
+        }
+    };
+    (properties.mass(), properties.principal_inertia())
+}
+
+/// The plan of `mechanism` (named `name`) in `mode`, from the reduced `initial` state.
+///
+/// # Errors
+/// [`BuildError::Unbuildable`] naming the joint or body rapier cannot take: couplings with
+/// impulse joints, drives with multibody joints, a drive between two moving bodies, a massless
+/// body with impulse joints, a coupling on a loop-closing joint or on an absolute angle;
+/// [`BuildError::Invalid`] for a state of the wrong size.
+pub(crate) fn plan(
+    engine: Engine,
+    mode: JointMode,
+    name: &str,
+    mechanism: GraphMechanism,
+    initial: &State,
+) -> Result<GraphPlan, BuildError> {
+    let unbuildable = |reason: String| BuildError::Unbuildable { engine, scene: name.into(), reason };
+    let graph = mechanism.graph().clone();
+    let joints = mechanism.joints().to_vec();
+    // What rapier's joints of this mode cannot express.
+    for (j, joint) in joints.iter().enumerate() {
+        let spec = &graph.joints[j];
+        match joint.value {
+            JointValue::Driven(_) if mode == JointMode::Multibody => {
+                return Err(unbuildable(format!("joint `{}` is driven: {NO_RHEONOMIC_MULTIBODY}", spec.name)));
+            }
+            JointValue::Driven(_) if !joint.tree || !tree_child(joint).is_none_or(|b| mechanism.is_kinematic(b)) => {
+                return Err(unbuildable(format!(
+                    "joint `{}` drives a body that also moves by itself: rapier has no joint with a prescribed \
+                     coordinate, and only bodies driven from the ground become kinematic bodies",
+                    spec.name
+                )));
+            }
+            JointValue::Coupled { source, .. } => {
+                if mode == JointMode::Impulse {
+                    return Err(unbuildable(format!("joint `{}` is coupled: {NO_PULLEY_JOINT}", spec.name)));
+                }
+                if !joint.tree {
+                    return Err(unbuildable(format!(
+                        "joint `{}` is coupled but closes a loop: rapier couples multibody coordinates only",
+                        spec.name
+                    )));
+                }
+                for k in [j, source] {
+                    let s = &graph.joints[k];
+                    if s.kind == JointType::Revolute && s.angle == AngleReference::World && joints[k].parent.is_some() {
+                        return Err(unbuildable(format!(
+                            "the coupling of joint `{}` acts on `{}`, an absolute angle, but rapier couples relative \
+                             joint coordinates",
+                            spec.name, s.name
+                        )));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    // Bodies: the ground, then one per graph body, with the impulse deviations.
+    let states = maps::graph_body_states(&mechanism, initial)?;
+    let mut deviations = Vec::new();
+    let mut simulated = graph.clone();
+    let mut bodies = vec![BodySpec {
+        motion: Motion::Ground,
+        mass: 0.0,
+        inertia: 0.0,
+        initial: BodyState::default(),
+        reduced: None,
+        collider: None,
+    }];
+    for (b, body) in graph.bodies.iter().enumerate() {
+        let kinematic = mechanism.is_kinematic(b);
+        let (mass, mut inertia) = match body.shape {
+            Some(shape) => parry_mass_properties(shape, body.mass),
+            None => (body.mass, body.inertia),
+        };
+        if mode == JointMode::Impulse && !kinematic {
+            if mass == 0.0 {
+                return Err(unbuildable(format!(
+                    "body `{}` has no mass, which rapier's impulse joints read as an infinite mass",
+                    body.name
+                )));
+            }
+            // The farthest revolute anchor from the centre of a body without inertia.
+            let arm = joints
+                .iter()
+                .zip(&graph.joints)
+                .filter(|(_, spec)| spec.kind == JointType::Revolute)
+                .filter_map(|(joint, spec)| {
+                    if joint.child == Some(b) {
+                        Some(spec.child_anchor)
+                    } else if joint.parent == Some(b) {
+                        Some(spec.parent_anchor)
+                    } else {
+                        None
+                    }
+                })
+                .fold(0.0_f64, |l, a| l.max(a[0].hypot(a[1])));
+            if inertia == 0.0 && arm > 0.0 {
+                inertia = COMPOUND_BOB * mass * arm * arm;
+                simulated.bodies[b].inertia = inertia;
+                deviations.push(format!(
+                    "body `{}` has inertia {inertia:e} kg m² = {COMPOUND_BOB:e} m l² (l = {arm} m, its farthest pin) \
+                     instead of 0: an impulse revolute joint freezes the rotation of a body without inertia",
+                    body.name
+                ));
+            }
+        }
+        bodies.push(BodySpec {
+            motion: if kinematic { Motion::Kinematic { body: b } } else { Motion::Dynamic },
+            mass,
+            inertia,
+            initial: states[b],
+            reduced: Some(b),
+            collider: None,
+        });
+    }
+    // Joints: the tree parents first (turned to hang each body from the one nearer the
+    // ground), then the loop-closing joints. Joints between bodies that do not move by
+    // themselves (the ground, kinematic bodies) are left out.
+    let plan_body = |end: Option<usize>| end.map_or(0, |b| b + 1);
+    let moves = |end: Option<usize>| end.is_some_and(|b| !mechanism.is_kinematic(b));
+    let mut specs = Vec::new();
+    let mut plan_joint = vec![None; joints.len()];
+    let mut sign = vec![1.0; joints.len()];
+    let order: Vec<usize> =
+        mechanism.tree_order().iter().map(|&(j, _)| j).chain((0..joints.len()).filter(|&j| !joints[j].tree)).collect();
+    for j in order {
+        let (joint, spec) = (&joints[j], &graph.joints[j]);
+        if !moves(joint.parent) && !moves(joint.child) {
+            continue;
+        }
+        let kind = match spec.kind {
+            JointType::Revolute => JointKind::Revolute,
+            JointType::Prismatic { axis } => JointKind::Prismatic { axis },
+            JointType::Fixed { angle } => JointKind::Fixed { angle },
+        };
+        let mut joint_spec = JointSpec {
+            parent: plan_body(joint.parent),
+            child: plan_body(joint.child),
+            anchor_parent: spec.parent_anchor,
+            anchor_child: spec.child_anchor,
+            kind,
+            closing: !joint.tree,
+        };
+        if joint.tree && joint.reversed {
+            std::mem::swap(&mut joint_spec.parent, &mut joint_spec.child);
+            std::mem::swap(&mut joint_spec.anchor_parent, &mut joint_spec.anchor_child);
+            if let JointKind::Fixed { angle } = kind {
+                joint_spec.kind = JointKind::Fixed { angle: -angle };
+            }
+            sign[j] = -1.0;
+        }
+        plan_joint[j] = Some(specs.len());
+        specs.push(joint_spec);
+    }
+    // Couplings (multibody only, checked above): in rapier's coordinates of the turned joints,
+    // the offset from the initial state.
+    let mut couplings = Vec::new();
+    for (j, joint) in joints.iter().enumerate() {
+        if let JointValue::Coupled { source, ratio, .. } = joint.value
+            && let (Some(to), Some(from)) = (plan_joint[j], plan_joint[source])
+        {
+            let coordinate = |k: usize| {
+                let spec: &JointSpec = &specs[k];
+                spec.coordinate(&bodies[spec.parent].initial, &bodies[spec.child].initial).0
+            };
+            let coeff = sign[j] * sign[source] * ratio;
+            couplings.push(Coupling { from, to, coeff, offset: coordinate(to) - coeff * coordinate(from) });
+        }
+    }
+    // Force elements: per step where they vary, in every substep where they are constant.
+    let varying = graph.forces.iter().any(|f| match f {
+        ForceElement::Torque { torque, .. } => torque.varies(),
+        ForceElement::Force { force, .. } => force[0].varies() || force[1].varies(),
+        _ => true,
+    });
+    let forces = StepForces {
+        graph_varying: varying,
+        graph_constant: !varying && !graph.forces.is_empty(),
+        ..StepForces::default()
+    };
+    let simulated = GraphMechanism::new(simulated)?;
+    let plan = Plan {
+        scene: name.into(),
+        mode,
+        params: Params::defaults(&[]),
+        deviations: deviations.clone(),
+        gravity: graph.gravity,
+        reduced_bodies: graph.bodies.len(),
+        bodies,
+        joints: specs,
+        couplings,
+        rope_pulleys: Vec::new(),
+        forces,
+        t0: initial.t,
+        graph: Some(Arc::new(simulated)),
+    };
+    Ok(GraphPlan { plan, deviations })
+}
+
+/// The body a tree joint places (its child, or its parent when the tree runs it backwards).
+fn tree_child(joint: &lagrange::graph::ResolvedJoint) -> Option<usize> {
+    if joint.reversed { joint.parent } else { joint.child }
+}
