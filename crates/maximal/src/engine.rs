@@ -154,4 +154,7 @@ pub struct Built {
     /// Deviations from the requested scene that the engine needs (e.g. a compound bob for an
     /// impulse revolute joint, a massive movable pulley for a multibody), one sentence each.
     pub deviations: Vec<String>,
+    /// For a joint graph built by [`build_graph`](crate::build_graph): the graph the engine
+    /// simulates (the requested one with the deviations), whose reduced model is the reference.
+    pub graph: Option<lagrange::graph::JointGraph>,
 }

@@ -25,6 +25,7 @@ mod scenes;
 pub use engine::{BodyState, BuildError, Built, Engine, MaximalSimulation, Settings};
 
 use lagrange::State;
+use lagrange::graph::{GraphMechanism, JointGraph};
 use lagrange_scenes::Params;
 
 /// Build `scene` with `params` in `engine`, starting from the reduced `initial` state.
@@ -43,6 +44,55 @@ pub fn build(
     match engine {
         Engine::Cartesian => cartesian::build(scene, params, initial, settings),
         rapier_engine => rapier::build(rapier_engine, scene, params, initial, settings),
+    }
+}
+
+/// Build `engine`'s simulation of the joint graph `graph`, starting from its reduced model's
+/// `initial` state: the Cartesian model (every joint as constraints between body poses, the force
+/// elements as body wrenches) or a rapier build (impulse joints, or multibody joints along the
+/// spanning tree with the loop-closing joints as impulse joints; docs/graphs.md). Bodies are the
+/// graph's, in its order; [`maps::graph_generalized`] reads them back into the graph's
+/// coordinates. `Built::graph` is the graph simulated (with the deviations rapier needs, each
+/// explained in `Built::deviations`): compare with its reduced model.
+///
+/// ```
+/// use lagrange::graph::{GROUND, GraphBody, GraphJoint, GraphMechanism, JointGraph};
+/// use lagrange::State;
+/// use lagrange_maximal::{Engine, Settings, build_graph, maps};
+///
+/// let graph = JointGraph::new("pendulum", 9.81)
+///     .with_body(GraphBody::rigid("rod", 1.0, 1.0 / 12.0))
+///     .with_joint(GraphJoint::revolute("θ", GROUND, [0.0, 0.0], "rod", [0.0, 0.5]));
+/// let initial = State::new(0.0, [0.5], [0.0]);
+/// let mut built = build_graph(Engine::RapierMultibody, &graph, &initial, &Settings::default())?;
+/// built.simulation.advance_to(0.25)?;
+/// let mechanism = GraphMechanism::new(graph)?;
+/// let (q, _) = maps::graph_generalized(&mechanism, &built.simulation.bodies(), &initial.q);
+/// assert!((q[0] - 0.5).abs() > 0.05, "it swings: θ = {}", q[0]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// [`BuildError::Unbuildable`] naming the joint or body the engine cannot take;
+/// [`BuildError::Invalid`] for a graph that is not a mechanism, a bad state or bad settings.
+pub fn build_graph(
+    engine: Engine,
+    graph: &JointGraph,
+    initial: &State,
+    settings: &Settings,
+) -> Result<Built, BuildError> {
+    check_settings(engine, settings)?;
+    let mechanism = GraphMechanism::new(graph.clone())?;
+    let params = Params::defaults(&[]);
+    match engine {
+        Engine::Cartesian => {
+            let states = maps::graph_body_states(&mechanism, initial)?;
+            let system =
+                cartesian::system::CartesianSystem::from_graph(&graph.name, &params, std::sync::Arc::new(mechanism));
+            let simulation = cartesian::CartesianSimulation::new(system, &states, initial.t, settings.tolerance)?;
+            Ok(Built { simulation: Box::new(simulation), params, deviations: Vec::new(), graph: Some(graph.clone()) })
+        }
+        rapier_engine => rapier::build_graph(rapier_engine, mechanism, initial, settings),
     }
 }
 

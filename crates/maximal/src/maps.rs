@@ -16,6 +16,9 @@ use std::f64::consts::PI;
 /// # Errors
 /// Invalid parameters or an unknown scene.
 pub fn bodies(scene: &str, params: &Params) -> Result<Vec<Body>, Error> {
+    if let Some(mechanism) = crate::scenes::graph(scene, params)? {
+        return Ok(mechanism.bodies().to_vec());
+    }
     struct Bodies;
     impl MechanismVisitor for Bodies {
         type Output = Vec<Body>;

@@ -107,6 +107,7 @@ macro_rules! for_each_scene {
 
 mod checks;
 mod conserved;
+mod graph_scene;
 #[cfg(test)]
 mod graph_tests;
 mod linkage;
@@ -149,6 +150,7 @@ pub use double_double_atwood::DoubleDoubleAtwood;
 pub use double_pendulum::DoublePendulum;
 pub use driven_pendulum::DrivenPendulum;
 pub use four_bar::{FourBar, FourBarCrank};
+pub use graph_scene::{GraphScene, register};
 pub use harmonic_oscillator::HarmonicOscillator;
 pub use isotropic_oscillator::IsotropicOscillator;
 pub use kepler::{Kepler, Orbit};

@@ -347,7 +347,7 @@ pub fn all() -> &'static [&'static dyn Scene] {
 
 /// The scene with this id, if any.
 pub fn find(id: &str) -> Option<&'static dyn Scene> {
-    all().iter().copied().find(|scene| scene.id() == id)
+    all().iter().copied().find(|scene| scene.id() == id).or_else(|| crate::graph_scene::registered(id))
 }
 
 /// The ids of all scenes, in registry order.

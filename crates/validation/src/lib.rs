@@ -14,6 +14,7 @@ pub mod assemble;
 pub mod compare;
 mod error;
 pub mod fixtures;
+pub mod graphs;
 pub mod measure;
 pub mod pareto;
 pub mod plan;

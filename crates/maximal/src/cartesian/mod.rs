@@ -30,7 +30,7 @@
 //! constraint forces are `−Φ_zᵀ λ`, comparable to [`lagrange::reaction_forces`].
 
 pub(crate) mod constraints;
-mod simulation;
+pub(crate) mod simulation;
 pub(crate) mod system;
 #[cfg(test)]
 mod tests;
@@ -38,7 +38,7 @@ mod tests;
 use crate::{BuildError, Built, Settings, maps};
 use lagrange::State;
 use lagrange_scenes::Params;
-use simulation::CartesianSimulation;
+pub(crate) use simulation::CartesianSimulation;
 use system::CartesianSystem;
 
 /// Build the Cartesian + multiplier simulation of `scene` with `params`, starting from the
@@ -52,5 +52,5 @@ pub fn build(scene: &str, params: &Params, initial: &State, settings: &Settings)
     let system = CartesianSystem::new(scene, params)?;
     let states = maps::body_states(scene, params, initial)?;
     let simulation = CartesianSimulation::new(system, &states, initial.t, settings.tolerance)?;
-    Ok(Built { simulation: Box::new(simulation), params: params.clone(), deviations: Vec::new() })
+    Ok(Built { simulation: Box::new(simulation), params: params.clone(), deviations: Vec::new(), graph: None })
 }

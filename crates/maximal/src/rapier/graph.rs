@@ -19,6 +19,10 @@ pub(crate) struct GraphPlan {
     pub plan: Plan,
     /// One sentence per change of the graph (compound bodies for impulse revolute joints).
     pub deviations: Vec<String>,
+    /// The graph rapier simulates (with those changes).
+    pub graph: lagrange::graph::JointGraph,
+    /// The bodies whose inertia was changed, with the new inertia.
+    pub inertias: Vec<(String, f64)>,
 }
 
 /// Mass and inertia of a shaped body from parry's mass properties of its shape at the density
@@ -93,6 +97,7 @@ pub(crate) fn plan(
     // Bodies: the ground, then one per graph body, with the impulse deviations.
     let states = maps::graph_body_states(&mechanism, initial)?;
     let mut deviations = Vec::new();
+    let mut inertias = Vec::new();
     let mut simulated = graph.clone();
     let mut bodies = vec![BodySpec {
         motion: Motion::Ground,
@@ -133,6 +138,7 @@ pub(crate) fn plan(
             if inertia == 0.0 && arm > 0.0 {
                 inertia = COMPOUND_BOB * mass * arm * arm;
                 simulated.bodies[b].inertia = inertia;
+                inertias.push((body.name.clone(), inertia));
                 deviations.push(format!(
                     "body `{}` has inertia {inertia:e} kg m² = {COMPOUND_BOB:e} m l² (l = {arm} m, its farthest pin) \
                      instead of 0: an impulse revolute joint freezes the rotation of a body without inertia",
@@ -214,6 +220,7 @@ pub(crate) fn plan(
         graph_constant: !varying && !graph.forces.is_empty(),
         ..StepForces::default()
     };
+    let simulated_graph = simulated.clone();
     let simulated = GraphMechanism::new(simulated)?;
     let plan = Plan {
         scene: name.into(),
@@ -230,7 +237,7 @@ pub(crate) fn plan(
         t0: initial.t,
         graph: Some(Arc::new(simulated)),
     };
-    Ok(GraphPlan { plan, deviations })
+    Ok(GraphPlan { plan, deviations, graph: simulated_graph, inertias })
 }
 
 /// The body a tree joint places (its child, or its parent when the tree runs it backwards).

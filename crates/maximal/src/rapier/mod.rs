@@ -84,11 +84,37 @@ pub fn build(
     }
     let plan = scenes::plan(engine, mode, scene, params, initial)?;
     let (params, deviations) = (plan.params.clone(), plan.deviations.clone());
-    let simulation: Box<dyn MaximalSimulation> = match engine {
+    Ok(Built { simulation: world(engine, plan, settings)?, params, deviations, graph: None })
+}
+
+/// The rapier world of `plan`, in the engine's precision.
+fn world(engine: Engine, plan: plan::Plan, settings: &Settings) -> Result<Box<dyn MaximalSimulation>, lagrange::Error> {
+    Ok(match engine {
         Engine::RapierImpulse | Engine::RapierMultibody => {
             Box::new(double::world::RapierSimulation::new(engine, plan, settings)?)
         }
         _ => Box::new(single::world::RapierSimulation::new(engine, plan, settings)?),
+    })
+}
+
+/// The rapier build of a joint graph ([`crate::build_graph`]); `engine` is a rapier engine.
+pub(crate) fn build_graph(
+    engine: Engine,
+    mechanism: lagrange::graph::GraphMechanism,
+    initial: &State,
+    settings: &Settings,
+) -> Result<Built, BuildError> {
+    let mode = match engine {
+        Engine::RapierMultibody | Engine::RapierMultibodyF32 => JointMode::Multibody,
+        _ => JointMode::Impulse,
     };
-    Ok(Built { simulation, params, deviations })
+    let name = mechanism.graph().name.clone();
+    let built = graph::plan(engine, mode, &name, mechanism, initial)?;
+    let (deviations, simulated) = (built.deviations.clone(), built.graph.clone());
+    Ok(Built {
+        simulation: world(engine, built.plan, settings)?,
+        params: Params::defaults(&[]),
+        deviations,
+        graph: Some(simulated),
+    })
 }

@@ -66,6 +66,21 @@ pub(crate) fn plan(
         let (params, deviations) = with_deviations(crate::scenes::graph_deviations(scene, mode), params)?;
         let mechanism = crate::scenes::graph(scene, &params)?.ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
         let built = super::graph::plan(engine, mode, scene, mechanism, initial)?;
+        // The graph's own deviations, carried by the scene's parameters `<body>.inertia` (a
+        // registered joint-graph scene has them) so that the reference simulates them too.
+        let mut params = params;
+        for (body, inertia) in &built.inertias {
+            let name = format!("{body}.inertia");
+            if params.spec(&name).is_none() {
+                return Err(Error::Inconsistent {
+                    what: format!(
+                        "{scene}: rapier needs body `{body}` with inertia {inertia:e}, which no parameter sets"
+                    ),
+                }
+                .into());
+            }
+            params.set(&name, *inertia)?;
+        }
         let mut plan = built.plan;
         plan.params = params;
         plan.deviations = deviations.into_iter().chain(built.deviations).collect();
