@@ -1,9 +1,11 @@
 //! Chains of N = 2 … 64 uniform rods: one RK4 step of the reduced solver (the path `Model`
 //! chooses for a tree) against one rapier step with multibody and with impulse joints
-//! (rapier2d-f64, dt = 1e-3, 1 substep), and one evaluation of q̈.
+//! (rapier2d-f64, dt = 1e-3, 1 substep), and one evaluation of q̈ — the hand-written scene's
+//! model and the model of its joint graph (`lagrange::graph`) side by side.
 //!
 //! `cargo bench -p lagrange-benches --bench scaling` measures, then prints the table.
 
+use lagrange::graph::GraphMechanism;
 use lagrange::integrate::Rk4;
 use lagrange::{Dynamics, Model};
 use lagrange_benches::{bench_advance, bench_step, criterion, format_ns, mean_ns};
@@ -34,6 +36,17 @@ fn main() {
         });
         let mut rk4 = Rk4::new(n);
         bench_step(&mut g, "reduced_rk4", &state, |s| rk4.step(&model, &mut ws, s, black_box(DT)));
+        // The same chain from its joint graph.
+        let graph = scene.joint_graph(&params).expect("valid").expect("the chain is a joint graph");
+        let graph_model = Model::new(GraphMechanism::new(graph).expect("a mechanism")).expect("valid");
+        let mut graph_ws = graph_model.new_workspace();
+        g.bench_function("graph_accelerations", |b| {
+            b.iter(|| {
+                graph_model.accelerations(&mut graph_ws, 0.0, black_box(&state.q), black_box(&state.qdot), &mut qddot)
+            })
+        });
+        let mut graph_rk4 = Rk4::new(n);
+        bench_step(&mut g, "graph_rk4", &state, |s| graph_rk4.step(&graph_model, &mut graph_ws, s, black_box(DT)));
         // rapier, multibody and impulse joints.
         for engine in [Engine::RapierMultibody, Engine::RapierImpulse] {
             let built = build(engine, "chain", &params, &state, &settings).expect("chains are buildable");
@@ -42,8 +55,10 @@ fn main() {
         g.finish();
     }
     criterion.final_summary();
-    println!("\n| N | reduced q̈ | reduced RK4 step | rapier multibody step | rapier impulse step | RK4 / impulse |");
-    println!("|---|---|---|---|---|---|");
+    println!(
+        "\n| N | reduced q̈ | graph q̈ | reduced RK4 step | graph RK4 step | rapier multibody step | rapier impulse step | RK4 / impulse | graph / hand RK4 |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
     for n in LINKS {
         let group = format!("chain_{n}");
         let get = |bench| mean_ns(&group, bench);
@@ -52,10 +67,16 @@ fn main() {
             (Some(a), Some(b)) => format!("{:.2}", a / b),
             _ => "—".into(),
         };
+        let graph_ratio = match (get("graph_rk4"), get("reduced_rk4")) {
+            (Some(a), Some(b)) => format!("{:.2}", a / b),
+            _ => "—".into(),
+        };
         println!(
-            "| {n} | {} | {} | {} | {} | {ratio} |",
+            "| {n} | {} | {} | {} | {} | {} | {} | {ratio} | {graph_ratio} |",
             cell(get("reduced_accelerations")),
+            cell(get("graph_accelerations")),
             cell(get("reduced_rk4")),
+            cell(get("graph_rk4")),
             cell(get("rapier-multibody")),
             cell(get("rapier-impulse"))
         );

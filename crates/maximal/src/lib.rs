@@ -11,10 +11,12 @@
 //!   and with multibody joints.
 //!
 //! Both start from the reduced model's body states ([`maps::body_states`]) and are read back
-//! into generalized coordinates by scene-specific inverse maps ([`maps::generalized`]). Each
-//! scene's maximal description (inverse map, Cartesian constraints, rapier construction) is one
-//! file in `src/scenes/`, found through the scene's type and the scenes crate's registry.
-//! [`build`] makes any engine's simulation of any scene, or says why it cannot.
+//! into generalized coordinates ([`maps::generalized`]). A scene that is a joint graph
+//! (`lagrange::graph`, docs/graphs.md) needs nothing more: its Cartesian constraints, rapier
+//! construction and read-back follow from the graph. The others keep a hand-written maximal
+//! description (inverse map, Cartesian constraints, rapier construction), one file in
+//! `src/scenes/`. [`build`] makes any engine's simulation of any scene, or says why it cannot;
+//! [`build_graph`] does the same for any joint graph.
 
 pub mod cartesian;
 mod engine;

@@ -355,6 +355,18 @@ pub fn ids() -> Vec<&'static str> {
     all().iter().map(|scene| scene.id()).collect()
 }
 
+/// An empty joint graph named `id` with the bodies (names, masses, inertias) and gravity of
+/// `mechanism`, for a scene's [`SceneType::joint_graph`].
+pub(crate) fn graph_of<M: lagrange::Mechanism>(id: &str, mechanism: &M) -> JointGraph {
+    let mut graph = JointGraph::new(id, mechanism.gravity());
+    graph.bodies = mechanism
+        .bodies()
+        .iter()
+        .map(|b| lagrange::graph::GraphBody::rigid(b.name.clone(), b.mass, b.inertia))
+        .collect();
+    graph
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -497,16 +509,4 @@ mod tests {
             assert!(matches!(error, Some(Error::InvalidParameter { .. })), "{}: {error:?}", scene.id());
         }
     }
-}
-
-/// An empty joint graph named `id` with the bodies (names, masses, inertias) and gravity of
-/// `mechanism`, for a scene's [`SceneType::joint_graph`].
-pub(crate) fn graph_of<M: lagrange::Mechanism>(id: &str, mechanism: &M) -> JointGraph {
-    let mut graph = JointGraph::new(id, mechanism.gravity());
-    graph.bodies = mechanism
-        .bodies()
-        .iter()
-        .map(|b| lagrange::graph::GraphBody::rigid(b.name.clone(), b.mass, b.inertia))
-        .collect();
-    graph
 }

@@ -221,7 +221,8 @@ impl GraphMechanism {
             match joint.kind {
                 JointType::Prismatic { axis } => {
                     let norm = axis[0].hypot(axis[1]);
-                    if !((norm - 1.0).abs() <= UNIT_AXIS_TOLERANCE) {
+                    let unit = (norm - 1.0).abs() <= UNIT_AXIS_TOLERANCE; // false for NaN
+                    if !unit {
                         return Err(invalid(&what, format!("its axis {axis:?} is not a unit vector")));
                     }
                 }

@@ -7,6 +7,11 @@
 //! draft, following docs/rapier.md#constructions-per-scene), then built by `world.rs`, one source
 //! compiled twice (`double`: f64, `single`: f32). What is built:
 //!
+//! The scenes that are joint graphs (`cart_pendulum`, `harmonic_oscillator`, `wedge`,
+//! `double_pendulum`, `chain`, `four_bar`, `slider_crank`, `andrews_squeezer`) are planned from
+//! their graph by `graph.rs` (docs/graphs.md#rapier), the others by their own file in
+//! `src/scenes/`; the table says what each build is.
+//!
 //! | scene | impulse joints | multibody joints |
 //! |---|---|---|
 //! | `cart_pendulum` | prismatic ground→cart (x), revolute cart→bob; compound bob (`I_b = 1e-2 m r²` if 0) | prismatic + revolute, point bob exact |
