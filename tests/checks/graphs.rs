@@ -210,3 +210,75 @@ fn couplings_are_multibody_couplings() {
     assert!((bodies[0].pose[2] - 1.0).abs() < 1e-9, "{:?}", bodies[0]);
     assert!((bodies[1].pose[2] + 0.5).abs() < 1e-9, "{:?}", bodies[1]);
 }
+
+/// A graph is plain data: it goes through JSON and back unchanged, and the copy builds the same
+/// model.
+#[test]
+fn graphs_round_trip_through_json() {
+    let (graph, state) = random_loop(&mut rng(13), 6);
+    let text = serde_json::to_string_pretty(&graph).unwrap();
+    let back: JointGraph = serde_json::from_str(&text).unwrap();
+    assert_eq!(back, graph);
+    let times = [0.5];
+    assert_eq!(reduced(&back, &state, &times), reduced(&graph, &state, &times));
+}
+
+/// A rigid loop leaves a coordinate but no degree of freedom: every engine refuses it, naming
+/// the mechanism.
+#[test]
+fn a_rigid_loop_is_refused_by_every_engine() {
+    let rod = |name: &str| GraphBody::rigid(name, 1.0, 1.0 / 12.0);
+    let welded = JointGraph::new("welded", 9.81)
+        .with_body(rod("arm"))
+        .with_body(rod("bar"))
+        .with_joint(GraphJoint::revolute("θ", GROUND, [0.0, 0.0], "arm", [0.0, 0.5]))
+        .with_joint(GraphJoint::fixed("weld", "arm", [0.0, -0.5], "bar", [0.0, 0.5], 0.0))
+        .with_joint(GraphJoint::fixed("bolt", "bar", [0.0, -0.5], GROUND, [0.0, -2.0], 0.0).closing());
+    let state = State::new(0.0, [0.0], [0.0]);
+    for engine in Engine::ALL {
+        match build_graph(engine, &welded, &state, &Settings::default()) {
+            Err(BuildError::Invalid(lagrange::Error::InvalidGraph { element, .. })) => {
+                assert_eq!(element, "mechanism `welded`");
+            }
+            other => panic!("{engine}: expected a locked mechanism, got {:?}", other.map(|b| b.deviations)),
+        }
+    }
+    assert!(matches!(lagrange_scenes::GraphScene::new(welded, state), Err(lagrange::Error::InvalidGraph { .. })));
+}
+
+/// A user's graph registered as a scene runs through `compare` in every engine that can build
+/// it: a pendulum with a point bob on a cart, whose impulse build needs a compound bob — carried
+/// by the scene's `bob.inertia`, so that the reference simulates it too and the error still
+/// falls at first order: halving the step divides it by at least 1.6 (exactly first order gives
+/// 2; the margin admits the `O(h²)` terms, as in the rapier loop tests).
+#[test]
+fn a_registered_graph_runs_through_compare_in_every_engine() {
+    use lagrange_validation::compare::compare;
+    let graph = JointGraph::new("user_cart_pendulum", 9.81)
+        .with_body(GraphBody::point("cart", 2.0))
+        .with_body(GraphBody::point("bob", 1.0))
+        .with_joint(GraphJoint::prismatic("X", GROUND, [0.0, 0.0], "cart", [0.0, 0.0], [1.0, 0.0]))
+        .with_joint(GraphJoint::revolute("θ", "cart", [0.0, 0.0], "bob", [0.0, 1.0]).absolute());
+    let scene = lagrange_scenes::register(
+        lagrange_scenes::GraphScene::new(graph, State::new(0.0, [0.0, 0.5], [0.0, 0.0])).unwrap(),
+    )
+    .unwrap();
+    let params = scene.default_params();
+    let initial = scene.default_state(&params).unwrap();
+    for engine in Engine::ALL {
+        let run = |dt: f64| {
+            let settings = Settings { dt, substeps: 1, tolerance: 1e-12 };
+            compare(engine, scene, &params, &initial, &settings, 1.0, 0.1).unwrap_or_else(|e| panic!("{engine}: {e}"))
+        };
+        let (coarse, fine) = (run(1.0 / 500.0), run(1.0 / 1000.0));
+        println!("{engine}: errors {:.2e}, {:.2e}; deviations {:?}", coarse.max_error, fine.max_error, fine.deviations);
+        if engine == Engine::Cartesian {
+            assert!(fine.max_error <= CARTESIAN_VS_REDUCED, "{}", fine.max_error);
+            continue;
+        }
+        if matches!(engine, Engine::RapierImpulse | Engine::RapierImpulseF32) {
+            assert!(fine.deviations.iter().any(|d| d.contains("`bob`")), "{:?}", fine.deviations);
+        }
+        assert!(coarse.max_error / fine.max_error >= 1.6, "{engine}: {} then {}", coarse.max_error, fine.max_error);
+    }
+}

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[&[&str]] = &[
     &["error", "linalg", "pose", "scalar", "seed", "state"],
     &["mechanism", "tree"],
-    &["probe"],
+    &["probe", "graph"],
     &["model"],
     &["eom", "workspace"],
     &["dynamics"],

@@ -55,7 +55,8 @@ impl GraphScene {
     /// # Errors
     /// [`Error::InvalidGraph`] for a graph that is not a mechanism; whatever
     /// [`Model::new`] rejects; [`Error::DimensionMismatch`] for a state of the wrong size;
-    /// [`Error::AssemblyFailed`] when the state cannot be brought onto the constraints.
+    /// [`Error::AssemblyFailed`] when the state cannot be brought onto the constraints;
+    /// [`Error::InvalidGraph`] when the loops lock every coordinate there.
     pub fn new(graph: JointGraph, initial: State) -> Result<Self, Error> {
         let model = Model::new(GraphMechanism::new(graph.clone())?)?;
         let n = model.dof();
@@ -69,6 +70,7 @@ impl GraphScene {
         } else {
             initial
         };
+        model.mechanism().check_mobile(initial.t, &initial.q)?;
         let mut specs = vec![ParamSpec {
             name: "gravity",
             symbol: "g",

@@ -788,6 +788,72 @@ impl GraphMechanism {
         self.paths[b].iter().all(|&j| matches!(self.joints[j].value, JointValue::Driven(_) | JointValue::Fixed))
     }
 
+    /// The mechanism's degrees of freedom at `(t, q)`: the number of coordinates less the rank
+    /// of the loop constraints' Jacobian `G = ∂Φ/∂q` there (rows whose pivot falls below 1e-10
+    /// of the row's size count as dependent, as in the constrained solve). 0 means that the
+    /// loops lock every coordinate (a rigid loop of fixed joints).
+    pub fn degrees_of_freedom(&self, t: f64, q: &[f64]) -> usize {
+        let (n, m) = (self.coordinates.len(), self.rows);
+        if m == 0 {
+            return n;
+        }
+        // G by one dual pass per coordinate.
+        let mut g = vec![0.0; m * n];
+        let mut phi = vec![num_dual::Dual64::from(0.0); m];
+        for j in 0..n {
+            let seeded = |i: usize| num_dual::Dual64::new(q[i], if i == j { 1.0 } else { 0.0 });
+            for (k, joint) in self.joints.iter().enumerate().filter(|(_, joint)| !joint.tree) {
+                self.closing_rows(k, num_dual::Dual64::from(t), &seeded, &mut phi[joint.first_row..]);
+            }
+            for i in 0..m {
+                g[i * n + j] = phi[i].eps;
+            }
+        }
+        // Rank by Gaussian elimination with partial pivoting over the rows.
+        let mut rank = 0;
+        let mut rows: Vec<usize> = (0..m).collect();
+        for col in 0..n {
+            let size = |r: usize| (0..n).fold(0.0_f64, |a, c| a.max(g[r * n + c].abs()));
+            let pivot = rows[rank..]
+                .iter()
+                .copied()
+                .filter(|&r| g[r * n + col].abs() > 1e-10 * size(r).max(f64::MIN_POSITIVE))
+                .max_by(|&a, &b| g[a * n + col].abs().total_cmp(&g[b * n + col].abs()));
+            let Some(p) = pivot else { continue };
+            let at = rows.iter().position(|&r| r == p).unwrap_or(rank);
+            rows.swap(rank, at);
+            for &r in &rows[rank + 1..] {
+                let factor = g[r * n + col] / g[p * n + col];
+                for c in col..n {
+                    g[r * n + c] -= factor * g[p * n + c];
+                }
+            }
+            rank += 1;
+            if rank == m {
+                break;
+            }
+        }
+        n - rank
+    }
+
+    /// Check that the mechanism can move at `(t, q)`.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] for `q` of the wrong size; [`Error::InvalidGraph`] when the
+    /// loops lock every coordinate ([`degrees_of_freedom`](Self::degrees_of_freedom) is 0).
+    pub fn check_mobile(&self, t: f64, q: &[f64]) -> Result<(), Error> {
+        if q.len() != self.coordinates.len() {
+            return Err(Error::DimensionMismatch { what: "q", expected: self.coordinates.len(), got: q.len() });
+        }
+        if self.degrees_of_freedom(t, q) == 0 {
+            return Err(invalid(
+                &format!("mechanism `{}`", self.graph.name),
+                "has no degree of freedom here: its loop-closing joints lock every coordinate".into(),
+            ));
+        }
+        Ok(())
+    }
+
     /// The tree joints in forward-kinematics order, each with the body it places: parents
     /// before children.
     pub fn tree_order(&self) -> &[(usize, usize)] {

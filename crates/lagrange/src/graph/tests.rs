@@ -243,3 +243,33 @@ fn driven_and_coupled_joints_follow_their_laws() {
     assert!(close(&p[0].to_array(), &[support_x, 0.0, 0.0], 1e-16));
     assert!(close(&p[2].to_array(), &[support_x + 1.0, 0.0, -2.0 * 0.3 + 0.1], 1e-15));
 }
+
+/// A rigid loop — a pendulum welded to a bar that is welded to the ground — leaves its pin's
+/// coordinate in the reduced model but no degree of freedom: the loop locks it.
+#[test]
+fn a_rigid_loop_has_no_degree_of_freedom() {
+    let graph = JointGraph::new("welded", 9.81)
+        .with_body(rod("arm", 1.0, 1.0))
+        .with_body(rod("bar", 1.0, 1.0))
+        .with_joint(GraphJoint::revolute("θ", GROUND, [0.0, 0.0], "arm", [0.0, 0.5]))
+        .with_joint(GraphJoint::fixed("weld", "arm", [0.0, -0.5], "bar", [0.0, 0.5], 0.0))
+        .with_joint(GraphJoint::fixed("bolt", "bar", [0.0, -0.5], GROUND, [0.0, -2.0], 0.0).closing());
+    let mechanism = GraphMechanism::new(graph).unwrap();
+    assert_eq!(mechanism.coordinates().len(), 1);
+    assert_eq!(mechanism.degrees_of_freedom(0.0, &[0.0]), 0);
+    let Err(Error::InvalidGraph { element, why }) = mechanism.check_mobile(0.0, &[0.0]) else { panic!() };
+    assert_eq!(element, "mechanism `welded`");
+    assert!(why.contains("no degree of freedom"), "{why}");
+    // The four-bar keeps one.
+    let four_bar = JointGraph::new("four-bar", 9.81)
+        .with_body(rod("crank", 1.0, 1.0))
+        .with_body(rod("coupler", 1.0, 2.0))
+        .with_body(rod("rocker", 1.0, 2.0))
+        .with_joint(GraphJoint::revolute("θ2", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]))
+        .with_joint(GraphJoint::revolute("θ3", "crank", [0.5, 0.0], "coupler", [-1.0, 0.0]).absolute())
+        .with_joint(GraphJoint::revolute("θ4", GROUND, [2.0, 0.0], "rocker", [-1.0, 0.0]))
+        .with_joint(GraphJoint::revolute("B", "coupler", [1.0, 0.0], "rocker", [1.0, 0.0]).closing());
+    let model = Model::new(GraphMechanism::new(four_bar).unwrap()).unwrap();
+    let state = model.assemble(&State::new(0.0, [1.0, 0.5, 1.5], [0.0; 3]), &[true, false, false]).unwrap();
+    assert_eq!(model.mechanism().degrees_of_freedom(0.0, &state.q), 1);
+}
