@@ -147,6 +147,16 @@ fn the_spanning_tree_does_not_change_the_motion() {
     }
 }
 
+/// Two gears on pins, `b = −a/2`.
+fn gears() -> JointGraph {
+    JointGraph::new("gears", 0.0)
+        .with_body(GraphBody::rigid("g1", 1.0, 0.1))
+        .with_body(GraphBody::rigid("g2", 1.0, 0.2))
+        .with_joint(GraphJoint::revolute("a", GROUND, [0.0, 0.0], "g1", [0.0, 0.0]))
+        .with_joint(GraphJoint::revolute("b", GROUND, [1.0, 0.0], "g2", [0.0, 0.0]))
+        .with_coupling("b", "a", -0.5, 0.0)
+}
+
 #[test]
 fn graphs_an_engine_cannot_take_are_typed_errors_naming_the_element() {
     let settings = Settings::default();
@@ -166,12 +176,7 @@ fn graphs_an_engine_cannot_take_are_typed_errors_naming_the_element() {
         assert!(build_graph(engine, &massless, &state, &settings).is_ok(), "{engine}");
     }
     // A gear pair: couplings are multibody couplings only.
-    let geared = JointGraph::new("gears", 0.0)
-        .with_body(GraphBody::rigid("g1", 1.0, 0.1))
-        .with_body(GraphBody::rigid("g2", 1.0, 0.2))
-        .with_joint(GraphJoint::revolute("a", GROUND, [0.0, 0.0], "g1", [0.0, 0.0]))
-        .with_joint(GraphJoint::revolute("b", GROUND, [1.0, 0.0], "g2", [0.0, 0.0]))
-        .with_coupling("b", "a", -0.5, 0.0);
+    let geared = gears();
     let state = State::new(0.0, [0.0], [1.0]);
     match build_graph(Engine::RapierImpulse, &geared, &state, &settings) {
         Err(BuildError::Unbuildable { reason, .. }) => assert!(reason.contains("`b`"), "{reason}"),
@@ -194,12 +199,7 @@ fn graphs_an_engine_cannot_take_are_typed_errors_naming_the_element() {
 /// `ȧ = 1`, `ḃ = −0.5`.
 #[test]
 fn couplings_are_multibody_couplings() {
-    let geared = JointGraph::new("gears", 0.0)
-        .with_body(GraphBody::rigid("g1", 1.0, 0.1))
-        .with_body(GraphBody::rigid("g2", 1.0, 0.2))
-        .with_joint(GraphJoint::revolute("a", GROUND, [0.0, 0.0], "g1", [0.0, 0.0]))
-        .with_joint(GraphJoint::revolute("b", GROUND, [1.0, 0.0], "g2", [0.0, 0.0]))
-        .with_coupling("b", "a", -0.5, 0.0);
+    let geared = gears();
     let state = State::new(0.0, [0.0], [1.0]);
     let settings = Settings { dt: 1e-3, substeps: 1, tolerance: 1e-12 };
     let mut built = build_graph(Engine::RapierMultibody, &geared, &state, &settings).unwrap();

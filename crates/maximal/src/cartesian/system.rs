@@ -162,16 +162,7 @@ impl CartesianSystem {
             }
         }
         let (constraints, velocity, applied) = crate::scenes::visit(scene, params, Description(&names))?;
-        let coordinates = names
-            .iter()
-            .flat_map(|name| {
-                [
-                    Coordinate::length(format!("x[{name}]")),
-                    Coordinate::length(format!("y[{name}]")),
-                    Coordinate::angle(format!("φ[{name}]")),
-                ]
-            })
-            .collect();
+        let coordinates = body_coordinates(&names);
         let mass = bodies.iter().flat_map(|b| [b.mass, b.mass, b.inertia]).collect();
         // Whether the scene has a potential: ask it once, at rest at the origin.
         let probe = vec![BodyState::default(); bodies.len()];
@@ -233,16 +224,7 @@ impl CartesianSystem {
                 constraints.push(no_turning(b, &names));
             }
         }
-        let coordinates = names
-            .iter()
-            .flat_map(|name| {
-                [
-                    Coordinate::length(format!("x[{name}]")),
-                    Coordinate::length(format!("y[{name}]")),
-                    Coordinate::angle(format!("φ[{name}]")),
-                ]
-            })
-            .collect();
+        let coordinates = body_coordinates(&names);
         let velocity = Vec::new();
         Self {
             scene: name.into(),
@@ -663,6 +645,20 @@ impl CartesianSystem {
         }
         Ok(energy)
     }
+}
+
+/// `x[b]`, `y[b]`, `φ[b]` for every body `b` of `names`.
+fn body_coordinates(names: &[String]) -> Vec<Coordinate> {
+    names
+        .iter()
+        .flat_map(|name| {
+            [
+                Coordinate::length(format!("x[{name}]")),
+                Coordinate::length(format!("y[{name}]")),
+                Coordinate::angle(format!("φ[{name}]")),
+            ]
+        })
+        .collect()
 }
 
 /// The names of the holonomic equations followed by those of the velocity constraints.

@@ -6,7 +6,7 @@
 
 use super::plan::{BodySpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, StepForces};
 use super::scenes::{COMPOUND_BOB, NO_PULLEY_JOINT, NO_RHEONOMIC_MULTIBODY};
-use crate::{BodyState, BuildError, Engine, maps};
+use crate::{BuildError, Engine, maps};
 use lagrange::State;
 use lagrange::graph::{ForceElement, GraphMechanism, JointType, JointValue, Shape};
 use lagrange::tree::AngleReference;
@@ -99,14 +99,7 @@ pub(crate) fn plan(
     let mut deviations = Vec::new();
     let mut inertias = Vec::new();
     let mut simulated = graph.clone();
-    let mut bodies = vec![BodySpec {
-        motion: Motion::Ground,
-        mass: 0.0,
-        inertia: 0.0,
-        initial: BodyState::default(),
-        reduced: None,
-        collider: None,
-    }];
+    let mut bodies = vec![BodySpec::ground()];
     for (b, body) in graph.bodies.iter().enumerate() {
         let kinematic = mechanism.is_kinematic(b);
         let (mass, mut inertia) = match body.shape {

@@ -60,6 +60,20 @@ pub(crate) struct BodySpec {
     pub collider: Option<ColliderSpec>,
 }
 
+impl BodySpec {
+    /// The fixed ground at the origin.
+    pub(crate) fn ground() -> BodySpec {
+        BodySpec {
+            motion: Motion::Ground,
+            mass: 0.0,
+            inertia: 0.0,
+            initial: BodyState::default(),
+            reduced: None,
+            collider: None,
+        }
+    }
+}
+
 /// A collider's shape (parry2d), centred on the body frame's origin.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Shape {

@@ -198,14 +198,7 @@ impl Draft {
 
     /// The fixed ground at the origin.
     pub(crate) fn ground(&mut self) -> usize {
-        self.push(BodySpec {
-            motion: Motion::Ground,
-            mass: 0.0,
-            inertia: 0.0,
-            initial: BodyState::default(),
-            reduced: None,
-            collider: None,
-        })
+        self.push(BodySpec::ground())
     }
 
     /// A fixed body at `pose` (an incline carrying a collider).
