@@ -51,18 +51,7 @@ pub fn body_states(scene: &str, params: &Params, state: &State) -> Result<Vec<Bo
     impl MechanismVisitor for States<'_> {
         type Output = Result<Vec<BodyState>, Error>;
         fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, m: M) -> Self::Output {
-            let s = self.0;
-            let n = m.coordinates().len();
-            if s.q.len() != n || s.qdot.len() != n {
-                return Err(Error::DimensionMismatch { what: "state", expected: n, got: s.q.len() });
-            }
-            let q: Vec<Dual64> = s.q.iter().zip(&s.qdot).map(|(q, v)| Dual64::new(*q, *v)).collect();
-            let mut poses = vec![Pose::<Dual64>::default(); m.bodies().len()];
-            m.poses(Dual64::new(s.t, 1.0), &q, &mut poses);
-            Ok(poses
-                .iter()
-                .map(|p| BodyState { pose: [p.x.re, p.y.re, p.angle.re], velocity: [p.x.eps, p.y.eps, p.angle.eps] })
-                .collect())
+            states_of(&m, self.0)
         }
     }
     match visit_mechanism(scene, params, States(state))? {
@@ -192,13 +181,19 @@ fn set_eps(pose: &mut Pose<Dual64>, component: usize, eps: f64) {
 /// # Errors
 /// A state of the wrong size.
 pub fn graph_body_states(mechanism: &GraphMechanism, state: &State) -> Result<Vec<BodyState>, Error> {
-    let n = mechanism.coordinates().len();
+    states_of(mechanism, state)
+}
+
+/// The body states of mechanism `m` at `state`: poses `p_b(q, t)` and velocities
+/// `ṗ_b = J_b q̇ + ∂p_b/∂t` (one dual pass along `(q̇, 1)`).
+fn states_of<M: Mechanism>(m: &M, state: &State) -> Result<Vec<BodyState>, Error> {
+    let n = m.coordinates().len();
     if state.q.len() != n || state.qdot.len() != n {
         return Err(Error::DimensionMismatch { what: "state", expected: n, got: state.q.len() });
     }
     let q: Vec<Dual64> = state.q.iter().zip(&state.qdot).map(|(q, v)| Dual64::new(*q, *v)).collect();
-    let mut poses = vec![Pose::<Dual64>::default(); mechanism.bodies().len()];
-    mechanism.poses(Dual64::new(state.t, 1.0), &q, &mut poses);
+    let mut poses = vec![Pose::<Dual64>::default(); m.bodies().len()];
+    m.poses(Dual64::new(state.t, 1.0), &q, &mut poses);
     Ok(poses
         .iter()
         .map(|p| BodyState { pose: [p.x.re, p.y.re, p.angle.re], velocity: [p.x.eps, p.y.eps, p.angle.eps] })

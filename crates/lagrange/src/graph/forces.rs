@@ -1,21 +1,10 @@
 //! The force elements of a joint graph as functions of the body poses and velocities, for the
 //! reduced model (potential and applied loads) and for the maximal builds (body wrenches).
 
-use super::mechanism::{Element, GraphMechanism};
+use super::mechanism::{Element, GraphMechanism, point as world};
 use crate::mechanism::Loads;
 use crate::{Pose, Scalar};
 use num_dual::Dual64;
-
-/// World position of `at` on `pose` (`None`: the ground).
-fn world<S: Scalar>(pose: Option<&Pose<S>>, at: [f64; 2]) -> [S; 2] {
-    match pose {
-        None => [S::from(at[0]), S::from(at[1])],
-        Some(p) => {
-            let (s, c) = p.angle.sin_cos();
-            [p.x + c * at[0] - s * at[1], p.y + s * at[0] + c * at[1]]
-        }
-    }
-}
 
 /// Velocity of the material point at world position `x` of a body at `pose` moving with
 /// `twist = (ẋ, ẏ, φ̇)` (`None`: the ground, at rest).

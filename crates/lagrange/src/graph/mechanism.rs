@@ -124,7 +124,7 @@ fn root(sets: &mut [usize], mut i: usize) -> usize {
 }
 
 /// The world position of `at` on a body at `pose` (the ground: `pose` is `None`).
-fn point<S: Scalar>(pose: Option<&Pose<S>>, at: [f64; 2]) -> [S; 2] {
+pub(crate) fn point<S: Scalar>(pose: Option<&Pose<S>>, at: [f64; 2]) -> [S; 2] {
     match pose {
         None => [S::from(at[0]), S::from(at[1])],
         Some(p) => {
