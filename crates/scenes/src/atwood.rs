@@ -5,6 +5,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
+use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
 
@@ -113,6 +114,21 @@ impl SceneType for Atwood {
     }
 
     constant_force_scene!();
+
+    /// The masses on vertical slides below the pulley's rims (`x` the depth of `m1`), the rope
+    /// as a coupling of the second slide to the first (`x₂ = l − πa − x`), the pulley on a pin
+    /// turning with the rope (`φ = x/a`).
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let (a, down) = (self.pulley_radius, [0.0, -1.0]);
+        Some(
+            crate::scene::graph_of(Self::ID, self)
+                .with_joint(GraphJoint::prismatic("x", GROUND, [-a, 0.0], "mass 1", [0.0, 0.0], down))
+                .with_joint(GraphJoint::prismatic("rope to m2", GROUND, [a, 0.0], "mass 2", [0.0, 0.0], down))
+                .with_joint(GraphJoint::revolute("pulley turn", GROUND, [0.0, 0.0], "pulley", [0.0, 0.0]))
+                .with_coupling("rope to m2", "x", -1.0, self.rope_length - PI * a)
+                .with_coupling("pulley turn", "x", 1.0 / a, 0.0),
+        )
+    }
 }
 
 #[cfg(test)]

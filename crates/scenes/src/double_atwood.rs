@@ -5,6 +5,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
 use crate::{Domain, SceneType};
+use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -140,6 +141,21 @@ impl SceneType for DoubleAtwood {
     }
 
     constant_force_scene!();
+
+    /// Vertical slides below the upper pulley for `m1` (`x`) and the movable pulley (coupled:
+    /// `l − x`), and below the movable pulley for `m2` (`x'`) and `m3` (coupled: `l' − x'`).
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let (o, down) = ([0.0, 0.0], [0.0, -1.0]);
+        Some(
+            crate::scene::graph_of(Self::ID, self)
+                .with_joint(GraphJoint::prismatic("x", GROUND, o, "mass 1", o, down))
+                .with_joint(GraphJoint::prismatic("x'", "movable pulley", o, "mass 2", o, down))
+                .with_joint(GraphJoint::prismatic("upper rope", GROUND, o, "movable pulley", o, down))
+                .with_joint(GraphJoint::prismatic("lower rope", "movable pulley", o, "mass 3", o, down))
+                .with_coupling("upper rope", "x", -1.0, self.rope_length)
+                .with_coupling("lower rope", "x'", -1.0, self.lower_rope_length),
+        )
+    }
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
 use crate::{Domain, SceneType};
+use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::{Body, Bounds, Coordinate, Error, Mechanism, Pose, Scalar, State};
 
 scene_params! {
@@ -182,6 +183,27 @@ impl SceneType for DoubleDoubleAtwood {
     }
 
     constant_force_scene!();
+
+    /// Vertical slides below the upper pulley for pulley A (`x`) and pulley B (coupled:
+    /// `l − x`), below B for `m2` (`x'`) and `m3` (coupled: `l' − x'`), below A for `m4`
+    /// (`x''`) and `m5` (coupled: `l'' − x''`).
+    fn joint_graph(&self) -> Option<JointGraph> {
+        let (o, down) = ([0.0, 0.0], [0.0, -1.0]);
+        let names: Vec<String> = lagrange::Mechanism::bodies(self).iter().map(|b| b.name.clone()).collect();
+        let [a, b, m2, m3, m4, m5] = [0, 1, 2, 3, 4, 5].map(|i| names[i].as_str());
+        Some(
+            crate::scene::graph_of(Self::ID, self)
+                .with_joint(GraphJoint::prismatic("x", GROUND, o, a, o, down))
+                .with_joint(GraphJoint::prismatic("x'", b, o, m2, o, down))
+                .with_joint(GraphJoint::prismatic("x''", a, o, m4, o, down))
+                .with_joint(GraphJoint::prismatic("upper rope", GROUND, o, b, o, down))
+                .with_joint(GraphJoint::prismatic("rope of B", b, o, m3, o, down))
+                .with_joint(GraphJoint::prismatic("rope of A", a, o, m5, o, down))
+                .with_coupling("upper rope", "x", -1.0, self.rope_length)
+                .with_coupling("rope of B", "x'", -1.0, self.rope_length_b)
+                .with_coupling("rope of A", "x''", -1.0, self.rope_length_a),
+        )
+    }
 }
 
 #[cfg(test)]

@@ -198,11 +198,6 @@ pub(crate) fn no_turning(body: usize, names: &[String]) -> Constraint {
     fix(body, ANGLE, 0.0, format!("{} does not turn", names[body]))
 }
 
-/// A point mass hung at a fixed horizontal position `x_b = x`, not turning (2 constraints).
-pub(crate) fn hanging(body: usize, x: f64, names: &[String]) -> [Constraint; 2] {
-    [fix(body, X, x, format!("{} hangs at x = {x}", names[body])), no_turning(body, names)]
-}
-
 /// The frame a vector of a [`VelocityConstraint`] is fixed in.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Frame {

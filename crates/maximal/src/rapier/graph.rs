@@ -139,8 +139,24 @@ pub(crate) fn plan(
                 ));
             }
         }
+        // A body without mass or inertia moved by a coupled joint alone (an Atwood pulley
+        // without inertia) would be a multibody link that moves no mass: left out.
+        let touching = joints.iter().filter(|j| j.parent == Some(b) || j.child == Some(b)).count();
+        let derived = mode == JointMode::Multibody
+            && mass == 0.0
+            && inertia == 0.0
+            && touching == 1
+            && joints
+                .iter()
+                .any(|j| j.tree && j.child == Some(b) && !j.reversed && matches!(j.value, JointValue::Coupled { .. }));
         bodies.push(BodySpec {
-            motion: if kinematic { Motion::Kinematic { body: b } } else { Motion::Dynamic },
+            motion: if derived {
+                Motion::Derived { body: b }
+            } else if kinematic {
+                Motion::Kinematic { body: b }
+            } else {
+                Motion::Dynamic
+            },
             mass,
             inertia,
             initial: states[b],
@@ -160,7 +176,8 @@ pub(crate) fn plan(
         mechanism.tree_order().iter().map(|&(j, _)| j).chain((0..joints.len()).filter(|&j| !joints[j].tree)).collect();
     for j in order {
         let (joint, spec) = (&joints[j], &graph.joints[j]);
-        if !moves(joint.parent) && !moves(joint.child) {
+        let left_out = |end: Option<usize>| end.is_some_and(|b| matches!(bodies[b + 1].motion, Motion::Derived { .. }));
+        if (!moves(joint.parent) && !moves(joint.child)) || left_out(joint.parent) || left_out(joint.child) {
             continue;
         }
         let kind = match spec.kind {
@@ -225,7 +242,6 @@ pub(crate) fn plan(
         bodies,
         joints: specs,
         couplings,
-        rope_pulleys: Vec::new(),
         forces,
         t0: initial.t,
         graph: Some(Arc::new(simulated)),

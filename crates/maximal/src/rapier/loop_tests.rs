@@ -58,7 +58,6 @@ fn plan(mode: JointMode, gravity: f64, bodies: Vec<BodySpec>, joints: Vec<JointS
         joints,
         graph: None,
         couplings: Vec::new(),
-        rope_pulleys: Vec::new(),
         forces,
         t0: 0.0,
     }

@@ -7,8 +7,9 @@
 //! draft, following docs/rapier.md#constructions-per-scene), then built by `world.rs`, one source
 //! compiled twice (`double`: f64, `single`: f32). What is built:
 //!
-//! The scenes that are joint graphs (`cart_pendulum`, `harmonic_oscillator`, `wedge`,
-//! `double_pendulum`, `chain`, `four_bar`, `slider_crank`, `andrews_squeezer`) are planned from
+//! The scenes that are joint graphs (`cart_pendulum`, `harmonic_oscillator`, the Atwood
+//! machines, `wedge`, `double_pendulum`, `chain`, `four_bar`, `slider_crank`,
+//! `andrews_squeezer`) are planned from
 //! their graph by `graph.rs` (docs/graphs.md#rapier), the others by their own file in
 //! `src/scenes/`; the table says what each build is.
 //!

@@ -32,6 +32,14 @@ pub(crate) enum Motion {
         /// Angular frequency `ω` (rad/s).
         frequency: f64,
     },
+    /// A body of the plan's joint graph that rapier leaves out (an inert fixed body): it has no
+    /// mass and no inertia, and a coupled joint of its own moves it (an Atwood pulley without
+    /// inertia, whose link would move no mass). Its state follows from the graph's forward
+    /// kinematics at the coordinates read back from the other bodies.
+    Derived {
+        /// The graph body.
+        body: usize,
+    },
     /// A kinematic, position-based body moved before every step to the pose of body `body` of
     /// the plan's joint graph, a function of time alone (driven and fixed joints from the
     /// ground).
@@ -167,18 +175,6 @@ pub(crate) struct Coupling {
     pub offset: f64,
 }
 
-/// A reduced-model body that rapier does not need, reported from the constraint instead: a
-/// massless Atwood pulley at the origin turning with the rope, `φ = −y_source / a`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct RopePulley {
-    /// Its index in the reduced model's body order.
-    pub reduced: usize,
-    /// The plan body whose height drives the rope (`m1`).
-    pub source: usize,
-    /// Pulley radius `a` (m).
-    pub radius: f64,
-}
-
 /// Forces applied with `add_force`/`add_torque` before every step, from the body states at the
 /// start of the step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -225,8 +221,6 @@ pub(crate) struct Plan {
     pub joints: Vec<JointSpec>,
     /// Multibody couplings.
     pub couplings: Vec<Coupling>,
-    /// Reduced bodies left out of rapier.
-    pub rope_pulleys: Vec<RopePulley>,
     /// Number of bodies of the reduced model.
     pub reduced_bodies: usize,
     /// Per-step forces.

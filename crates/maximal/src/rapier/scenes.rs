@@ -2,9 +2,7 @@
 //! which bodies, which joints with which anchors, which couplings and per-step forces, and the
 //! deviations from the requested scene that rapier needs.
 
-use super::plan::{
-    BodySpec, ColliderSpec, Coupling, JointKind, JointMode, JointSpec, Motion, Plan, RopePulley, Shape, StepForces,
-};
+use super::plan::{BodySpec, ColliderSpec, JointKind, JointMode, JointSpec, Motion, Plan, Shape, StepForces};
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError, Engine, maps};
 use lagrange::{Body, Error, State};
@@ -89,9 +87,6 @@ pub(crate) fn plan(
     crate::scenes::visit(scene, params, Planner { engine, mode, params, initial })?
 }
 
-/// The downward slide axis: coordinates are depths.
-pub(crate) const DOWN: [f64; 2] = [0.0, -1.0];
-
 /// Scene, parameters and state are valid and fit together (before any `Params::get`).
 pub(crate) fn check_input(scene: &str, params: &Params, initial: &State) -> Result<(), BuildError> {
     let Some(found) = lagrange_scenes::find(scene) else {
@@ -152,10 +147,6 @@ pub(crate) struct Draft {
     pub(crate) states: Vec<BodyState>,
     bodies: Vec<BodySpec>,
     joints: Vec<JointSpec>,
-    /// `(from, to, coeff)`; offsets are filled in by [`Draft::finish`].
-    couplings: Vec<(usize, usize, f64)>,
-    /// Massless pulleys turned by a rope, left out of the multibody.
-    pub(crate) rope_pulleys: Vec<RopePulley>,
     /// Per-step forces.
     pub(crate) forces: StepForces,
     gravity: f64,
@@ -184,8 +175,6 @@ impl Draft {
             states: maps::body_states(scene, params, initial)?,
             bodies: Vec::new(),
             joints: Vec::new(),
-            couplings: Vec::new(),
-            rope_pulleys: Vec::new(),
             forces: StepForces::default(),
             gravity: maps::gravity(params),
         })
@@ -288,21 +277,7 @@ impl Draft {
         self.joint(parent, child, JointKind::Rope { length }, [0.0, 0.0], [0.0, 0.0])
     }
 
-    /// `q_to = coeff · q_from + offset`, the offset taken from the initial state.
-    pub(crate) fn couple(&mut self, from: usize, to: usize, coeff: f64) {
-        self.couplings.push((from, to, coeff));
-    }
-
     fn finish(self, scene: &str, params: Params, deviations: Vec<String>, t0: f64) -> Plan {
-        let coordinate = |j: usize| {
-            let joint = &self.joints[j];
-            joint.coordinate(&self.bodies[joint.parent].initial, &self.bodies[joint.child].initial).0
-        };
-        let couplings = self
-            .couplings
-            .iter()
-            .map(|&(from, to, coeff)| Coupling { from, to, coeff, offset: coordinate(to) - coeff * coordinate(from) })
-            .collect();
         Plan {
             scene: scene.into(),
             mode: self.mode,
@@ -312,8 +287,7 @@ impl Draft {
             reduced_bodies: self.states.len(),
             bodies: self.bodies,
             joints: self.joints,
-            couplings,
-            rope_pulleys: self.rope_pulleys,
+            couplings: Vec::new(),
             forces: self.forces,
             t0,
             graph: None,

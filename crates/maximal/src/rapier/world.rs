@@ -139,13 +139,31 @@ impl RapierSimulation {
                 reduced[r] = *state;
             }
         }
-        for pulley in &self.plan.rope_pulleys {
-            // φ = x₁/a with x₁ = −y₁ the depth of the rope's end, at rest at the origin.
-            let source = &plan_states[pulley.source];
-            reduced[pulley.reduced] = BodyState {
-                pose: [0.0, 0.0, -source.pose[1] / pulley.radius],
-                velocity: [0.0, 0.0, -source.velocity[1] / pulley.radius],
-            };
+        // Bodies rapier leaves out: by forward kinematics at the coordinates (and rates) read
+        // back from the others, whose angles are unwrapped along the motion.
+        if let Some(graph) = &self.plan.graph
+            && self.plan.bodies.iter().any(|b| matches!(b.motion, Motion::Derived { .. }))
+        {
+            use lagrange::num_dual::Dual64;
+            let poses: Vec<lagrange::Pose<Dual64>> = reduced
+                .iter()
+                .map(|s| {
+                    lagrange::Pose::new(
+                        Dual64::new(s.pose[0], s.velocity[0]),
+                        Dual64::new(s.pose[1], s.velocity[1]),
+                        Dual64::new(s.pose[2], s.velocity[2]),
+                    )
+                })
+                .collect();
+            let mut q = vec![Dual64::from(0.0); graph.coordinates().len()];
+            graph.coordinates_of(&poses, &mut q);
+            for spec in &self.plan.bodies {
+                if let Motion::Derived { body } = spec.motion {
+                    let p = graph.body_pose(body, Dual64::new(self.t(), 1.0), &q);
+                    reduced[body] =
+                        BodyState { pose: [p.x.re, p.y.re, p.angle.re], velocity: [p.x.eps, p.y.eps, p.angle.eps] };
+                }
+            }
         }
         reduced
     }
@@ -408,6 +426,8 @@ fn body_builder(body: &crate::rapier::plan::BodySpec) -> RigidBodyBuilder {
     let builder = match body.motion {
         Motion::Ground => RigidBodyBuilder::fixed(),
         Motion::Support { .. } | Motion::Kinematic { .. } => RigidBodyBuilder::kinematic_position_based(),
+        // Left out: an inert body that nothing touches.
+        Motion::Derived { .. } => RigidBodyBuilder::fixed(),
         Motion::Dynamic => {
             let [vx, vy, omega] = body.initial.velocity;
             let builder = RigidBodyBuilder::dynamic();

@@ -7,11 +7,8 @@
 //! construction. [`hand_written!`] lists them; a registered scene in neither group has no
 //! maximal build, which [`visit`] reports.
 
-mod atwood;
 mod chaplygin_sleigh;
 mod charged_particle;
-mod double_atwood;
-mod double_double_atwood;
 mod driven_pendulum;
 mod isotropic_oscillator;
 mod kepler;
@@ -34,9 +31,6 @@ macro_rules! hand_written {
         $callback! {
             lagrange_scenes::Kepler,
             lagrange_scenes::IsotropicOscillator,
-            lagrange_scenes::Atwood,
-            lagrange_scenes::DoubleAtwood,
-            lagrange_scenes::DoubleDoubleAtwood,
             lagrange_scenes::SpringPendulum,
             lagrange_scenes::DrivenPendulum,
             lagrange_scenes::ChargedParticle,
@@ -57,13 +51,17 @@ pub(crate) fn graph(scene: &str, params: &Params) -> Result<Option<GraphMechanis
 }
 
 /// The rapier deviations of the joint-graph scenes, as [`MaximalScene::rapier_deviations`]
-/// gives them for the others: the point bobs of the pendulums on impulse revolute joints.
+/// gives them for the others: the point bobs of the pendulums on impulse revolute joints, the
+/// massless movable pulleys of the multibody Atwood machines.
 pub(crate) fn graph_deviations(scene: &str, mode: JointMode) -> &'static [(&'static str, &'static str, &'static str)] {
     match (scene, mode) {
         ("cart_pendulum", JointMode::Impulse) => &[("bob_inertia", "bob_mass", "rod_length")],
         ("double_pendulum", JointMode::Impulse) => {
             &[("inertia_1", "mass_1", "length_1"), ("inertia_2", "mass_2", "length_2")]
         }
+        // Massless movable pulleys (docs/rapier.md#couplings).
+        ("double_atwood", JointMode::Multibody) => &[("lower_pulley_mass", "", "")],
+        ("double_double_atwood", JointMode::Multibody) => &[("pulley_a_mass", "", ""), ("pulley_b_mass", "", "")],
         _ => &[],
     }
 }
