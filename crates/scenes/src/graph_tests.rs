@@ -86,8 +86,9 @@ fn joint_graph_reduced_models_equal_the_hand_written_ones() {
 }
 
 /// The scenes that keep their own maximal builds have joint-graph twins all the same: the
-/// elastic pendulum as a massless arm turning at the origin with the bob sliding along it on a
-/// spring, the driven pendulum as a massless support on a driven slide. Their reduced models
+/// elastic pendulum and the isotropic oscillator as a massless arm turning at the origin with the
+/// mass sliding along it on a spring, the driven pendulum as a massless support on a driven
+/// slide. Their reduced models
 /// equal the scenes' to round-off (the scenes keep hand-written builds for rapier's sake,
 /// docs/graphs.md#scenes-that-are-graphs).
 #[test]
@@ -116,7 +117,25 @@ fn joint_graph_twins_of_the_other_pendulums_equal_them() {
                 .driven(Profile::harmonic(driven.amplitude, driven.drive_frequency)),
         )
         .with_joint(GraphJoint::revolute("θ", "support", [0.0, 0.0], "bob", [0.0, driven.length]).absolute());
-    for (id, twin) in [("spring_pendulum", spring_twin), ("driven_pendulum", driven_twin)] {
+    // The isotropic oscillator, `V = ½ k r²`: a spring of natural length 0 from the origin to
+    // the particle sliding along an arm that turns at the origin (θ from the x axis).
+    let isotropic =
+        crate::IsotropicOscillator::from_params(&crate::scene_of::<crate::IsotropicOscillator>().default_params())
+            .unwrap();
+    let isotropic_twin = JointGraph::new("isotropic twin", 0.0)
+        .with_body(GraphBody::rigid("arm", 0.0, 0.0))
+        .with_body(GraphBody::point("particle", isotropic.mass))
+        .with_joint(GraphJoint::prismatic("r", "arm", [0.0, 0.0], "particle", [0.0, 0.0], [1.0, 0.0]))
+        .with_joint(GraphJoint::revolute("θ", GROUND, [0.0, 0.0], "arm", [0.0, 0.0]))
+        .with_force(ForceElement::Spring {
+            a: Point::world([0.0, 0.0]),
+            b: Point::on("particle", [0.0, 0.0]),
+            stiffness: isotropic.stiffness,
+            rest_length: 0.0,
+        });
+    for (id, twin) in
+        [("spring_pendulum", spring_twin), ("driven_pendulum", driven_twin), ("isotropic_oscillator", isotropic_twin)]
+    {
         let scene = crate::find(id).unwrap();
         let params = scene.default_params();
         let model = Model::new(GraphMechanism::new(twin).unwrap()).unwrap();

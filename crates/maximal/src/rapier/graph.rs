@@ -253,3 +253,21 @@ pub(crate) fn plan(
 fn tree_child(joint: &lagrange::graph::ResolvedJoint) -> Option<usize> {
     if joint.reversed { joint.parent } else { joint.child }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// parry's mass properties of a shape agree with the graph's own formulas (the reduced
+    /// model's), to round-off.
+    #[test]
+    fn parry_mass_properties_are_the_shapes() {
+        for shape in [Shape::Disc { radius: 0.3 }, Shape::Rectangle { half_extents: [0.4, 0.15] }] {
+            let mass = 2.5;
+            let (m, i) = parry_mass_properties(shape, mass);
+            assert!((m - mass).abs() <= 1e-14 * mass, "{shape:?}: mass {m}");
+            let expected = shape.inertia(mass);
+            assert!((i - expected).abs() <= 1e-14 * expected, "{shape:?}: inertia {i} vs {expected}");
+        }
+    }
+}
