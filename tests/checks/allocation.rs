@@ -172,3 +172,39 @@ fn no_heap_allocation_per_step_with_applied_forces() {
     let raw = RawModel::new(Model::new(rod()).expect("valid")).expect("valid");
     assert_no_allocation_per_step("pushed rod (raw path)", &raw, &initial);
 }
+
+/// Models built from joint graphs step without allocating either: every scene's graph (loops,
+/// couplings, springs, torques), and a random tree and loop with dampers and a time-varying
+/// torque added (the loads' dual pass of the forward kinematics).
+#[test]
+fn no_heap_allocation_per_step_for_joint_graphs() {
+    use lagrange::graph::{ForceElement, GraphMechanism, Point, Profile};
+    use lagrange_validation::fixtures::rng;
+    use lagrange_validation::graphs::{random_loop, random_tree};
+    let mut checked = 0;
+    for scene in all() {
+        let params = scene.default_params();
+        let Some(graph) = scene.joint_graph(&params).expect("valid") else { continue };
+        let model = Model::new(GraphMechanism::new(graph).expect("a mechanism")).expect("valid");
+        assert_no_allocation_per_step(
+            &format!("{} (graph)", scene.id()),
+            &model,
+            &scene.default_state(&params).expect("valid"),
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 11, "the joint-graph scenes");
+    for (graph, state) in [random_tree(&mut rng(3), 6), random_loop(&mut rng(12), 5)] {
+        let graph = graph
+            .with_force(ForceElement::Damper {
+                a: Point::on("b0", [0.1, 0.0]),
+                b: Point::on("b2", [0.0, 0.2]),
+                coefficient: 0.5,
+            })
+            .with_force(ForceElement::JointDamper { joint: "q1".into(), coefficient: 0.3 })
+            .with_force(ForceElement::Torque { body: "b1".into(), torque: Profile::harmonic(0.5, 2.0) });
+        let name = graph.name.clone();
+        let model = Model::new(GraphMechanism::new(graph).expect("a mechanism")).expect("valid");
+        assert_no_allocation_per_step(&name, &model, &state);
+    }
+}
