@@ -70,7 +70,7 @@ const FIRST_ORDER_MAX_ERROR: f64 = 1e-1;
 
 /// The observed order of convergence of a fixed-step sweep in its step (rk4, variational) or
 /// substep `h` (rapier): the median over successive runs of `ln(e₁/e₂) / ln(h₁/h₂)`, with `e` the
-/// largest error over the saved times, using runs whose errors lie in [`ORDER_RANGE`]; `None`
+/// largest error over the saved times, using runs whose errors lie in `ORDER_RANGE`; `None`
 /// for tolerance sweeps and where fewer than two such runs exist.
 pub fn observed_order(runs: &[crate::runs::Run]) -> Option<f64> {
     let points: Vec<(f64, f64)> = runs

@@ -1,7 +1,7 @@
 //! The reduced solver and a maximal engine side by side on one scene: trajectory error,
 //! energy and momentum drift, constraint violation, constraint-force error, cost — measured by
 //! the report's own loop ([`measure::track`]) against a reduced reference at
-//! [`REFERENCE_TOLERANCE`].
+//! [`REFERENCE_TOLERANCE`](crate::plan::REFERENCE_TOLERANCE).
 
 use crate::Error;
 use crate::fixtures::{max_abs, max_abs_diff, nan_max, relative_energy_error};

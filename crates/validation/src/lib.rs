@@ -2,10 +2,10 @@
 //!
 //! The validation report's machinery, reusable by the `lagrange` command line, the tests and
 //! the benches: what runs ([`plan`]), the references every run is measured against
-//! ([`reference`]), the measurement of one run ([`measure`], whose loop also serves [`compare`]), the sweeps of a scene
+//! ([`reference`](mod@reference)), the measurement of one run ([`measure`], whose loop also serves [`compare`]), the sweeps of a scene
 //! ([`runs`]), the work-precision fronts and their comparison ([`pareto`]), the assembly of a
 //! scene's report ([`assemble`]) into the serialized [`schema`], and the stability suite with
-//! its theory ([`stability`]); the helpers every check shares ([`fixtures`]) and the tolerances
+//! its theory ([`stability`]); random joint graphs ([`graphs`]); the helpers every check shares ([`fixtures`]) and the tolerances
 //! with their reasons ([`tolerance`]). Rendering (Markdown, SVG plots, the terminal summary) and file
 //! writing stay in the command line.
 

@@ -1,10 +1,11 @@
 //! The report's stability section: for each case, which methods stay stable and accurate, at
-//! what cost, against theory where theory exists. One file per group of cases:
-//! [`stiff`] (stiff springs, strong damping), [`extreme`] (extreme parameters), [`orbit`]
-//! (Kepler at `e = 0.99`), [`chaos`] (double pendulum), [`singular`] (near-singular
-//! configurations), [`constrained`] (closed loops and redundant constraints), [`long_run`] (10⁷ steps), [`bad_input`] (random and invalid input); the
-//! stability functions behind the theory values are in [`theory`], the serialized types here,
-//! and report.md's section and the terminal lines in [`render`].
+//! what cost, against theory where theory exists. One file per group of cases: `stiff.rs`
+//! (stiff springs, strong damping), `extreme.rs` (extreme parameters), `orbit.rs` (Kepler at
+//! `e = 0.99`), `chaos.rs` (double pendulum), `singular.rs` (near-singular configurations),
+//! `constrained.rs` (closed loops and redundant constraints), `long_run.rs` (10⁷ steps),
+//! `bad_input.rs` (random and invalid input); the stability functions behind the theory values
+//! are `lagrange::integrate::stability`'s, the serialized types are here, and
+//! report.md's section and the terminal lines are rendered by the command line.
 //!
 //! Every measurement is one row: what was run (scene, parameters, method, settings), what was
 //! measured (a quantity and its value, or the run's failure), the theory value and the bound
@@ -54,7 +55,7 @@ impl Effort {
 pub struct StabilityReport {
     /// `full` or `quick`.
     pub mode: &'static str,
-    /// One entry per case, in the order of [`CASES`].
+    /// One entry per case, in the order of `CASES`.
     pub cases: Vec<Case>,
     /// Measurements that passed their check.
     pub passed: usize,
