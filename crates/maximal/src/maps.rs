@@ -230,22 +230,7 @@ pub fn graph_generalized(mechanism: &GraphMechanism, bodies: &[BodyState], refer
 pub fn graph_potential(mechanism: &GraphMechanism, states: &[BodyState], gradient: Option<&mut [f64]>) -> (f64, bool) {
     let poses: Vec<Pose<f64>> = states.iter().map(|s| Pose::from_array(s.pose)).collect();
     if let Some(gradient) = gradient {
-        gradient.fill(0.0);
-        if mechanism.has_potential() {
-            // body_wrenches adds −∂V/∂p_b (and the non-conservative loads, left out here).
-            let mut spring_only = mechanism.graph().clone();
-            spring_only.forces.retain(|f| {
-                matches!(
-                    f,
-                    lagrange::graph::ForceElement::Spring { .. } | lagrange::graph::ForceElement::JointSpring { .. }
-                )
-            });
-            if let Ok(springs) = GraphMechanism::new(spring_only) {
-                let still = vec![[0.0; 3]; states.len()];
-                springs.body_wrenches(0.0, &poses, &still, gradient);
-                gradient.iter_mut().for_each(|g| *g = -*g);
-            }
-        }
+        mechanism.potential_gradient(&poses, gradient);
     }
     (mechanism.force_potential(&poses), mechanism.has_potential())
 }

@@ -154,26 +154,39 @@ impl GraphMechanism {
         }
     }
 
-    /// The force elements' potential energy at time `t` for bodies at `poses` (J).
+    /// The springs' potential energy for bodies at `poses` (J).
     pub fn force_potential(&self, poses: &[Pose<f64>]) -> f64 {
         self.potential_at(poses)
     }
 
+    /// The gradient of the springs' potential in every body's pose, `∂V/∂(x_b, y_b, φ_b)` (3B,
+    /// written into `gradient`), one dual pass per pose component; zero without springs.
+    pub fn potential_gradient(&self, poses: &[Pose<f64>], gradient: &mut [f64]) {
+        gradient.fill(0.0);
+        if !self.has_potential() {
+            return;
+        }
+        let mut dual: Vec<Pose<Dual64>> =
+            poses.iter().map(|p| Pose::new(Dual64::from(p.x), Dual64::from(p.y), Dual64::from(p.angle))).collect();
+        for b in 0..poses.len() {
+            for c in 0..3 {
+                set_eps(&mut dual[b], c, 1.0);
+                gradient[3 * b + c] = self.potential_at(&dual).eps;
+                set_eps(&mut dual[b], c, 0.0);
+            }
+        }
+    }
+
     /// The force elements' wrench `(F_x, F_y, τ)` on every body (3B, added to `wrench`) at time
     /// `t`, for bodies at `poses` moving with `velocities` (`(ẋ, ẏ, φ̇)` of each centre of
-    /// mass): the springs' `−∂V/∂(x_b, y_b, φ_b)` (one dual pass per pose component) and the
-    /// dampers', torques' and forces' loads — what an engine that integrates bodies applies.
+    /// mass): the springs' `−∂V/∂(x_b, y_b, φ_b)` ([`potential_gradient`](Self::potential_gradient))
+    /// and the dampers', torques' and forces' loads — what an engine that integrates bodies
+    /// applies.
     pub fn body_wrenches(&self, t: f64, poses: &[Pose<f64>], velocities: &[[f64; 3]], wrench: &mut [f64]) {
         if self.has_potential() {
-            let mut dual: Vec<Pose<Dual64>> =
-                poses.iter().map(|p| Pose::new(Dual64::from(p.x), Dual64::from(p.y), Dual64::from(p.angle))).collect();
-            for b in 0..poses.len() {
-                for c in 0..3 {
-                    set_eps(&mut dual[b], c, 1.0);
-                    wrench[3 * b + c] -= self.potential_at(&dual).eps;
-                    set_eps(&mut dual[b], c, 0.0);
-                }
-            }
+            let mut gradient = vec![0.0; wrench.len()];
+            self.potential_gradient(poses, &mut gradient);
+            wrench.iter_mut().zip(&gradient).for_each(|(w, g)| *w -= g);
         }
         if self.has_non_conservative_forces() {
             let twist = |b: usize| velocities[b];

@@ -354,14 +354,7 @@ impl Dop853 {
 
     /// `y_stage = y + h Σ_{j<s} a_sj k_j`.
     fn stage_state(&mut self, s: usize, h: f64) {
-        let row = &A[s];
-        for (i, ys) in self.y_stage.iter_mut().enumerate() {
-            let mut sum = 0.0;
-            for j in (0..s).filter(|&j| row[j] != 0.0) {
-                sum += row[j] * self.k[j][i];
-            }
-            *ys = self.y[i] + h * sum;
-        }
+        combine(&A[s][..s], &self.k, &self.y, h, &mut self.y_stage);
     }
 
     /// Take one accepted step, never past `t_limit` (retrying rejected steps internally).
@@ -384,13 +377,7 @@ impl Dop853 {
             }
             // The 8th-order solution y₁ (into y_end) and f(t + h, y₁) (into k_12); stage 11's
             // argument stays in y_stage for the stiffness estimate.
-            for i in 0..n2 {
-                let mut sum = 0.0;
-                for j in (0..STAGES).filter(|&j| A[12][j] != 0.0) {
-                    sum += A[12][j] * self.k[j][i];
-                }
-                self.y_end[i] = self.y[i] + h * sum;
-            }
+            combine(&A[12][..STAGES], &self.k, &self.y, h, &mut self.y_end);
             rhs(system, ws, n, t + h, &self.y_end, &mut self.k[12])?;
             self.stats.evaluations += STAGES;
             // Error: the 5th- and 3rd-order estimates combined.
@@ -439,14 +426,7 @@ impl Dop853 {
     fn prepare_dense<D: Dynamics>(&mut self, system: &D, ws: &mut D::Workspace) -> Result<(), Error> {
         let (n, n2, t, h) = (self.n, 2 * self.n, self.t_old, self.h_old);
         for s in 13..EXTENDED {
-            let row = &A[s];
-            for i in 0..n2 {
-                let mut sum = 0.0;
-                for j in (0..s).filter(|&j| row[j] != 0.0) {
-                    sum += row[j] * self.k[j][i];
-                }
-                self.y_stage[i] = self.y_old[i] + h * sum;
-            }
+            combine(&A[s][..s], &self.k, &self.y_old, h, &mut self.y_stage);
             rhs(system, ws, n, t + C[s] * h, &self.y_stage, &mut self.k[s])?;
         }
         self.stats.evaluations += 3;
@@ -507,6 +487,18 @@ impl Dop853 {
             }
         }
         Ok(())
+    }
+}
+
+/// `out = base + h Σ_j row_j k_j`, over the non-zero entries of `row` (the stages a
+/// Runge–Kutta row combines).
+fn combine(row: &[f64], k: &[Vec<f64>], base: &[f64], h: f64, out: &mut [f64]) {
+    for (i, o) in out.iter_mut().enumerate() {
+        let mut sum = 0.0;
+        for (j, &a) in row.iter().enumerate().filter(|&(_, &a)| a != 0.0) {
+            sum += a * k[j][i];
+        }
+        *o = base[i] + h * sum;
     }
 }
 

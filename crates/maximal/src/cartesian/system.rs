@@ -150,7 +150,7 @@ impl CartesianSystem {
         // Validates the parameters (and the scene id) before any parameter is read by name.
         let bodies = maps::bodies(scene, params)?;
         if let Some(mechanism) = crate::scenes::graph(scene, params)? {
-            return Ok(Self::from_graph(scene, params, Arc::new(mechanism)));
+            return Ok(Self::from_graph(scene, params, mechanism));
         }
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
         // The scene's constraints and non-conservative forces, from its maximal description.

@@ -50,7 +50,7 @@ pub(crate) fn plan(
     engine: Engine,
     mode: JointMode,
     name: &str,
-    mechanism: GraphMechanism,
+    mechanism: &GraphMechanism,
     initial: &State,
 ) -> Result<GraphPlan, BuildError> {
     let unbuildable = |reason: String| BuildError::Unbuildable { engine, scene: name.into(), reason };
@@ -95,7 +95,7 @@ pub(crate) fn plan(
         }
     }
     // Bodies: the ground, then one per graph body, with the impulse deviations.
-    let states = maps::graph_body_states(&mechanism, initial)?;
+    let states = maps::graph_body_states(mechanism, initial)?;
     let mut deviations = Vec::new();
     let mut inertias = Vec::new();
     let mut simulated = graph.clone();

@@ -235,7 +235,7 @@ fn sprung_rod(mode: JointMode) -> (Plan, impl Fn(f64) -> f64) {
         .with_force(ForceElement::Torque { body: "rod".into(), torque: Profile::constant(tau) });
     let mechanism = GraphMechanism::new(graph).unwrap();
     let initial = lagrange::State::new(0.0, [0.0], [0.0]);
-    let plan = super::graph::plan(engine(mode, false), mode, "sprung rod", mechanism, &initial).unwrap().plan;
+    let plan = super::graph::plan(engine(mode, false), mode, "sprung rod", &mechanism, &initial).unwrap().plan;
     let accel = move |theta: f64| {
         let d = [l * theta.sin(), -l * theta.cos()];
         let r = [d[0] - c[0], d[1] - c[1]];

@@ -115,7 +115,7 @@ pub(crate) fn build_graph(
         _ => JointMode::Impulse,
     };
     let name = mechanism.graph().name.clone();
-    let built = graph::plan(engine, mode, &name, mechanism, initial)?;
+    let built = graph::plan(engine, mode, &name, &mechanism, initial)?;
     let (deviations, simulated) = (built.deviations.clone(), built.graph.clone());
     Ok(Built {
         simulation: world(engine, built.plan, settings)?,

@@ -63,7 +63,7 @@ pub(crate) fn plan(
         // A joint-graph scene: the scene's deviations on its parameters, then the graph's plan.
         let (params, deviations) = with_deviations(crate::scenes::graph_deviations(scene, mode), params)?;
         let mechanism = crate::scenes::graph(scene, &params)?.ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
-        let built = super::graph::plan(engine, mode, scene, mechanism, initial)?;
+        let built = super::graph::plan(engine, mode, scene, &mechanism, initial)?;
         // The graph's own deviations, carried by the scene's parameters `<body>.inertia` (a
         // registered joint-graph scene has them) so that the reference simulates them too.
         let mut params = params;
