@@ -572,8 +572,8 @@ impl GraphMechanism {
         self.graph.bodies.iter().position(|b| b.name == name)
     }
 
-    /// Whether any joint or force depends on time by itself (a drive, a time-varying torque
-    /// or force).
+    /// Whether a drive moves a joint with time (a constraint that depends on `t` explicitly);
+    /// time-varying torques and forces do not count.
     pub fn is_rheonomic(&self) -> bool {
         self.joints.iter().any(|j| matches!(j.value, JointValue::Driven(p) if p.varies()))
     }
@@ -869,11 +869,6 @@ impl GraphMechanism {
     /// Whether the force elements include springs (a potential beyond gravity).
     pub fn has_potential(&self) -> bool {
         self.has_potential
-    }
-
-    /// Whether any body carries a shape.
-    pub fn shape(&self, body: usize) -> Option<Shape> {
-        self.graph.bodies[body].shape
     }
 }
 
