@@ -14,6 +14,7 @@ mod raw_path;
 mod reactions;
 mod readme;
 mod region;
+mod singular;
 mod stability;
 mod variational;
 mod variational_constraints;

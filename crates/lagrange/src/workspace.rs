@@ -86,6 +86,9 @@ pub struct Workspace<S: Scalar> {
     /// The constrained solve's buffers (`None` for a model without constraints): `G`, `γ`,
     /// the residuals and the multipliers `λ`, filled by [`accelerations`](crate::accelerations).
     pub constraints: Option<ConstraintBuffers<S>>,
+    /// The sparse constrained solve's buffers (`None` unless the model has a
+    /// [`SparseStructure`](crate::eom::sparse::SparseStructure)).
+    pub(crate) sparse: Option<crate::eom::sparse::SparseBuffers<S>>,
 }
 
 impl<S: Scalar> Workspace<S> {
@@ -131,8 +134,9 @@ impl<S: Scalar> Workspace<S> {
             tangent: None,
             constraints: model.is_constrained().then(|| {
                 let (m, k) = model.constraint_counts();
-                ConstraintBuffers::new(n, m, k)
+                ConstraintBuffers::new(n, b, m, k)
             }),
+            sparse: model.sparse.as_ref().map(|s| crate::eom::sparse::SparseBuffers::new(s)),
         }
     }
 }

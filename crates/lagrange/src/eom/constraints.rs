@@ -18,13 +18,13 @@
 //! tree itself, where a null-space method would need a basis of `ker G` (an n × (n − c)
 //! QR) at every evaluation.
 //!
-//! Redundant constraints (a parallelogram with a third parallel link) make `S` singular but
-//! leave `q̈` unique: `S` is factored as LDLᵀ in the order the constraints are written, and a
-//! row whose pivot falls below `DEPENDENT` times its diagonal is dependent on the rows before
-//! it. Its multiplier is 0 (the *basic* solution: the earlier of two redundant constraints
-//! carries the force), and its equation must then hold by itself — the forward-substituted
-//! residual within `CONSISTENT` of the scale of the right-hand side — or the constraints are
-//! inconsistent, [`Error::InconsistentConstraints`] naming them.
+//! Redundant constraints (a parallelogram with a third parallel link) make `S` singular
+//! everywhere, a linkage passing a singular configuration (a parallelogram laid flat) for an
+//! instant; `q̈` stays unique. `S λ = r` is solved by the factor of `S + μ̄ I` and iterative
+//! refinement ([`REGULARIZATION`], [`REFINEMENTS`]): exact to round-off wherever no row is
+//! nearly dependent, smooth where rows become dependent (no rank decision that flips between
+//! evaluations), and the minimum-norm `λ` at a redundancy (the reactions of redundant
+//! constraints are not unique; this one spreads the force evenly).
 
 use crate::eom::kinematics::LANES_FROM;
 use crate::error::{Error, Stage};
@@ -67,6 +67,10 @@ pub struct ConstraintBuffers<S: Scalar> {
     pub(crate) mobility: Vec<S>,
     /// `S = G M⁻¹ Gᵀ` and its LDLᵀ factor (c × c).
     pub(crate) schur: Vec<S>,
+    /// The LDLᵀ factor of `S + μ̄ I` (c × c) and the residual of the refined solve (c).
+    pub(crate) schur_factor: Vec<S>,
+    pub(crate) refine: Vec<S>,
+    pub(crate) right: Vec<S>,
     /// Seeded copies of `q̇` (n), the holonomic residuals along the motion (m) and the
     /// velocity residuals (k).
     pub(crate) qdot_dual: Vec<Dual<S>>,
@@ -85,10 +89,15 @@ pub struct ConstraintBuffers<S: Scalar> {
     /// The coordinates a damped Gauss–Newton step starts from (n).
     pub(crate) start: Vec<S>,
     pub(crate) gram_dependent: Vec<bool>,
+    /// The state a watched projection started from (n, n).
+    pub(crate) position_before: Vec<S>,
+    pub(crate) velocity_before: Vec<S>,
+    /// The body poses (B), for the scale of the positions a projection meets.
+    pub(crate) poses: Vec<crate::Pose<S>>,
 }
 
 impl<S: Scalar> ConstraintBuffers<S> {
-    pub(crate) fn new(n: usize, holonomic: usize, velocity: usize) -> Self {
+    pub(crate) fn new(n: usize, bodies: usize, holonomic: usize, velocity: usize) -> Self {
         let zero = S::zero();
         let c = holonomic + velocity;
         Self {
@@ -100,6 +109,9 @@ impl<S: Scalar> ConstraintBuffers<S> {
             dependent: vec![false; c],
             mobility: vec![zero; c * n],
             schur: vec![zero; c * c],
+            schur_factor: vec![zero; c * c],
+            refine: vec![zero; c],
+            right: vec![zero; c],
             qdot_dual: vec![Dual::from_re(zero); n],
             phi_dual: vec![Dual::from_re(zero); holonomic],
             q_lanes: vec![Lanes::from_re(zero); n],
@@ -111,6 +123,9 @@ impl<S: Scalar> ConstraintBuffers<S> {
             step: vec![zero; n],
             start: vec![zero; n],
             gram_dependent: vec![false; c],
+            position_before: vec![zero; n],
+            velocity_before: vec![zero; n],
+            poses: vec![crate::Pose::default(); bodies],
         }
     }
 }
@@ -246,14 +261,13 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
     let mut buffers = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
     evaluate(&model.mechanism, counts, Rows::All, &mut ws.q_dual, &mut ws.q_dual2, &mut buffers, t, q, qdot);
     let factor = if model.constant.is_some() { &ws.constant_factor } else { &ws.factor };
-    let result = schur_solve(model, &mut buffers, &mut ws.qddot, factor, n, c, t, q);
+    let result = schur_solve(&mut buffers, &mut ws.qddot, factor, n, c, t, q);
     ws.constraints = Some(buffers);
     result
 }
 
 #[allow(clippy::too_many_arguments)]
-fn schur_solve<M: Mechanism, S: Scalar>(
-    model: &Model<M>,
+fn schur_solve<S: Scalar>(
     b: &mut ConstraintBuffers<S>,
     qddot: &mut [S],
     factor: &[S],
@@ -286,30 +300,13 @@ fn schur_solve<M: Mechanism, S: Scalar>(
         }
         b.multipliers[i] = dot(&b.jacobian[i * n..(i + 1) * n], qddot) + b.convective[i];
     }
-    let scale = b.multipliers.iter().fold(0.0_f64, |m, v| m.max(v.re().abs()));
-    factor_skipping(c, &mut b.schur, &mut b.dependent);
-    forward_skipping(c, &b.schur, &b.dependent, &mut b.multipliers);
-    // A dependent row's residual after elimination must vanish.
-    if let Some(i) = (0..c).find(|&i| b.dependent[i] && b.multipliers[i].re().abs() > CONSISTENT * scale + f64::EPSILON)
-    {
-        let names = (0..c)
-            .filter(|&k| k == i || !b.dependent[k] && b.schur[i * c + k].re() != 0.0)
-            .map(|k| model.mechanism.constraint_name(k))
-            .collect();
-        return Err(Error::InconsistentConstraints {
-            t: t.re(),
-            q: q.iter().map(|v| v.re()).collect(),
-            constraints: names,
-            residual: b.multipliers[i].re().abs(),
-        });
-    }
-    // Dependent rows carry no multiplier.
-    backward_skipping(c, &b.schur, &b.dependent, &mut b.multipliers);
+    let ConstraintBuffers { schur, schur_factor, multipliers, dependent, refine, right, .. } = b;
+    regularized_factor(c, REGULARIZATION, schur, schur_factor, dependent);
+    regularized_solve(c, (schur, schur_factor, dependent), multipliers, right, refine);
     // q̈ = q̈_u − M⁻¹ Gᵀ λ = q̈_u − L⁻ᵀ D^(−1/2) Uᵀ λ: one backward substitution.
-    let (scaling, mobility, multipliers, dependent) = (&mut b.step, &b.mobility, &b.multipliers, &b.dependent);
+    let (scaling, mobility, multipliers) = (&mut b.step, &b.mobility, &b.multipliers);
     for (j, w) in scaling.iter_mut().enumerate() {
-        let sum =
-            (0..c).filter(|&i| !dependent[i]).fold(S::zero(), |sum, i| sum + mobility[i * n + j] * multipliers[i]);
+        let sum = (0..c).fold(S::zero(), |sum, i| sum + mobility[i * n + j] * multipliers[i]);
         *w *= sum;
     }
     crate::linalg::ldlt_backward(n, factor, scaling);
@@ -317,6 +314,76 @@ fn schur_solve<M: Mechanism, S: Scalar>(
         *a -= *d;
     }
     Ok(())
+}
+
+/// The shift of the regularized constrained solve, relative to the mean diagonal of `S`:
+/// `S + μ̄ I` with `μ̄ = REGULARIZATION · trace(S)/c` is factored instead of `S`, and the exact
+/// `S λ = r` is approached by [`REFINEMENTS`] steps of iterative refinement. A direction of `S`
+/// with eigenvalue `s ≫ μ̄` is solved to a relative error `(μ̄/s)^(REFINEMENTS + 1)`; one with
+/// `s ≪ μ̄` (a constraint row that has become dependent on the others, as at a linkage's flat
+/// position) is enforced only in part, smoothly, instead of by a rank decision that flips
+/// from one evaluation to the next.
+pub(crate) const REGULARIZATION: f64 = 1e-10;
+
+/// Iterative refinement steps after the first solve with `S + μ̄ I`.
+pub(crate) const REFINEMENTS: usize = 2;
+
+/// Factor `S + μ̄ I` (`S` symmetric positive semi-definite, c × c, row-major) into `factor`:
+/// see [`REGULARIZATION`]. Only an all-zero or non-finite `S` leaves a pivot that is not
+/// positive; such rows are marked in `dependent` and solved as 0.
+pub(crate) fn regularized_factor<S: Scalar>(c: usize, mu: f64, schur: &[S], factor: &mut [S], dependent: &mut [bool]) {
+    let trace = (0..c).map(|i| schur[i * c + i].re()).sum::<f64>();
+    let shift = mu * trace / c.max(1) as f64;
+    factor[..c * c].copy_from_slice(&schur[..c * c]);
+    for i in 0..c {
+        factor[i * c + i] += S::from(shift);
+    }
+    for j in 0..c {
+        let mut d = factor[j * c + j];
+        for k in (0..j).filter(|&k| !dependent[k]) {
+            d -= factor[j * c + k] * factor[j * c + k] * factor[k * c + k];
+        }
+        dependent[j] = !(d.re() > 0.0);
+        factor[j * c + j] = d;
+        for i in j + 1..c {
+            if dependent[j] {
+                factor[i * c + j] = S::zero();
+                continue;
+            }
+            let mut l = factor[i * c + j];
+            for k in (0..j).filter(|&k| !dependent[k]) {
+                l -= factor[i * c + k] * factor[j * c + k] * factor[k * c + k];
+            }
+            factor[i * c + j] = l / d;
+        }
+    }
+}
+
+/// Solve `S λ = r` by the factor of `S + μ̄ I` and [`REFINEMENTS`] refinement steps: `rhs`
+/// holds `r` on entry and `λ` on return; `right` (c) keeps `r`, `residual` (c) ends holding
+/// `r − S λ`. Returns the largest entry of that residual.
+pub(crate) fn regularized_solve<S: Scalar>(
+    c: usize,
+    (schur, factor, dependent): (&[S], &[S], &[bool]),
+    rhs: &mut [S],
+    right: &mut [S],
+    residual: &mut [S],
+) -> f64 {
+    right[..c].copy_from_slice(&rhs[..c]);
+    residual[..c].copy_from_slice(&rhs[..c]);
+    rhs[..c].iter_mut().for_each(|v| *v = S::zero());
+    for _ in 0..=REFINEMENTS {
+        // δ = (S + μ̄ I)⁻¹ ρ (in ρ's place), λ += δ, then ρ = r − S λ.
+        forward_skipping(c, factor, dependent, residual);
+        backward_skipping(c, factor, dependent, residual);
+        for i in 0..c {
+            rhs[i] += residual[i];
+        }
+        for i in 0..c {
+            residual[i] = right[i] - dot(&schur[i * c..(i + 1) * c], &rhs[..c]);
+        }
+    }
+    residual[..c].iter().fold(0.0, |m, v| m.max(v.re().abs()))
 }
 
 /// LDLᵀ of the symmetric `c × c` matrix `a` in place (lower triangle; unit `L` below the
@@ -473,28 +540,78 @@ const MAX_TURN: f64 = 0.5;
 /// stationary point of `‖Φ‖₂`, where the iteration fails anyway).
 const HALVINGS: usize = 10;
 
-/// The positions are on `Φ = 0` when `max |Φ| ≤ POSITION_TOLERANCE · (1 + max |q|)`: a few ε of
-/// the coordinates' own round-off (what Gauss–Newton reaches in one or two iterations from a
-/// step's `O(tol)` drift), well above it so that round-off cannot stall the loop.
+/// The positions are on `Φ = 0` when `max |Φ| ≤ POSITION_TOLERANCE · L`, with `L` the scale
+/// of the positions the constraints compare ([`position_scale`]): a few ε of the round-off of
+/// evaluating `Φ` itself (a difference of two positions of size `L`), what Gauss–Newton
+/// reaches in one or two iterations from a step's `O(tol)` drift, and far enough above it that
+/// round-off cannot stall the loop.
 pub(crate) const POSITION_TOLERANCE: f64 = 16.0 * f64::EPSILON;
 
-/// [`project`] with some coordinates held: `held[j]` keeps `q_j` and `q̇_j` as given.
+/// A Gauss–Newton iteration that no longer halves `max |Φ|` has reached the round-off of `Φ`
+/// when `max |Φ|` is within this factor of [`POSITION_TOLERANCE`]` · L`: a position found by
+/// forward kinematics sums `d` terms of size up to `L`, with a round-off of about `d ε L`, so
+/// the band covers chains thousands of bodies deep, while a loop that cannot close stalls at
+/// the size of its gap, orders of magnitude above.
+const ROUNDOFF_BAND: f64 = 1e3;
+
+/// The shift of the projection's solves with `G Gᵀ`, relative to its mean diagonal (see
+/// [`REGULARIZATION`]): the projection must remove a near-dependent row's residual almost
+/// completely (its refined solve is exact for every direction with eigenvalue above
+/// `1e-15` of the mean), yet stay continuous where a row becomes exactly dependent.
+const PROJECTION_REGULARIZATION: f64 = 1e-15;
+
+/// The scale `L` of the positions at `(t, q)`: `1 + max(|x_b|, |y_b|)` over the bodies and
+/// `|q_j|` over the length coordinates. Angles do not enter (a turned crank is not larger), and
+/// a mechanism far from the origin gets the tolerance its positions' round-off needs: the
+/// outcome does not depend on where the world's origin is.
+fn position_scale<M: Mechanism>(model: &Model<M>, poses: &mut [crate::Pose<f64>], t: f64, q: &[f64]) -> f64 {
+    model.mechanism.poses(t, q, poses);
+    let bodies = poses.iter().fold(0.0_f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    let lengths = model
+        .mechanism
+        .coordinates()
+        .iter()
+        .zip(q)
+        .filter(|(c, _)| c.kind == CoordinateKind::Length)
+        .fold(0.0_f64, |m, (_, v)| m.max(v.abs()));
+    let scale = 1.0 + bodies.max(lengths);
+    if scale.is_finite() { scale } else { 1.0 }
+}
+
+/// A projection after an integration step that turns an angle by more than this (rad), moves a
+/// length coordinate by more than this fraction of the positions' scale `L`, or changes a
+/// velocity by more than this fraction of the largest one (plus [`VELOCITY_FLOOR`]) did not
+/// remove a step's drift: the step left the branch it started on (a singular configuration
+/// passed too closely, a step too coarse for the motion, or constraints that no smooth motion
+/// from the state meets). A resolved step drifts by its local error, orders of magnitude less.
+const JUMP: f64 = 0.5;
+
+/// The absolute part of the velocity bound of [`JUMP`], so that a mechanism at rest is not
+/// judged by the round-off of its zero velocity.
+const VELOCITY_FLOOR: f64 = 1e-6;
+
+/// [`project`] with some coordinates held: `held[j]` keeps `q_j` and `q̇_j` as given. With
+/// `watch`, a correction beyond [`JUMP`] is an error instead of a new state.
 pub(crate) fn project_holding<M: Mechanism>(
     model: &Model<M>,
     ws: &mut Workspace<f64>,
     t: f64,
-    q: &mut [f64],
-    qdot: &mut [f64],
+    (q, qdot): (&mut [f64], &mut [f64]),
     held: Option<&[bool]>,
+    watch: bool,
 ) -> Result<(), Error> {
     crate::eom::check_state(model.n, t, q, Some(qdot))?;
     let n = model.n;
     let (m, k) = model.constraint_counts;
     let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
     let result = (|| {
+        let scale = position_scale(model, &mut b.poses, t, q);
+        if watch {
+            b.position_before.copy_from_slice(q);
+            b.velocity_before.copy_from_slice(qdot);
+        }
         if m > 0 {
-            let scale = 1.0 + q.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-            let mut iterations = 0;
+            let (mut iterations, mut previous) = (0, f64::INFINITY);
             let mut evaluate_at = |b: &mut ConstraintBuffers<f64>, q: &[f64]| {
                 evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, b, t, q, qdot);
             };
@@ -504,9 +621,13 @@ pub(crate) fn project_holding<M: Mechanism>(
                 if !value.is_finite() {
                     return Err(crate::eom::non_finite(Stage::Constraints, t, q));
                 }
-                if value <= POSITION_TOLERANCE * scale {
+                if value <= POSITION_TOLERANCE * scale
+                    || iterations > 0 && value > 0.5 * previous && value <= ROUNDOFF_BAND * POSITION_TOLERANCE * scale
+                {
+                    // Converged, or stalled at the round-off of Φ.
                     break;
                 }
+                previous = value;
                 if iterations == ASSEMBLY_ITERATIONS {
                     return Err(Error::AssemblyFailed {
                         t,
@@ -551,10 +672,57 @@ pub(crate) fn project_holding<M: Mechanism>(
         for (v, d) in qdot.iter_mut().zip(&b.step) {
             *v -= d;
         }
+        if watch {
+            jump_check(model, &b, t, (q, qdot), scale)?;
+        }
         Ok(())
     })();
     ws.constraints = Some(b);
     result
+}
+
+/// The error of a projection after a step that moved the state beyond [`JUMP`].
+fn jump_check<M: Mechanism>(
+    model: &Model<M>,
+    b: &ConstraintBuffers<f64>,
+    t: f64,
+    (q, qdot): (&[f64], &[f64]),
+    scale: f64,
+) -> Result<(), Error> {
+    let coordinates = model.mechanism.coordinates();
+    for (j, coordinate) in coordinates.iter().enumerate() {
+        let moved = (q[j] - b.position_before[j]).abs();
+        let limit = if coordinate.kind == CoordinateKind::Angle { JUMP } else { JUMP * scale };
+        if moved > limit || moved.is_nan() {
+            return Err(Error::Diverged {
+                t,
+                step: 0,
+                quantity: format!(
+                    "the projection onto the constraints after the step moved {} by {moved:.3e} {} (more than {limit}): \
+                     the step left the branch it started on (a singular configuration passed too closely, a step too \
+                     coarse for the motion, or constraints that no smooth motion from this state meets)",
+                    coordinate.name,
+                    coordinate.unit()
+                ),
+            });
+        }
+    }
+    let speed = b.velocity_before.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let limit = JUMP * speed + VELOCITY_FLOOR;
+    if let Some(j) = (0..q.len()).find(|&j| !((qdot[j] - b.velocity_before[j]).abs() <= limit)) {
+        let changed = (qdot[j] - b.velocity_before[j]).abs();
+        return Err(Error::Diverged {
+            t,
+            step: 0,
+            quantity: format!(
+                "the projection onto the constraints after the step changed the rate of {} by {changed:.3e} (more than \
+                 {JUMP} of the largest rate): the step left the branch it started on (a singular configuration passed \
+                 too closely, or a step too coarse for the motion)",
+                coordinates[j].name
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// `step = Gᵀ μ` with `(G Gᵀ) μ = rhs` over the first `rows` rows of `G`, the held columns
@@ -563,7 +731,17 @@ pub(crate) fn project_holding<M: Mechanism>(
 fn min_norm_step(b: &mut ConstraintBuffers<f64>, n: usize, rows: usize, rhs: Rhs, held: Option<&[bool]>) {
     let free = |j: usize| held.is_none_or(|h| !h[j]);
     let ConstraintBuffers {
-        jacobian: g, gram, gram_solution: mu, gram_dependent: dependent, residual, rate, step, ..
+        jacobian: g,
+        gram,
+        gram_solution: mu,
+        gram_dependent: dependent,
+        residual,
+        rate,
+        step,
+        schur_factor: gram_factor,
+        right,
+        refine: residual_scratch,
+        ..
     } = b;
     let rhs: &[f64] = match rhs {
         Rhs::Residual => residual,
@@ -575,10 +753,14 @@ fn min_norm_step(b: &mut ConstraintBuffers<f64>, n: usize, rows: usize, rhs: Rhs
             gram[i * rows + l] = s;
         }
     }
-    factor_skipping(rows, gram, dependent);
+    for i in 0..rows {
+        for l in 0..i {
+            gram[l * rows + i] = gram[i * rows + l];
+        }
+    }
+    regularized_factor(rows, PROJECTION_REGULARIZATION, gram, gram_factor, dependent);
     mu[..rows].copy_from_slice(&rhs[..rows]);
-    forward_skipping(rows, gram, dependent, mu);
-    backward_skipping(rows, gram, dependent, mu);
+    regularized_solve(rows, (gram, gram_factor, dependent), mu, right, residual_scratch);
     for j in 0..n {
         step[j] = if free(j) { (0..rows).map(|i| g[i * n + j] * mu[i]).sum() } else { 0.0 };
     }
@@ -616,7 +798,7 @@ pub(crate) fn violation<M: Mechanism>(
 
 /// Project `(q, q̇)` at time `t` onto the constraints of a constrained [`Model`], in place, by
 /// the smallest change: Gauss–Newton `q ← q − α Gᵀ (G Gᵀ)⁻¹ Φ` until
-/// `max |Φ| ≤ 16 ε (1 + max |q|)` (`α = 1` near the constraints; from far off, `α` keeps every
+/// `max |Φ| ≤ 16 ε L`, `L` the scale of the positions (`α = 1` near the constraints; from far off, `α` keeps every
 /// angle's turn within half a radian and is halved until `‖Φ‖₂` falls), then one exact step `q̇ ← q̇ − Gᵀ (G Gᵀ)⁻¹ r` with `r` the
 /// velocity residuals `G q̇ + Φ_t` and `A q̇ + b`. A model without constraints is left as it is.
 /// The integrators call it after every step.
@@ -634,7 +816,26 @@ pub fn project<M: Mechanism>(
     if !model.is_constrained() {
         return Ok(());
     }
-    project_holding(model, ws, t, q, qdot, None)
+    project_holding(model, ws, t, (q, qdot), None, false)
+}
+
+/// [`project`] after an integration step: a correction larger than a step's drift can be
+/// ([`JUMP`]) is an error.
+///
+/// # Errors
+/// As [`project`]; [`Error::Diverged`] naming the coordinate whose position or rate the
+/// projection changed beyond [`JUMP`].
+pub(crate) fn project_step<M: Mechanism>(
+    model: &Model<M>,
+    ws: &mut Workspace<f64>,
+    t: f64,
+    q: &mut [f64],
+    qdot: &mut [f64],
+) -> Result<(), Error> {
+    if !model.is_constrained() {
+        return Ok(());
+    }
+    project_holding(model, ws, t, (q, qdot), None, true)
 }
 
 /// A consistent initial state from an approximate one: the coordinates marked in `held` keep
@@ -658,7 +859,7 @@ pub fn assemble<M: Mechanism>(
     let mut state = approximate.clone();
     if model.is_constrained() {
         let mut ws = model.workspace();
-        project_holding(model, &mut ws, state.t, &mut state.q, &mut state.qdot, Some(held))?;
+        project_holding(model, &mut ws, state.t, (&mut state.q, &mut state.qdot), Some(held), false)?;
     }
     Ok(state)
 }

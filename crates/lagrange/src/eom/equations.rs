@@ -373,7 +373,7 @@ impl<M: Mechanism> Equations for Model<M> {
     }
 
     fn eval_project(&self, ws: &mut Workspace<f64>, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
-        super::constraints::project(self, ws, t, q, qdot)
+        super::constraints::project_step(self, ws, t, q, qdot)
     }
 
     fn eval_violation(

@@ -14,6 +14,7 @@ pub(crate) mod kinematics;
 pub(crate) mod mass_matrix;
 pub(crate) mod raw;
 pub(crate) mod reactions;
+pub(crate) mod sparse;
 
 use crate::error::{Stage, bad_pivot};
 pub(crate) use crate::error::{all_finite, non_finite};
@@ -44,15 +45,21 @@ pub(crate) fn accelerations<'w, M: Mechanism, S: Scalar>(
     check_state(model.n, t, q, Some(qdot))?;
     if let Some(tree) = &model.tree {
         articulated::solve(model, tree, ws, t, q, qdot)?;
-        if model.is_constrained() {
+        if let Some(structure) = &model.sparse {
+            // Many loops on a tree: the same solve on the sparsity found at construction.
+            sparse::solve(model, structure, ws, t, q, qdot)?;
+        } else if model.is_constrained() {
             // The articulated-body pass has no factor of M: the constrained solve needs one.
             factor_mass_matrix(model, ws, t, q)?;
+            constraints::solve(model, ws, t, q, qdot)?;
         }
     } else {
         size::with_size!(model.n, n => solve_sized(model, ws, n, t, q, qdot))?;
+        if model.is_constrained() {
+            constraints::solve(model, ws, t, q, qdot)?;
+        }
     }
     if model.is_constrained() {
-        constraints::solve(model, ws, t, q, qdot)?;
         if !all_finite(&ws.qddot) {
             return Err(non_finite(Stage::Constraints, t, q));
         }

@@ -809,15 +809,17 @@ impl GraphMechanism {
                 g[i * n + j] = phi[i].eps;
             }
         }
-        // Rank by Gaussian elimination with partial pivoting over the rows.
+        // Rank by Gaussian elimination with partial pivoting over the rows, each pivot measured
+        // against its row's size before elimination (a dependent row is reduced to round-off,
+        // which measured against itself would pass).
+        let sizes: Vec<f64> = (0..m).map(|r| (0..n).fold(0.0_f64, |a, c| a.max(g[r * n + c].abs()))).collect();
         let mut rank = 0;
         let mut rows: Vec<usize> = (0..m).collect();
         for col in 0..n {
-            let size = |r: usize| (0..n).fold(0.0_f64, |a, c| a.max(g[r * n + c].abs()));
             let pivot = rows[rank..]
                 .iter()
                 .copied()
-                .filter(|&r| g[r * n + col].abs() > 1e-10 * size(r).max(f64::MIN_POSITIVE))
+                .filter(|&r| g[r * n + col].abs() > 1e-10 * sizes[r].max(f64::MIN_POSITIVE))
                 .max_by(|&a, &b| g[a * n + col].abs().total_cmp(&g[b * n + col].abs()));
             let Some(p) = pivot else { continue };
             let at = rows.iter().position(|&r| r == p).unwrap_or(rank);

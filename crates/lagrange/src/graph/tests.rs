@@ -95,7 +95,7 @@ fn loops_give_named_constraints_that_vanish_when_assembled() {
     let state = model.assemble(&State::new(0.0, [1.0, 0.5, 1.5], [2.0, 0.0, 0.0]), &[true, false, false]).unwrap();
     let mut phi = [1.0; 2];
     model.mechanism().constraints(0.0, &state.q, &mut phi);
-    // Gauss–Newton stops at 16 ε (1 + max|q|).
+    // Gauss–Newton stops at 16 ε L (L the scale of the positions) or at its round-off band.
     assert!(phi.iter().all(|v| v.abs() < 1e-14), "{phi:?}");
     assert_eq!(state.q[0], 1.0);
 }
@@ -272,4 +272,29 @@ fn a_rigid_loop_has_no_degree_of_freedom() {
     let model = Model::new(GraphMechanism::new(four_bar).unwrap()).unwrap();
     let state = model.assemble(&State::new(0.0, [1.0, 0.5, 1.5], [0.0; 3]), &[true, false, false]).unwrap();
     assert_eq!(model.mechanism().degrees_of_freedom(0.0, &state.q), 1);
+}
+
+/// A parallelogram with a third parallel crank pinned to the coupler's middle: 4 coordinates
+/// and 4 loop rows, of which one is dependent at every configuration, so one degree of
+/// freedom. Regression: the elimination measured each pivot against its row as already
+/// reduced, so a dependent row's round-off passed as a pivot and the linkage counted as locked.
+#[test]
+fn a_redundant_loop_row_does_not_lock_the_parallelogram() {
+    let graph = JointGraph::new("parallelogram", 9.81)
+        .with_body(rod("crank", 1.0, 1.0))
+        .with_body(rod("coupler", 1.0, 2.0))
+        .with_body(rod("rocker", 1.0, 1.0))
+        .with_body(rod("third", 1.0, 1.0))
+        .with_joint(GraphJoint::revolute("θ1", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]))
+        .with_joint(GraphJoint::revolute("φ", "crank", [0.5, 0.0], "coupler", [-1.0, 0.0]))
+        .with_joint(GraphJoint::revolute("θ2", GROUND, [2.0, 0.0], "rocker", [-0.5, 0.0]))
+        .with_joint(GraphJoint::revolute("B", "coupler", [1.0, 0.0], "rocker", [0.5, 0.0]))
+        .with_joint(GraphJoint::revolute("θ3", GROUND, [1.0, 0.0], "third", [-0.5, 0.0]))
+        .with_joint(GraphJoint::revolute("C", "coupler", [0.0, 0.0], "third", [0.5, 0.0]));
+    let mechanism = GraphMechanism::new(graph).unwrap();
+    assert_eq!((mechanism.coordinates().len(), mechanism.holonomic_constraints()), (4, 4));
+    for theta in [-std::f64::consts::FRAC_PI_2, -1.0, 0.4, 2.5] {
+        assert_eq!(mechanism.degrees_of_freedom(0.0, &[theta, -theta, theta, theta]), 1, "θ = {theta}");
+    }
+    assert!(mechanism.check_mobile(0.0, &[-1.0, 1.0, -1.0, -1.0]).is_ok());
 }

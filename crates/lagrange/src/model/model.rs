@@ -46,6 +46,9 @@ pub struct Model<M> {
     pub(crate) tree: Option<Tree>,
     /// Numbers of holonomic and velocity constraints among the coordinates.
     pub(crate) constraint_counts: (usize, usize),
+    /// The structure of the sparse constrained solve of a tree with many holonomic
+    /// constraints (`None`: the dense solve).
+    pub(crate) sparse: Option<Box<crate::eom::sparse::SparseStructure>>,
 }
 
 impl<M: Mechanism> Model<M> {
@@ -106,6 +109,7 @@ impl<M: Mechanism> Model<M> {
             autonomous: false,
             tree: None,
             constraint_counts: (mechanism.holonomic_constraints(), mechanism.velocity_constraints()),
+            sparse: None,
             mechanism,
         };
         let probes = ProbeStates::new(n);
@@ -138,6 +142,12 @@ impl<M: Mechanism> Model<M> {
             if model.constant.is_none() {
                 model.tree = Some(tree.clone());
             }
+        }
+        if let Some(tree) = &model.tree
+            && let (m @ 1.., 0) = model.constraint_counts
+            && n >= crate::eom::sparse::SPARSE_FROM
+        {
+            model.sparse = crate::eom::sparse::SparseStructure::new(&model.mechanism, tree, m, &probes).map(Box::new);
         }
         let (mut cyclic, mut autonomous) = probes.lagrangian_structure(&model);
         if let Some(structure) = constraint_structure {

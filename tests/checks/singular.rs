@@ -1,0 +1,155 @@
+//! Mechanisms far from the origin and long chains of loops: the projection's convergence test
+//! is relative to the scale of the positions the constraints compare, so neither where the
+//! world's origin is nor how many loops a mechanism has decides whether a run goes on.
+
+use lagrange::graph::{ForceElement, GROUND, GraphJoint, GraphMechanism, JointGraph, Point};
+use lagrange::{Dynamics, Method, Model, Output, State, simulate};
+use lagrange_validation::fixtures::max_abs_diff;
+
+/// How far every scene is moved.
+const SHIFT: f64 = 1e3;
+
+/// Two runs of one scene, 1 km apart, at the same fixed RK4 step: the only difference is the
+/// round-off of positions of size 1e3 m. The projection after each step stops at
+/// `16 ε L ≈ 3.6e-12` there (against `16 ε` at the origin), so over 2000 steps the runs part by
+/// at most `2000 × 3.6e-12 ≈ 7e-9` without growth. Measured: 5.5e-10 (four_bar), 1.8e-10
+/// (slider_crank), 1.2e-9 (andrews_squeezer, whose accelerations reach 1e6 rad/s²), round-off
+/// or exactly 0 for the scenes without loops.
+const TRANSLATION: f64 = 1e-8;
+
+/// Scenes whose default motion passes a singular configuration, where a perturbation `ε` of the
+/// state changes `q̈` by about `ε/δ` at distance `δ` from it: their two runs part further.
+/// Measured 4.0e-6 for the change-point four-bar; the bound is a factor 25 above it. This is a
+/// measured weakness of the index-1 formulation at singular configurations, not round-off.
+const SINGULAR: (&[&str], f64) = (&["change_point_four_bar"], 1e-4);
+
+/// `graph` with every point fixed in the world moved by `(dx, 0)`: the ground ends of joints
+/// and the world ends of force elements.
+fn translated(mut graph: JointGraph, dx: f64) -> JointGraph {
+    for joint in &mut graph.joints {
+        if joint.parent == GROUND {
+            joint.parent_anchor[0] += dx;
+        }
+        if joint.child == GROUND {
+            joint.child_anchor[0] += dx;
+        }
+    }
+    let moved = |p: &mut Point| {
+        if p.body == GROUND {
+            p.at[0] += dx;
+        }
+    };
+    for force in &mut graph.forces {
+        match force {
+            ForceElement::Spring { a, b, .. } | ForceElement::Damper { a, b, .. } => {
+                moved(a);
+                moved(b);
+            }
+            ForceElement::Force { at, .. } => moved(at),
+            _ => {}
+        }
+    }
+    graph
+}
+
+fn run(graph: JointGraph, start: &State, t_end: f64) -> Vec<Vec<f64>> {
+    let model = Model::new(GraphMechanism::new(graph).unwrap()).unwrap();
+    let run = simulate(&model, start, t_end, Method::Rk4 { dt: 1e-3 }, &Output::Every(0.1)).unwrap();
+    (0..run.len()).map(|k| run.q(k).to_vec()).collect()
+}
+
+#[test]
+fn where_the_origin_is_changes_no_joint_graph_scene() {
+    let mut checked = 0;
+    for scene in lagrange_scenes::all() {
+        let params = scene.default_params();
+        let Some(graph) = scene.joint_graph(&params).unwrap() else { continue };
+        let start = scene.default_state(&params).unwrap();
+        let t_end = scene.horizon().unwrap_or(2.0).min(2.0);
+        let here = run(graph.clone(), &start, t_end);
+        let there = run(translated(graph, SHIFT), &start, t_end);
+        let gap = here.iter().zip(&there).map(|(a, b)| max_abs_diff(a, b)).fold(0.0, f64::max);
+        println!("{}: largest gap {gap:.1e} over {t_end} s", scene.id());
+        let bound = if SINGULAR.0.contains(&scene.id()) { SINGULAR.1 } else { TRANSLATION };
+        assert!(gap <= bound, "{}: moved by {SHIFT} m the motion differs by {gap:e}", scene.id());
+        checked += 1;
+    }
+    assert!(checked >= 11, "only {checked} joint-graph scenes");
+}
+
+/// A chain of `n` parallelogram windows (uniform 1 kg, 1 m rods: `n + 1` cranks pivoted on the
+/// ground 1 m apart from `x0`, `n` couplers on their tips) in the natural order.
+fn parallelogram_chain(n: usize, x0: f64) -> JointGraph {
+    let rod = |name: String| lagrange::graph::GraphBody::rigid(name, 1.0, 1.0 / 12.0);
+    let mut graph = JointGraph::new("parallelogram chain", 9.81);
+    for k in 0..=n {
+        graph = graph.with_body(rod(format!("crank {k}")));
+        if k < n {
+            graph = graph.with_body(rod(format!("coupler {k}")));
+        }
+    }
+    for k in 0..=n {
+        let pivot =
+            GraphJoint::revolute(format!("θ{k}"), GROUND, [x0 + k as f64, 0.0], format!("crank {k}"), [-0.5, 0.0]);
+        graph = graph.with_joint(pivot.absolute());
+        if k > 0 {
+            let (coupler, crank) = (format!("coupler {}", k - 1), format!("crank {k}"));
+            graph = graph.with_joint(GraphJoint::revolute(format!("pin {k}"), coupler, [0.5, 0.0], crank, [0.5, 0.0]));
+        }
+        if k < n {
+            let (crank, coupler) = (format!("crank {k}"), format!("coupler {k}"));
+            graph = graph.with_joint(GraphJoint::revolute(format!("φ{k}"), crank, [0.5, 0.0], coupler, [-0.5, 0.0]));
+        }
+    }
+    graph
+}
+
+/// Every crank hanging down, crank 0 turning at `speed`, assembled with crank 0 held.
+fn hanging(model: &Model<GraphMechanism>, speed: f64) -> State {
+    let coordinates = lagrange::Mechanism::coordinates(model.mechanism());
+    let crank = |name: &str| name.starts_with('θ');
+    let q = coordinates
+        .iter()
+        .map(|c| if crank(&c.name) { -std::f64::consts::FRAC_PI_2 } else { std::f64::consts::FRAC_PI_2 });
+    let qdot = coordinates.iter().map(|c| if c.name == "θ0" { speed } else { 0.0 });
+    let held: Vec<bool> = coordinates.iter().map(|c| c.name == "θ0").collect();
+    model.assemble(&State::new(0.0, q.collect::<Vec<_>>(), qdot.collect::<Vec<_>>()), &held).unwrap()
+}
+
+/// The largest angle between two cranks over a run.
+fn crank_spread(model: &Model<GraphMechanism>, run: &lagrange::Trajectory) -> f64 {
+    let cranks: Vec<usize> = lagrange::Mechanism::coordinates(model.mechanism())
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.name.starts_with('θ'))
+        .map(|(i, _)| i)
+        .collect();
+    (0..run.len())
+        .map(|k| cranks.iter().map(|&c| (run.q(k)[c] - run.q(k)[cranks[0]]).abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max)
+}
+
+/// Thirty windows: before the projection's test was scaled by the positions, a residual of a
+/// few ulps at x ≈ 30 m never passed a test scaled by the angles and every run stopped within
+/// its first second. Here the chain swings (it does not reach its flat position: 3 rad/s from
+/// hanging is below the turning speed) for 2 s at tol 1e-8, at the origin and 1 km away; the
+/// cranks stay parallel to the integrator's tolerance, and the two runs agree to it.
+#[test]
+fn thirty_parallelogram_windows_project_at_the_round_off_of_their_positions() {
+    let mut finals = Vec::new();
+    for x0 in [0.0, SHIFT] {
+        let model = Model::new(GraphMechanism::new(parallelogram_chain(30, x0)).unwrap()).unwrap();
+        let start = hanging(&model, 3.0);
+        let method = Method::Adaptive { tol: lagrange::Tolerances::uniform(1e-8) };
+        let run = simulate(&model, &start, 2.0, method, &Output::Every(0.1)).unwrap();
+        let spread = crank_spread(&model, &run);
+        println!("x0 = {x0}: crank spread {spread:.1e}");
+        // The cranks of a parallelogram are parallel on the whole branch: what separates them is
+        // the integrator's error at tol 1e-8 (relative and absolute), with a factor 10 for its
+        // growth over 2 s.
+        assert!(spread <= 1e-7, "x0 = {x0}: cranks {spread:e} apart");
+        finals.push(run.q(run.len() - 1).to_vec());
+    }
+    let gap = max_abs_diff(&finals[0], &finals[1]);
+    assert!(gap <= 1e-7, "1 km apart, the chains end {gap:e} apart");
+}
