@@ -343,7 +343,7 @@ pub(crate) fn regularized_factor<S: Scalar>(c: usize, mu: f64, schur: &[S], fact
         for k in (0..j).filter(|&k| !dependent[k]) {
             d -= factor[j * c + k] * factor[j * c + k] * factor[k * c + k];
         }
-        dependent[j] = !(d.re() > 0.0);
+        dependent[j] = d.re().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater);
         factor[j * c + j] = d;
         for i in j + 1..c {
             if dependent[j] {
@@ -709,7 +709,9 @@ fn jump_check<M: Mechanism>(
     }
     let speed = b.velocity_before.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let limit = JUMP * speed + VELOCITY_FLOOR;
-    if let Some(j) = (0..q.len()).find(|&j| !((qdot[j] - b.velocity_before[j]).abs() <= limit)) {
+    if let Some(j) = (0..q.len()).find(|&j| {
+        matches!((qdot[j] - b.velocity_before[j]).abs().partial_cmp(&limit), Some(std::cmp::Ordering::Greater) | None)
+    }) {
         let changed = (qdot[j] - b.velocity_before[j]).abs();
         return Err(Error::Diverged {
             t,

@@ -59,10 +59,8 @@ pub(crate) fn accelerations<'w, M: Mechanism, S: Scalar>(
             constraints::solve(model, ws, t, q, qdot)?;
         }
     }
-    if model.is_constrained() {
-        if !all_finite(&ws.qddot) {
-            return Err(non_finite(Stage::Constraints, t, q));
-        }
+    if model.is_constrained() && !all_finite(&ws.qddot) {
+        return Err(non_finite(Stage::Constraints, t, q));
     }
     Ok(&ws.qddot)
 }

@@ -583,7 +583,7 @@ fn factor_envelope<S: Scalar>(st: &SparseStructure, c: usize, schur: &[S], facto
                 d -= factor[at(i, k)] * factor[at(i, k)] * factor[at(k, k)];
             }
         }
-        dependent[i] = !(d.re() > 0.0);
+        dependent[i] = d.re().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater);
         factor[at(i, i)] = d;
     }
 }
