@@ -8,13 +8,13 @@ use std::path::{Path, PathBuf};
 
 /// The top-level modules of `lagrange`, bottom layer first. Modules in one layer may use each
 /// other (a mechanism declares its tree, a tree is a mechanism; the evaluation stages fill the
-/// workspace, which holds their scratch).
+/// workspace, which holds their scratch; a model holds the sparse structure of its solve).
 const LAYERS: &[&[&str]] = &[
     &["error", "linalg", "pose", "scalar", "seed", "state"],
     &["mechanism", "tree"],
     &["probe", "graph"],
-    &["model"],
-    &["eom", "workspace"],
+    // The model builds the sparse structure of its constrained solve at construction.
+    &["model", "eom", "workspace"],
     &["dynamics"],
     &["integrate"],
     &["system"],
