@@ -338,25 +338,8 @@ pub(crate) fn regularized_factor<S: Scalar>(c: usize, mu: f64, schur: &[S], fact
     for i in 0..c {
         factor[i * c + i] += S::from(shift);
     }
-    for j in 0..c {
-        let mut d = factor[j * c + j];
-        for k in (0..j).filter(|&k| !dependent[k]) {
-            d -= factor[j * c + k] * factor[j * c + k] * factor[k * c + k];
-        }
-        dependent[j] = d.re().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater);
-        factor[j * c + j] = d;
-        for i in j + 1..c {
-            if dependent[j] {
-                factor[i * c + j] = S::zero();
-                continue;
-            }
-            let mut l = factor[i * c + j];
-            for k in (0..j).filter(|&k| !dependent[k]) {
-                l -= factor[i * c + k] * factor[j * c + k] * factor[k * c + k];
-            }
-            factor[i * c + j] = l / d;
-        }
-    }
+    // Pivots of the shifted matrix are positive unless S is zero or not finite: no threshold.
+    factor_with(c, factor, dependent, 0.0);
 }
 
 /// Solve `S λ = r` by the factor of `S + μ̄ I` and [`REFINEMENTS`] refinement steps: `rhs`
@@ -391,6 +374,12 @@ pub(crate) fn regularized_solve<S: Scalar>(
 /// [`DEPENDENT`] times its diagonal (zero, negative or NaN) depends on the rows before it: it
 /// is marked in `dependent` and its column of `L` is zero.
 pub(crate) fn factor_skipping<S: Scalar>(c: usize, a: &mut [S], dependent: &mut [bool]) {
+    factor_with(c, a, dependent, DEPENDENT);
+}
+
+/// [`factor_skipping`] with a row dependent when its pivot is not above `threshold` times its
+/// diagonal (or its diagonal is zero).
+fn factor_with<S: Scalar>(c: usize, a: &mut [S], dependent: &mut [bool], threshold: f64) {
     for j in 0..c {
         let diagonal = a[j * c + j].re();
         let mut d = a[j * c + j];
@@ -398,7 +387,7 @@ pub(crate) fn factor_skipping<S: Scalar>(c: usize, a: &mut [S], dependent: &mut 
             d -= a[j * c + k] * a[j * c + k] * a[k * c + k];
         }
         dependent[j] =
-            d.re().partial_cmp(&(DEPENDENT * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
+            d.re().partial_cmp(&(threshold * diagonal.abs())) != Some(std::cmp::Ordering::Greater) || diagonal == 0.0;
         a[j * c + j] = d;
         for i in j + 1..c {
             if dependent[j] {
