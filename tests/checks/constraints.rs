@@ -270,6 +270,41 @@ fn four_bar_trajectory_matches_the_one_coordinate_model() {
     assert!(worst <= 1e-10, "{worst:e}");
 }
 
+/// `project` corrects in the metric of the mass matrix: a velocity pushed off the constraints
+/// by an impulse along the constraint forces, `q̇ + M⁻¹ Gᵀ κ`, comes back to `q̇` itself (the
+/// projection onto `G q̇ = 0` along `M⁻¹ Gᵀ` is exact for such a drift; a Euclidean projection,
+/// along `Gᵀ`, leaves part of it as a change of speed along the motion).
+/// Bound: the refined solve of `G M⁻¹ Gᵀ` is exact to round-off away from a singular
+/// configuration (condition below 1e2 here), so 1e3 ε of the largest velocity.
+#[test]
+fn projection_removes_a_drift_along_the_constraint_forces_exactly() {
+    use lagrange::Dynamics;
+    let model = Model::new(FourBar::new(LENGTHS, MASSES, false)).expect("valid");
+    let (n, c) = (3, 2);
+    for (theta2, rate) in [(std::f64::consts::FRAC_PI_3, 6.0), (2.0, -3.0), (4.5, 1.0)] {
+        let state = four_bar_state(&model, theta2, rate);
+        let mut ws = model.new_workspace();
+        let mass = lagrange::mass_matrix(&model, &mut model.workspace(), 0.0, &state.q, &state.qdot)
+            .expect("evaluates")
+            .to_vec();
+        let (mut g, mut phi, mut rates) = (vec![0.0; c * n], vec![0.0; c], vec![0.0; c]);
+        model.constraint_rows(&mut ws, (0.0, &state.q, &state.qdot), &mut g, &mut phi, &mut rates).expect("rows");
+        let m = nalgebra::DMatrix::from_row_slice(n, n, &mass);
+        let g = nalgebra::DMatrix::from_row_slice(c, n, &g);
+        let kick = m.cholesky().expect("M > 0").solve(&(g.transpose() * nalgebra::DVector::from_vec(vec![0.7, -1.3])));
+        let (mut q, mut qdot) = (state.q.clone(), state.qdot.clone());
+        for (v, k) in qdot.iter_mut().zip(kick.iter()) {
+            *v += k;
+        }
+        lagrange::project(&model, &mut model.workspace(), 0.0, &mut q, &mut qdot).expect("projects");
+        let speed = state.qdot.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let off = qdot.iter().zip(&state.qdot).fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+        eprintln!("θ2 = {theta2}: velocity after the projection off by {:.1} ε", off / (f64::EPSILON * speed));
+        assert!(off <= 1e3 * f64::EPSILON * speed, "θ2 = {theta2}: {qdot:?} vs {:?}", state.qdot);
+        assert_eq!(q, state.q, "a consistent position is left as it is");
+    }
+}
+
 /// A crank-rocker whose links cannot close (coupler longer than the other three together)
 /// cannot be assembled: a typed error naming a constraint.
 #[test]

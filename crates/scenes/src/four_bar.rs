@@ -421,9 +421,11 @@ mod tests {
         assert!(rocker <= 1e-10, "{rocker:e}");
     }
 
-    /// The energy function (with a torque: `T + V − τ θ2`) along RK4 runs at dt and dt/2: its
-    /// drift falls as dt⁴ (ratio 16 within a factor 2; measured 22 and 20) and stays below 1e-8
-    /// relative at dt = 1e-3 (measured 3.5e-9 without torque).
+    /// The energy function (with a torque: `T + V − τ θ2`) along RK4 runs at dt = 4e-3 and
+    /// 1e-3: its drift falls as dt⁴ (ratio 4⁴ = 256 within a factor 4; measured 666 without
+    /// torque and 576 with it — one halving alone wobbles between 15 and 38 at these steps,
+    /// where the torque drives the crank to 40 rad/s) and stays below 1e-8 relative at
+    /// dt = 1e-3 (measured 9.1e-10 without torque).
     #[test]
     fn energy_is_conserved_to_the_order_of_rk4() {
         for torque in [0.0, 2.5] {
@@ -435,11 +437,10 @@ mod tests {
                 let run = lagrange::simulate(&model, &start, 2.0, Method::Rk4 { dt }, &Output::Every(0.1)).unwrap();
                 (0..run.len()).map(|k| (s.energy(run.q(k), run.qdot(k)) - e0).abs()).fold(0.0, f64::max)
             };
-            let (coarse, fine) = (drift(4e-3), drift(2e-3));
-            let ratio = coarse / fine;
-            assert!((8.0..=32.0).contains(&ratio), "τ = {torque}: drift {coarse:e} → {fine:e}, ratio {ratio}");
-            let finest = drift(1e-3);
-            eprintln!("τ = {torque}: drift {coarse:e}, {fine:e}, {finest:e} (E0 = {e0})");
+            let (coarse, finest) = (drift(4e-3), drift(1e-3));
+            eprintln!("τ = {torque}: drift {coarse:e} at dt = 4e-3, {finest:e} at 1e-3 (E0 = {e0})");
+            let ratio = coarse / finest;
+            assert!((64.0..=1024.0).contains(&ratio), "τ = {torque}: drift {coarse:e} → {finest:e}, ratio {ratio}");
             // With the torque the crank speeds up (to ~40 rad/s in 2 s): only the order is checked.
             assert!(torque != 0.0 || finest <= 1e-8 * e0.abs().max(1.0), "τ = {torque}: {finest:e}");
         }

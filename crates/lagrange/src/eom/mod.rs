@@ -109,7 +109,7 @@ fn solve_sized<M: Mechanism, S: Scalar, N: size::Size>(
 }
 
 /// Assemble `M` and factor it into `ws.factor` (for the constrained solve on the tree path).
-fn factor_mass_matrix<M: Mechanism, S: Scalar>(
+pub(crate) fn factor_mass_matrix<M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &mut Workspace<S>,
     t: S,
