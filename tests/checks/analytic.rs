@@ -13,14 +13,16 @@ fn compare(scene: &dyn Scene, label: &str, params: &Params, state: &lagrange::St
         .unwrap_or_else(|e| panic!("{} [{label}]: {e}", scene.id()))
         .to_vec();
     let n = got.len();
-    let kappa = condition_number(n, system.mass_matrix(state.t, &state.q, &state.qdot).expect("valid state"));
+    // A constrained scene's solve goes through S = G M⁻¹ Gᵀ: κ(S) ≤ κ(M) κ(G)².
+    let kappa = condition_number(n, system.mass_matrix(state.t, &state.q, &state.qdot).expect("valid state"))
+        * sampling::constraint_condition(system.as_mut(), state);
     let bound = tolerance::conditioned(kappa);
     let scale = max_abs(&expected);
     let residual = max_abs_diff(&got, &expected);
     let relative = if scale == 0.0 { residual } else { residual / scale };
     assert!(
         relative <= bound,
-        "{} [{label}] at q = {:?}, q̇ = {:?}: expected {expected:?}, got {got:?}, relative residual {relative:e} > {bound:e} (κ(M) = {kappa:e})",
+        "{} [{label}] at q = {:?}, q̇ = {:?}: expected {expected:?}, got {got:?}, relative residual {relative:e} > {bound:e} (κ(M) κ(G)² = {kappa:e})",
         scene.id(),
         state.q,
         state.qdot

@@ -92,9 +92,9 @@ pub fn extreme_params(scene: &dyn Scene) -> Vec<(String, Params)> {
 pub fn state(scene: &dyn Scene, params: &Params, rng: &mut impl Rng, index: usize) -> State {
     let default = scene.default_state(params).expect("valid parameters");
     let coordinates = scene.coordinates(params).expect("valid parameters");
-    let system = scene.build(params).expect("valid parameters");
+    let mut system = scene.build(params).expect("valid parameters");
     if system.constraint_counts() != (0, 0) {
-        return constrained_state(system.as_ref(), &default, rng);
+        return constrained_state(system.as_mut(), &default, rng);
     }
     let mut q = default.q.clone();
     for (qi, c) in q.iter_mut().zip(&coordinates) {
@@ -116,17 +116,54 @@ pub fn state(scene: &dyn Scene, params: &Params, rng: &mut impl Rng, index: usiz
 /// drawn anywhere would mostly be far from every closed configuration of a linkage, and
 /// Gauss–Newton from there may end at a singular one (a toggle, where it converges only
 /// linearly) or not at all; a draw whose assembly fails is drawn again with half the spread,
-/// which ends at the (consistent) default state.
-fn constrained_state(system: &dyn lagrange::System, default: &State, rng: &mut impl Rng) -> State {
+/// which ends at the (consistent) default state. A draw that lands near a singular
+/// configuration ([`near_singular`]) is drawn again too: there the engine's regularized solve
+/// departs from the exact one by design, and its own tests (tests/checks/singular.rs, the
+/// singular scenes) check it.
+fn constrained_state(system: &mut dyn lagrange::System, default: &State, rng: &mut impl Rng) -> State {
     for attempt in 0..32 {
         let spread = 0.5_f64.powi(attempt);
         let q: Vec<f64> =
             default.q.iter().map(|&qi| qi + spread * qi.abs().max(1.0) * rng.random_range(-1.0..1.0)).collect();
         let qdot = (0..q.len()).map(|_| rng.random_range(-3.0..3.0)).collect::<Vec<_>>();
         let state = State::new(rng.random_range(0.0..2.0), q, qdot);
-        if let Ok(state) = system.assemble(&state, &vec![false; state.q.len()]) {
+        if let Ok(state) = system.assemble(&state, &vec![false; state.q.len()])
+            && !near_singular(system, &state)
+        {
             return state;
         }
     }
-    panic!("no state of the constrained scene assembles within 32 draws towards its default")
+    panic!("no state of the constrained scene assembles away from singular configurations within 32 draws")
+}
+
+/// Whether the constraint Jacobian `G` at `state` is near a loss of rank: a singular value
+/// between `1e-12` and `1e-4` of the largest (a row about to become dependent, as a linkage
+/// nears its flat position: the smallest singular value is about the distance to it). Rows
+/// dependent everywhere (a redundant constraint) leave singular values at the round-off,
+/// below `1e-12`, and do not count.
+pub fn near_singular(system: &mut dyn lagrange::System, state: &State) -> bool {
+    let singular = constraint_singular_values(system, state);
+    let largest = singular.iter().copied().fold(0.0, f64::max);
+    singular.iter().any(|&s| s > 1e-12 * largest && s < 1e-4 * largest)
+}
+
+/// `κ(G)²` over the rows of `G` that are not dependent everywhere (singular values above
+/// `1e-12` of the largest), 1 without constraints: the factor by which the constrained solve
+/// through `S = G M⁻¹ Gᵀ` can amplify round-off beyond the mass matrix's own condition
+/// (`κ(S) ≤ κ(M) κ(G)²`).
+pub fn constraint_condition(system: &mut dyn lagrange::System, state: &State) -> f64 {
+    let singular = constraint_singular_values(system, state);
+    let largest = singular.iter().copied().fold(0.0, f64::max);
+    let smallest = singular.iter().copied().filter(|&s| s > 1e-12 * largest).fold(f64::INFINITY, f64::min);
+    if largest > 0.0 && smallest.is_finite() { (largest / smallest).powi(2) } else { 1.0 }
+}
+
+/// The singular values of the constraint Jacobian at `state` (none without constraints).
+fn constraint_singular_values(system: &mut dyn lagrange::System, state: &State) -> Vec<f64> {
+    let n = state.q.len();
+    let Ok(Some(g)) = system.constraint_jacobian(state.t, &state.q, &state.qdot) else {
+        return Vec::new();
+    };
+    let rows = g.len() / n.max(1);
+    nalgebra::DMatrix::from_row_slice(rows, n, g).singular_values().iter().copied().collect()
 }

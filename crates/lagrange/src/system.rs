@@ -73,6 +73,16 @@ pub trait System {
     /// As [`accelerations`](Self::accelerations).
     fn constraint_multipliers(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error>;
 
+    /// The constraint Jacobian `G = [Φ_q; A]` (`(m + k) × n`, row-major) at `(t, q, q̇)`, or
+    /// `None` without constraints (the default); see [`Dynamics::constraint_rows`].
+    ///
+    /// # Errors
+    /// On a malformed or non-finite state or non-finite constraint rows.
+    fn constraint_jacobian(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error> {
+        let _ = (t, q, qdot);
+        Ok(None)
+    }
+
     /// A state on the constraints near `approximate`, the coordinates marked in `held` (and
     /// their rates) kept; see [`assemble`](crate::assemble). The state itself without
     /// constraints.
@@ -135,6 +145,9 @@ pub struct Buffered<D: Dynamics> {
     multipliers: Vec<f64>,
     /// Acceleration Jacobian (n × 2n).
     jacobian: Vec<f64>,
+    /// Constraint Jacobian ((m + k) × n), holonomic residuals (m) and velocity residuals
+    /// (m + k).
+    rows: (Vec<f64>, Vec<f64>, Vec<f64>),
 }
 
 impl<D: Dynamics> Buffered<D> {
@@ -147,7 +160,8 @@ impl<D: Dynamics> Buffered<D> {
         let jacobian = vec![0.0; 2 * system.dof() * system.dof()];
         let (m, k) = system.constraint_counts();
         let multipliers = vec![0.0; m + k];
-        Self { system, ws, out, mass, reaction, multipliers, jacobian }
+        let rows = (vec![0.0; (m + k) * system.dof()], vec![0.0; m], vec![0.0; m + k]);
+        Self { system, ws, out, mass, reaction, multipliers, jacobian, rows }
     }
 
     /// The wrapped system.
@@ -208,6 +222,15 @@ impl<D: Dynamics> System for Buffered<D> {
     fn constraint_multipliers(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error> {
         if self.system.constraint_multipliers(&mut self.ws, t, q, qdot, &mut self.multipliers)? {
             Ok(Some(&self.multipliers))
+        } else {
+            Ok(None)
+        }
+    }
+
+    fn constraint_jacobian(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error> {
+        let (jacobian, residual, rate) = &mut self.rows;
+        if self.system.constraint_rows(&mut self.ws, (t, q, qdot), jacobian, residual, rate)? {
+            Ok(Some(jacobian))
         } else {
             Ok(None)
         }
