@@ -193,7 +193,7 @@ fn no_heap_allocation_per_step_for_joint_graphs() {
         );
         checked += 1;
     }
-    assert_eq!(checked, 11, "the joint-graph scenes");
+    assert_eq!(checked, 14, "the joint-graph scenes");
     for (graph, state) in [random_tree(&mut rng(3), 6), random_loop(&mut rng(12), 5)] {
         let graph = graph
             .with_force(ForceElement::Damper {

@@ -80,7 +80,10 @@ fn joint_graph_reduced_models_equal_the_hand_written_ones() {
             "chain",
             "four_bar",
             "slider_crank",
-            "andrews_squeezer"
+            "andrews_squeezer",
+            "parallelogram_chain",
+            "change_point_four_bar",
+            "redundant_parallelogram"
         ]
     );
 }

@@ -41,6 +41,9 @@
 //! | `four_bar` | crank-rocker four-bar, 2 loop constraints | `θ2`, `θ3`, `θ4` | docs/scenes.md#four_bar |
 //! | `slider_crank` | slider-crank with flywheel, 2 loop constraints | `φ`, `ψ`, `x` | docs/scenes.md#slider_crank |
 //! | `andrews_squeezer` | Andrews' squeezing mechanism, 6 loop constraints | `β`, `Θ`, `γ`, `Φ`, `δ`, `Ω`, `ε` | docs/scenes.md#andrews_squeezer |
+//! | `parallelogram_chain` | `N` parallelogram windows, `2N` loop constraints (rank `N` lying flat) | `θ0`, `φ0`, … `θN` | docs/scenes.md#parallelogram_chain |
+//! | `change_point_four_bar` | four-bar with `a + b = c + d`, flat once per turn | `θ2`, `θ3`, `θ4` | docs/scenes.md#change_point_four_bar |
+//! | `redundant_parallelogram` | parallelogram with a third crank, a redundant loop row | `θ1`, `φ`, `θ2`, `θ3` | docs/scenes.md#redundant_parallelogram |
 //!
 //! Conventions follow docs/scenes.md: gravity `g` along −y, angles counter-clockwise, pendulum
 //! angles from the downward vertical, pulley depths measured downward.
@@ -100,18 +103,23 @@ macro_rules! for_each_scene {
             $crate::RollingDisc,
             $crate::FourBar,
             $crate::SliderCrank,
-            $crate::AndrewsSqueezer
+            $crate::AndrewsSqueezer,
+            $crate::ParallelogramChain,
+            $crate::ChangePointFourBar,
+            $crate::RedundantParallelogram
         }
     };
 }
 
 mod checks;
 mod conserved;
+mod elliptic;
 mod graph_scene;
 #[cfg(test)]
 mod graph_tests;
 mod linkage;
 mod params;
+mod pendulum;
 mod scene;
 #[cfg(test)]
 mod testing;
@@ -122,6 +130,7 @@ pub mod andrews_squeezer;
 pub mod atwood;
 pub mod cart_pendulum;
 pub mod chain;
+pub mod change_point_four_bar;
 pub mod chaplygin_sleigh;
 pub mod charged_particle;
 pub mod double_atwood;
@@ -133,6 +142,8 @@ pub mod harmonic_oscillator;
 pub mod isotropic_oscillator;
 pub mod kepler;
 pub mod nonminimal_pendulum;
+pub mod parallelogram_chain;
+pub mod redundant_parallelogram;
 pub mod rolling_disc;
 pub mod slider_crank;
 pub mod spring_pendulum;
@@ -142,6 +153,7 @@ pub use andrews_squeezer::AndrewsSqueezer;
 pub use atwood::Atwood;
 pub use cart_pendulum::CartPendulum;
 pub use chain::Chain;
+pub use change_point_four_bar::{ChangePointCrank, ChangePointFourBar};
 pub use chaplygin_sleigh::{ChaplyginSleigh, SleighMotion};
 pub use charged_particle::ChargedParticle;
 pub use conserved::{Conserved, Invariant};
@@ -155,9 +167,11 @@ pub use harmonic_oscillator::HarmonicOscillator;
 pub use isotropic_oscillator::IsotropicOscillator;
 pub use kepler::{Kepler, Orbit};
 pub use nonminimal_pendulum::NonminimalPendulum;
+pub use parallelogram_chain::ParallelogramChain;
 pub use params::{Domain, ParamSpec, Params};
+pub use redundant_parallelogram::RedundantParallelogram;
 pub use rolling_disc::RollingDisc;
-pub use scene::{Scene, SceneType, all, find, ids, scene_of};
+pub use scene::{SINGULAR_DEFAULT_MOTION, Scene, SceneType, all, find, ids, scene_of};
 pub use slider_crank::{SliderCrank, SliderCrankCrank};
 pub use spring_pendulum::SpringPendulum;
 pub use visit::{ClosedForm, MechanismVisitor, unknown_scene, visit_mechanism};

@@ -9,7 +9,8 @@
 //!
 //! The scenes that are joint graphs (`cart_pendulum`, `harmonic_oscillator`, the Atwood
 //! machines, `wedge`, `double_pendulum`, `chain`, `four_bar`, `slider_crank`,
-//! `andrews_squeezer`) are planned from
+//! `andrews_squeezer`, `parallelogram_chain`, `change_point_four_bar`,
+//! `redundant_parallelogram`) are planned from
 //! their graph by `graph.rs` (docs/graphs.md#rapier), the others by their own file in
 //! `src/scenes/`; the table says what each build is.
 //!
@@ -30,6 +31,9 @@
 //! | `four_bar` | four revolute joints (loop closed by the pin at `B`) + crank torque | tree ground→crank→coupler, ground→rocker; pin at `B` as a loop-closing impulse joint |
 //! | `slider_crank` | three revolutes + prismatic slider on x + crank torque | tree ground→crank→rod, ground→slider; rod–slider pin as a loop-closing impulse joint |
 //! | `andrews_squeezer` | ten revolute pins + per-step spring `C`–`D` and torque `mom` | spanning tree of seven pins; the three pins at `E` as loop-closing impulse joints |
+//! | `parallelogram_chain` | `3N + 1` revolute pins | tree ground→crank `k`→coupler `k`, ground→crank `N`; the pins `B1 … BN` as loop-closing impulse joints |
+//! | `change_point_four_bar` | as `four_bar` (no torque) | as `four_bar` |
+//! | `redundant_parallelogram` | six revolute pins | tree ground→crank→coupler, ground→rocker, ground→third crank; the pins `B` and `C` as loop-closing impulse joints |
 //! | `nonminimal_pendulum` | rope from the origin to the point bob | revolute at the origin |
 //! | `rolling_disc` | ball collider on a fixed inclined cuboid with friction (contact, no joint) | the same free body |
 //! | `chaplygin_sleigh` | unbuildable (no non-holonomic joint) | unbuildable |
