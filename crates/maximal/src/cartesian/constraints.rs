@@ -34,6 +34,16 @@ pub(crate) enum Anchor {
         /// Angular frequency `ω` (rad/s).
         frequency: f64,
     },
+    /// A driven support seen from a frame whose origin is elsewhere: `centre + (A sin ωt, 0)`
+    /// ([`Anchor::moved`]).
+    DrivenFrom {
+        /// Amplitude `A` (m).
+        amplitude: f64,
+        /// Angular frequency `ω` (rad/s).
+        frequency: f64,
+        /// Where the support's centre is (m).
+        centre: [f64; 2],
+    },
     /// The point at `offset` in the frame of body `body`: `p_b + R(φ_b) offset`.
     Body {
         /// Index of the body.
@@ -49,6 +59,9 @@ impl Anchor {
         match *self {
             Anchor::World { x, y } => [S::from(x), S::from(y)],
             Anchor::Driven { amplitude, frequency } => [(t * frequency).sin() * amplitude, S::zero()],
+            Anchor::DrivenFrom { amplitude, frequency, centre: [x, y] } => {
+                [(t * frequency).sin() * amplitude + x, S::from(y)]
+            }
             Anchor::Body { body, offset: [u, v] } => {
                 let (x, y) = (z[3 * body + X], z[3 * body + Y]);
                 let (sin, cos) = z[3 * body + ANGLE].sin_cos();
@@ -59,7 +72,22 @@ impl Anchor {
 
     /// Whether the anchor moves with time by itself.
     fn is_driven(&self) -> bool {
-        matches!(self, Anchor::Driven { .. })
+        matches!(self, Anchor::Driven { .. } | Anchor::DrivenFrom { .. })
+    }
+
+    /// The same anchor in a frame whose origin is at `origin` (world coordinates): fixed and
+    /// driven points move by `−origin`, points of bodies stay in their bodies.
+    fn moved(&self, origin: [f64; 2]) -> Anchor {
+        match *self {
+            Anchor::World { x, y } => Anchor::World { x: x - origin[0], y: y - origin[1] },
+            Anchor::Driven { amplitude, frequency } => {
+                Anchor::DrivenFrom { amplitude, frequency, centre: [-origin[0], -origin[1]] }
+            }
+            Anchor::DrivenFrom { amplitude, frequency, centre } => {
+                Anchor::DrivenFrom { amplitude, frequency, centre: [centre[0] - origin[0], centre[1] - origin[1]] }
+            }
+            Anchor::Body { .. } => self.clone(),
+        }
     }
 
     /// The origin of the world frame.
@@ -129,6 +157,26 @@ impl Constraint {
                 matches!(mechanism.joints()[*joint].value, JointValue::Driven(p) if p.varies())
             }
         }
+    }
+
+    /// The same constraint in a frame whose origin is at `origin` (world coordinates), with the
+    /// joint graph `moved` (the same graph in that frame) for a graph joint: bodies at `z − origin`
+    /// satisfy it exactly where bodies at `z` satisfied the original.
+    pub(crate) fn moved(&self, origin: [f64; 2], moved: Option<&Arc<GraphMechanism>>) -> Constraint {
+        let joint = match &self.joint {
+            Joint::Linear { terms, constant } => {
+                // Σ c_k (z_k + o_k) + c₀ = Σ c_k z_k + (c₀ + Σ c_k o_k), o_k the origin's x or y.
+                let shift: f64 = terms.iter().filter(|(k, _)| k % 3 != ANGLE).map(|&(k, c)| c * origin[k % 3]).sum();
+                Joint::Linear { terms: terms.clone(), constant: constant + shift }
+            }
+            Joint::Distance { from, to, length } => {
+                Joint::Distance { from: from.moved(origin), to: to.moved(origin), length: *length }
+            }
+            Joint::Graph { mechanism, joint } => {
+                Joint::Graph { mechanism: Arc::clone(moved.unwrap_or(mechanism)), joint: *joint }
+            }
+        };
+        Constraint { name: self.name.clone(), joint }
     }
 
     /// Write the constraint's [`equations`](Self::equations) values at `(z, t)` into `out`.

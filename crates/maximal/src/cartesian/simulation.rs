@@ -1,5 +1,13 @@
 //! A running Cartesian simulation: Dormand–Prince 5(4) on `(z, ż)`, stepping exactly to each
 //! requested time, with a projection onto `Φ = 0`, `Φ̇ = 0` after every accepted step.
+//!
+//! The system runs in a frame at the bodies' initial centroid ([`CartesianSystem::centred`]):
+//! positions are of the mechanism's size whatever the world's origin, in the equations, in the
+//! projection's round-off and in the integrator's error weights `atol + rtol |z_i|`, so that
+//! moving a mechanism (bodies and ground points) does not change its motion. [`bodies`] adds the
+//! frame back; the `q` of an error during the run is in the frame.
+//!
+//! [`bodies`]: MaximalSimulation::bodies
 
 use super::system::{CartesianSystem, CartesianWorkspace};
 use crate::{BodyState, Engine, MaximalSimulation};
@@ -26,7 +34,8 @@ pub(crate) struct CartesianSimulation {
     started: bool,
     /// Current time.
     t: f64,
-    /// Current poses (3B).
+    /// Current poses (3B), positions relative to the system's frame
+    /// ([`CartesianSystem::frame`]: the bodies' initial centroid).
     pub(crate) z: Vec<f64>,
     /// Current velocities (3B).
     pub(crate) zdot: Vec<f64>,
@@ -48,11 +57,18 @@ impl CartesianSimulation {
         if 3 * initial.len() != n {
             return Err(Error::DimensionMismatch { what: "body states", expected: n / 3, got: initial.len() });
         }
-        let z: Vec<f64> = initial.iter().flat_map(|b| b.pose).collect();
+        let world: Vec<f64> = initial.iter().flat_map(|b| b.pose).collect();
         let zdot: Vec<f64> = initial.iter().flat_map(|b| b.velocity).collect();
-        if !(t0.is_finite() && z.iter().chain(&zdot).all(|v| v.is_finite())) {
-            return Err(Error::NonFinite { stage: lagrange::Stage::State, t: t0, q: z });
+        if !(t0.is_finite() && world.iter().chain(&zdot).all(|v| v.is_finite())) {
+            return Err(Error::NonFinite { stage: lagrange::Stage::State, t: t0, q: world });
         }
+        // The system in a frame at the bodies' initial centroid (CartesianSystem::centred).
+        let bodies = initial.len().max(1) as f64;
+        let centroid = [0, 1].map(|c| initial.iter().map(|b| b.pose[c]).sum::<f64>() / bodies);
+        let system = system.centred(centroid)?;
+        let frame = system.frame();
+        let z: Vec<f64> =
+            initial.iter().flat_map(|b| [b.pose[0] - frame[0], b.pose[1] - frame[1], b.pose[2]]).collect();
         let integrator = Dopri5::new(n, Tolerances::uniform(tolerance))?;
         let mut ws = system.workspace();
         // The reduced model's body states must satisfy Φ = 0 and Φ̇ = 0.
@@ -73,7 +89,6 @@ impl CartesianSimulation {
                 });
             }
         }
-        system.jacobian(&mut ws, t0, &z);
         system.check_well_posed(&mut ws, t0, &z)?;
         Ok(Self { system, ws, integrator, started: false, t: t0, z, zdot, steps: 0 })
     }
@@ -141,11 +156,12 @@ impl MaximalSimulation for CartesianSimulation {
     }
 
     fn bodies(&self) -> Vec<BodyState> {
+        let frame = self.system.frame();
         self.z
             .chunks_exact(3)
             .zip(self.zdot.chunks_exact(3))
             .map(|(pose, velocity)| BodyState {
-                pose: [pose[0], pose[1], pose[2]],
+                pose: [pose[0] + frame[0], pose[1] + frame[1], pose[2]],
                 velocity: [velocity[0], velocity[1], velocity[2]],
             })
             .collect()

@@ -1,5 +1,6 @@
 //! The Cartesian system of a scene: bodies, constraints and applied forces; the multiplier
-//! equations solved as one KKT system; the projection onto `Φ = 0`, `Φ̇ = 0`.
+//! equations solved by the Schur complement on the block-diagonal mass matrix; the projection
+//! onto `Φ = 0`, `Φ̇ = 0`.
 //!
 //! With `z` the poses of all `B` bodies (`n = 3B`), `m` constraint equations,
 //! `M = diag(m_b, m_b, I_b)`, `J = Φ_z` (m × n) and `γ = d²/ds² Φ(z + s ż, t + s)`:
@@ -8,6 +9,14 @@
 //! [ M  Jᵀ ] [ z̈ ]   [  F ]
 //! [ J  0  ] [ λ  ] = [ −γ ]
 //! ```
+//!
+//! solved as `S λ = J M̃⁻¹ F̃ + γ`, `z̈ = M̃⁻¹ (F̃ − Jᵀ λ)` with `S = J M̃⁻¹ Jᵀ` sparse
+//! ([`schur`]; `M̃ = M` but for the rows fixing coordinates without mass, [`sparsity`]): no
+//! per-evaluation work grows faster than the nonzeros of `J` and of the factor of `S`, and
+//! nothing is allocated per evaluation. `J` loses rank where a linkage passes a flat position and
+//! has redundant rows everywhere for over-constrained linkages: the shifted and refined solve
+//! goes through both, with the least `Σ S_ii λ_i²` multipliers at a redundancy, and a set of
+//! rows that cannot hold together is [`Error::InconsistentConstraints`].
 //!
 //! Velocity (non-holonomic) constraints `A(z) ż = 0` (a knife edge, rolling contact) are rows
 //! of `J` after the holonomic ones: `A` is `∂(A ż)/∂ż` and their convective term is
@@ -18,35 +27,48 @@
 //! forces; `−Jᵀλ` is the force and torque the constraints exert on each body.
 
 mod dynamics;
+mod schur;
+mod sparsity;
 
 use super::constraints::{Constraint, Joint, VelocityConstraint, equation_names, evaluate_all, no_turning};
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError, maps};
-use lagrange::graph::GraphMechanism;
+use lagrange::graph::{ForceElement, GROUND, GraphMechanism, JointGraph};
 use lagrange::num_dual::{Dual2_64, Dual64};
-use lagrange::{Body, Coordinate, Error, Stage};
+use lagrange::{Body, Coordinate, Error, Pose, Stage};
 use lagrange_scenes::Params;
-use nalgebra::{DMatrix, DVector};
+use schur::KktWorkspace;
+use sparsity::Sparsity;
 use std::sync::Arc;
 
-/// Relative pivot below which a symmetric positive (semi-)definite factorization is declared
-/// singular: the pivot after eliminating the earlier rows, relative to its own diagonal entry
-/// (the reduced solver's criterion, 1e-12 — well above the `~n ε` round-off of a
-/// well-posed factorization, and far below the `O(1)` ratios of the scenes' matrices).
-const PIVOT_RTOL: f64 = 1e-12;
-
-/// Gauss–Newton projection onto `Φ = 0` stops at `max|Φ| ≤ PROJECTION_RTOL · scale`
-/// (`scale = max(1, max|z_i|)`): a few ε above the round-off of evaluating `Φ` itself.
-const PROJECTION_RTOL: f64 = 1e-14;
+/// Gauss–Newton on `Φ = 0` has converged when every equation satisfies
+/// `|Φ_i| ≤ PROJECTION_RTOL · size_i`, `size_i` the magnitude of the positions, angles and
+/// lever arms inside it ([`KktWorkspace::equation_sizes`]): 4 ε, four roundings of its largest
+/// terms, the least that evaluating `Φ_i` can promise.
+const PROJECTION_RTOL: f64 = 4.0 * f64::EPSILON;
 
 /// Gauss–Newton converges quadratically from an accepted step's `O(tolerance)` violation:
-/// 2–3 iterations; the cap only stops a stall at round-off.
+/// 1–2 iterations; the cap only stops a stall that the progress test missed.
 const PROJECTION_ITERATIONS: usize = 8;
 
-/// A projection that stalls above [`PROJECTION_RTOL`] (round-off in long chains) is accepted up
-/// to `PROJECTION_ACCEPT · scale`; a violation beyond that cannot come from an accepted step at
+/// A Gauss–Newton iteration that does not halve the largest relative violation has reached
+/// round-off (or the partially enforced directions of a rank loss), and the projection stops
+/// there.
+const PROJECTION_PROGRESS: f64 = 0.5;
+
+/// A projection that stops above [`PROJECTION_RTOL`] is accepted up to `PROJECTION_ACCEPT`
+/// relative to each equation's size; a violation beyond that cannot come from an accepted step at
 /// any usable tolerance, and is an error.
 const PROJECTION_ACCEPT: f64 = 1e-10;
+
+/// The constraint rows hold together when the residual of `S λ = b` after refinement is at most
+/// this fraction of the largest term of `b` (both scaled by `D^(−1/2)`): consistent, independent
+/// rows leave round-off (≈ 1e-15); a stage of the integrator near a rank loss, whose velocities
+/// lie slightly across the branches, leaves what the shift does not enforce — measured at most
+/// 1.1e-5 over every run of the tests (the 40-window chain at tolerance 1e-6 included). Rows that
+/// contradict each other leave a residual of the size of `b`: 9.3e-2 for a bob passing the
+/// bottom of its circle at 1.5 m/s on a tangent floor. 1e-3 lies a factor ~100 from both.
+const CONSISTENT: f64 = 1e-3;
 
 /// The scene's non-conservative forces, in Cartesian form.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,11 +115,15 @@ pub(crate) struct CartesianSystem {
     rheonomic: bool,
     /// The joint graph the system was built from, whose force elements act on the bodies.
     graph: Option<Arc<GraphMechanism>>,
+    /// The sparsity of `J`, `M̃` and `S`, and the symbolic factorization of `S`.
+    sparsity: Arc<Sparsity>,
+    /// Where the origin of the system's frame is in the world (m): `z` holds positions relative
+    /// to it ([`centred`](Self::centred)); `(0, 0)` unless moved.
+    frame: [f64; 2],
 }
 
 /// Every buffer an evaluation needs, allocated once per simulation. Shapes use `n = 3B`
-/// coordinates and `m` constraint equations; matrices are row-major `Vec`s except the
-/// nalgebra KKT matrix.
+/// coordinates and `m` constraint equations.
 #[derive(Clone, Debug)]
 pub(crate) struct CartesianWorkspace {
     /// `z` as first-order duals, one unit direction at a time (n); [`CartesianSystem::jacobian`].
@@ -113,32 +139,40 @@ pub(crate) struct CartesianWorkspace {
     zdot_dual: Vec<Dual64>,
     /// `Φ` (holonomic rows); [`CartesianSystem::project`].
     pub(crate) phi: Vec<f64>,
-    /// `J = Φ_z` (m × n); [`CartesianSystem::jacobian`].
-    pub(crate) jacobian: Vec<f64>,
+    /// `J`, `M̃` and `S` with their factors; [`CartesianSystem::jacobian`], [`CartesianSystem::solve`].
+    kkt: KktWorkspace,
+    /// The `(t, z)` at which `J` and the blocks of `M̃` in `kkt` were computed, if they are
+    /// current; [`CartesianSystem::prepare`].
+    prepared: Option<f64>,
+    /// The `z` of [`prepared`](Self::prepared) (n).
+    prepared_z: Vec<f64>,
     /// `Φ̇ = J ż + Φ_t` (m); [`CartesianSystem::convective`], [`CartesianSystem::constraint_rate`].
     pub(crate) rate: Vec<f64>,
     /// `γ = d²/ds² Φ(z + s ż, t + s)` (m); [`CartesianSystem::convective`].
     pub(crate) convective: Vec<f64>,
     /// Applied forces `F` (n); [`CartesianSystem::applied_forces`].
     pub(crate) force: Vec<f64>,
+    /// `F̃ = F − Σ_R w_i γ_i J_iᵀ` (n); [`CartesianSystem::solve`].
+    augmented_force: Vec<f64>,
     /// Body poses for the scene potential (B); [`CartesianSystem::applied_forces`].
     states: Vec<BodyState>,
+    /// Body poses for a joint graph's force elements and potential (B); [`CartesianSystem::applied_forces`].
+    poses: Vec<Pose<f64>>,
+    /// Body velocities for a joint graph's force elements (B); [`CartesianSystem::applied_forces`].
+    velocities: Vec<[f64; 3]>,
     /// `∂V/∂p_b` (n); [`CartesianSystem::applied_forces`].
     potential_gradient: Vec<f64>,
-    /// `[[M, Jᵀ], [J, 0]]` ((n + m) × (n + m)), then its LU factor's storage; [`CartesianSystem::solve`].
-    kkt: DMatrix<f64>,
-    /// `(F, −γ)`, then `(z̈, λ)` (n + m); [`CartesianSystem::solve`].
-    kkt_rhs: DVector<f64>,
+    /// `M̃⁻¹ F̃`, then a projection's step `M̃⁻¹ Jᵀ ν` (n); [`CartesianSystem::solve`], [`CartesianSystem::project`].
+    step: Vec<f64>,
+    /// Size of each term sum: of `b = J M̃⁻¹ F̃ + γ`, or of each equation `Φ_i` (m);
+    /// [`CartesianSystem::solve`], [`CartesianSystem::project`].
+    sizes: Vec<f64>,
+    /// A projection's multipliers `ν` (m); [`CartesianSystem::project`].
+    correction: Vec<f64>,
     /// `z̈` (n); [`CartesianSystem::evaluate`].
     pub(crate) zddot: Vec<f64>,
     /// `λ` (m); [`CartesianSystem::evaluate`].
     pub(crate) multipliers: Vec<f64>,
-    /// `J Jᵀ` and its Cholesky factor (m × m); [`CartesianSystem::project`].
-    gram: Vec<f64>,
-    /// Right-hand side and solution of the Gram system (m); [`CartesianSystem::project`].
-    gram_rhs: Vec<f64>,
-    /// `M + w JᵀJ` and its Cholesky factor (n × n); [`CartesianSystem::check_well_posed`].
-    augmented: Vec<f64>,
 }
 
 impl CartesianSystem {
@@ -163,18 +197,20 @@ impl CartesianSystem {
         }
         let (constraints, velocity, applied) = crate::scenes::visit(scene, params, Description(&names))?;
         let coordinates = body_coordinates(&names);
-        let mass = bodies.iter().flat_map(|b| [b.mass, b.mass, b.inertia]).collect();
+        let mass: Vec<f64> = bodies.iter().flat_map(|b| [b.mass, b.mass, b.inertia]).collect();
         // Whether the scene has a potential: ask it once, at rest at the origin.
         let probe = vec![BodyState::default(); bodies.len()];
         let (_, has_potential) = maps::potential(scene, params, 0.0, &probe, None)?;
         let rheonomic = constraints.iter().any(Constraint::is_rheonomic);
+        let holonomic = equation_names(&constraints).len();
+        let sparsity = Arc::new(Sparsity::new(&constraints, &velocity, &mass, holonomic));
         Ok(Self {
             scene: scene.into(),
             params: params.clone(),
             cyclic: vec![false; 3 * bodies.len()],
             gravity: maps::gravity(params),
             equation_names: all_names(&constraints, &velocity),
-            holonomic: equation_names(&constraints).len(),
+            holonomic,
             velocity,
             bodies,
             coordinates,
@@ -184,6 +220,8 @@ impl CartesianSystem {
             has_potential,
             rheonomic,
             graph: None,
+            sparsity,
+            frame: [0.0; 2],
         })
     }
 
@@ -226,15 +264,18 @@ impl CartesianSystem {
         }
         let coordinates = body_coordinates(&names);
         let velocity = Vec::new();
+        let mass: Vec<f64> = bodies.iter().flat_map(|b| [b.mass, b.mass, b.inertia]).collect();
+        let holonomic = equation_names(&constraints).len();
+        let sparsity = Arc::new(Sparsity::new(&constraints, &velocity, &mass, holonomic));
         Self {
             scene: name.into(),
             params: params.clone(),
             cyclic: vec![false; 3 * bodies.len()],
             gravity: mechanism.graph().gravity,
             equation_names: all_names(&constraints, &velocity),
-            holonomic: equation_names(&constraints).len(),
+            holonomic,
             velocity,
-            mass: bodies.iter().flat_map(|b| [b.mass, b.mass, b.inertia]).collect(),
+            mass,
             bodies,
             coordinates,
             rheonomic: constraints.iter().any(Constraint::is_rheonomic),
@@ -242,6 +283,8 @@ impl CartesianSystem {
             applied: AppliedForce::None,
             has_potential: false,
             graph: Some(mechanism),
+            sparsity,
+            frame: [0.0; 2],
         }
     }
 
@@ -250,12 +293,44 @@ impl CartesianSystem {
         self.graph.as_deref()
     }
 
+    /// The same system in a frame whose origin is at `origin` (world coordinates, relative to
+    /// the current frame): every fixed point of the constraints and force elements moves by
+    /// `−origin`, and `z` then holds positions relative to `origin`. The equations are evaluated
+    /// where their numbers are of the mechanism's own size, so that the motion does not depend on
+    /// where the world's origin is, not even through round-off: near a rank loss (a linkage lying
+    /// flat) the position projection turns the round-off of `Φ` (`ε |z|`) into motion across
+    /// the branches, `ε |z| / √σ`, which at 1e3 m from the origin is 1e3 times larger than at the
+    /// mechanism. The scene potential, gravity's energy and [`Self::frame`] still see world
+    /// positions.
+    ///
+    /// # Errors
+    /// A joint graph that the moved description no longer makes a mechanism of (it always does:
+    /// moving the ground's points changes no joint's value).
+    pub(crate) fn centred(mut self, origin: [f64; 2]) -> Result<Self, Error> {
+        let moved = match &self.graph {
+            Some(mechanism) => Some(Arc::new(GraphMechanism::new(moved_graph(mechanism.graph(), origin))?)),
+            None => None,
+        };
+        self.constraints = self.constraints.iter().map(|c| c.moved(origin, moved.as_ref())).collect();
+        if moved.is_some() {
+            self.graph = moved;
+        }
+        self.frame = [self.frame[0] + origin[0], self.frame[1] + origin[1]];
+        Ok(self)
+    }
+
+    /// Where the origin of the system's frame is in the world (m).
+    pub(crate) fn frame(&self) -> [f64; 2] {
+        self.frame
+    }
+
     /// The same system with other constraints (tests of ill-posed constraint sets).
     #[cfg(test)]
     pub(crate) fn with_constraints(mut self, constraints: Vec<Constraint>) -> Self {
         self.equation_names = all_names(&constraints, &self.velocity);
         self.holonomic = equation_names(&constraints).len();
         self.rheonomic = constraints.iter().any(Constraint::is_rheonomic);
+        self.sparsity = Arc::new(Sparsity::new(&constraints, &self.velocity, &self.mass, self.holonomic));
         self.constraints = constraints;
         self
     }
@@ -277,7 +352,7 @@ impl CartesianSystem {
 
     /// Allocate the workspace.
     pub(crate) fn workspace(&self) -> CartesianWorkspace {
-        let (n, m, h) = (self.n(), self.m(), self.holonomic);
+        let (n, m, h, b) = (self.n(), self.m(), self.holonomic, self.bodies.len());
         CartesianWorkspace {
             z_dual: vec![Dual64::from(0.0); n],
             phi_dual: vec![Dual64::from(0.0); h],
@@ -285,19 +360,22 @@ impl CartesianSystem {
             phi_dual2: vec![Dual2_64::from(0.0); h],
             zdot_dual: vec![Dual64::from(0.0); n],
             phi: vec![0.0; h],
-            jacobian: vec![0.0; m * n],
+            kkt: KktWorkspace::new(&self.sparsity),
+            prepared: None,
+            prepared_z: vec![0.0; n],
             rate: vec![0.0; m],
             convective: vec![0.0; m],
             force: vec![0.0; n],
-            states: vec![BodyState::default(); self.bodies.len()],
+            augmented_force: vec![0.0; n],
+            states: vec![BodyState::default(); b],
+            poses: vec![Pose::new(0.0, 0.0, 0.0); b],
+            velocities: vec![[0.0; 3]; b],
             potential_gradient: vec![0.0; n],
-            kkt: DMatrix::zeros(n + m, n + m),
-            kkt_rhs: DVector::zeros(n + m),
+            step: vec![0.0; n],
+            sizes: vec![0.0; m],
+            correction: vec![0.0; m],
             zddot: vec![0.0; n],
             multipliers: vec![0.0; m],
-            gram: vec![0.0; m * m],
-            gram_rhs: vec![0.0; m],
-            augmented: vec![0.0; n * n],
         }
     }
 
@@ -318,32 +396,44 @@ impl CartesianSystem {
         worst
     }
 
-    /// `J = Φ_z` into `ws.jacobian`: one first-order dual pass per coordinate of `z`; then the
-    /// velocity rows `A = ∂(A ż)/∂ż`, one dual pass per coordinate of `ż`.
+    /// `J = Φ_z` into the workspace: for each constraint, one first-order dual pass per
+    /// coordinate of the bodies it touches; then the velocity rows `A = ∂(A ż)/∂ż`, one dual
+    /// pass per coordinate of their body. `J`'s cost grows with its nonzeros, not with `n m`.
     pub(crate) fn jacobian(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64]) {
-        let (n, h) = (self.n(), self.holonomic);
+        ws.prepared = None;
+        let (sparsity, h) = (&*self.sparsity, self.holonomic);
+        let values = &mut ws.kkt.jacobian;
         for (d, &zi) in ws.z_dual.iter_mut().zip(z) {
             *d = Dual64::from(zi);
         }
         let t = Dual64::from(t);
-        for j in 0..n {
-            ws.z_dual[j].eps = 1.0;
-            evaluate_all(&self.constraints, &ws.z_dual, t, &mut ws.phi_dual);
-            ws.z_dual[j].eps = 0.0;
-            for i in 0..h {
-                ws.jacobian[i * n + j] = ws.phi_dual[i].eps;
+        let mut row = 0;
+        for (constraint, bodies) in self.constraints.iter().zip(&sparsity.constraint_bodies) {
+            let rows = constraint.equations();
+            let out = &mut ws.phi_dual[row..row + rows];
+            for (slot, &b) in bodies.iter().enumerate() {
+                for c in 0..3 {
+                    ws.z_dual[3 * b + c].eps = 1.0;
+                    constraint.evaluate(&ws.z_dual, t, out);
+                    ws.z_dual[3 * b + c].eps = 0.0;
+                    for (i, value) in out.iter().enumerate() {
+                        values[sparsity.row_start[row + i] + 3 * slot + c] = value.eps;
+                    }
+                }
             }
+            row += rows;
         }
         if self.velocity.is_empty() {
             return;
         }
         ws.zdot_dual.fill(Dual64::from(0.0));
-        for j in 0..n {
-            ws.zdot_dual[j].eps = 1.0;
-            for (i, constraint) in self.velocity.iter().enumerate() {
-                ws.jacobian[(h + i) * n + j] = constraint.evaluate(&ws.z_dual, &ws.zdot_dual).eps;
+        for (r, constraint) in self.velocity.iter().enumerate() {
+            let (start, b) = (sparsity.row_start[h + r], constraint.body);
+            for c in 0..3 {
+                ws.zdot_dual[3 * b + c].eps = 1.0;
+                values[start + c] = constraint.evaluate(&ws.z_dual, &ws.zdot_dual).eps;
+                ws.zdot_dual[3 * b + c].eps = 0.0;
             }
-            ws.zdot_dual[j].eps = 0.0;
         }
     }
 
@@ -395,10 +485,10 @@ impl CartesianSystem {
         }
     }
 
-    /// Fill `ws.states` with the body poses (and velocities) of `(z, ż)`.
-    fn fill_states(states: &mut [BodyState], z: &[f64], zdot: &[f64]) {
+    /// Fill `states` with the body poses (in the world) and velocities of `(z, ż)`.
+    fn fill_states(&self, states: &mut [BodyState], z: &[f64], zdot: &[f64]) {
         for (b, state) in states.iter_mut().enumerate() {
-            state.pose.copy_from_slice(&z[3 * b..3 * b + 3]);
+            state.pose = [z[3 * b] + self.frame[0], z[3 * b + 1] + self.frame[1], z[3 * b + 2]];
             state.velocity.copy_from_slice(&zdot[3 * b..3 * b + 3]);
         }
     }
@@ -421,7 +511,7 @@ impl CartesianSystem {
         }
         // The scene potential, through the body poses.
         if self.has_potential {
-            Self::fill_states(&mut ws.states, z, zdot);
+            self.fill_states(&mut ws.states, z, zdot);
             maps::potential(&self.scene, &self.params, t, &ws.states, Some(&mut ws.potential_gradient))?;
             if !ws.potential_gradient.iter().all(|g| g.is_finite()) {
                 return Err(Error::NonFinite { stage: Stage::Potential, t, q: z.to_vec() });
@@ -432,11 +522,11 @@ impl CartesianSystem {
         }
         // A joint graph's force elements.
         if let Some(graph) = &self.graph {
-            let poses: Vec<lagrange::Pose<f64>> =
-                (0..self.bodies.len()).map(|b| lagrange::Pose::new(z[3 * b], z[3 * b + 1], z[3 * b + 2])).collect();
-            let velocities: Vec<[f64; 3]> =
-                (0..self.bodies.len()).map(|b| [zdot[3 * b], zdot[3 * b + 1], zdot[3 * b + 2]]).collect();
-            graph.body_wrenches(t, &poses, &velocities, &mut ws.force);
+            fill_poses(&mut ws.poses, z);
+            for (v, w) in ws.velocities.iter_mut().zip(zdot.chunks_exact(3)) {
+                *v = [w[0], w[1], w[2]];
+            }
+            graph.body_wrenches(t, &ws.poses, &ws.velocities, &mut ws.force);
             if !ws.force.iter().all(|f| f.is_finite()) {
                 return Err(Error::NonFinite { stage: Stage::AppliedForce, t, q: z.to_vec() });
             }
@@ -452,62 +542,111 @@ impl CartesianSystem {
         Ok(())
     }
 
-    /// Solve the KKT system with the Jacobian, convective term and forces in `ws`: `z̈` into
-    /// `ws.zddot`, `λ` into `ws.multipliers`. nalgebra's LU with partial pivoting factors the
-    /// matrix in its own storage, which is handed back to the workspace afterwards (only its
-    /// pivot sequence, n + m pairs, is allocated per solve).
+    /// `J` and the factored blocks of `M̃` at `(t, z)` in the workspace, unless they are there
+    /// already (the last stage of an accepted step is where its projection starts, and the
+    /// projected state is where the integrator restarts).
     ///
     /// # Errors
-    /// [`Error::SingularMassMatrix`] when the factorization meets a zero pivot or produces a
-    /// non-finite solution.
-    fn solve(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64]) -> Result<(), Error> {
-        let (n, m) = (self.n(), self.m());
-        // Assemble [[M, Jᵀ], [J, 0]] and (F, −γ).
-        ws.kkt.fill(0.0);
-        for j in 0..n {
-            ws.kkt[(j, j)] = self.mass[j];
-            ws.kkt_rhs[j] = ws.force[j];
+    /// [`Error::NonFinite`] for a non-finite `J`; [`Error::SingularMassMatrix`] naming a
+    /// coordinate that moves no mass and that no constraint fixes.
+    fn prepare(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64]) -> Result<(), Error> {
+        if ws.prepared == Some(t) && ws.prepared_z == z {
+            return Ok(());
         }
-        for i in 0..m {
-            for j in 0..n {
-                let value = ws.jacobian[i * n + j];
-                ws.kkt[(n + i, j)] = value;
-                ws.kkt[(j, n + i)] = value;
-            }
-            ws.kkt_rhs[n + i] = -ws.convective[i];
+        self.jacobian(ws, t, z);
+        if !ws.kkt.jacobian.iter().all(|v| v.is_finite()) {
+            return Err(Error::NonFinite { stage: Stage::Kinematics, t, q: z.to_vec() });
         }
-        // Factor and solve, then recycle the factor's storage.
-        let lu = std::mem::replace(&mut ws.kkt, DMatrix::zeros(0, 0)).lu();
-        let solved = lu.solve_mut(&mut ws.kkt_rhs);
-        ws.kkt = lu.l_unpack();
-        if !solved || !ws.kkt_rhs.iter().all(|v| v.is_finite()) {
-            // Name what is singular where the structure says so; otherwise the whole matrix.
-            self.check_well_posed(ws, t, z)?;
-            return Err(Error::SingularMassMatrix {
-                t,
-                q: z.to_vec(),
-                coordinate: format!("KKT matrix [[M, Φ_zᵀ], [Φ_z, 0]] of {}", self.scene),
-                pivot: 0.0,
-            });
-        }
-        ws.zddot.copy_from_slice(&ws.kkt_rhs.as_slice()[..n]);
-        ws.multipliers.copy_from_slice(&ws.kkt_rhs.as_slice()[n..]);
+        ws.kkt.factor_mass(&self.sparsity, &self.mass).map_err(|(j, pivot)| Error::SingularMassMatrix {
+            t,
+            q: z.to_vec(),
+            coordinate: format!("{} (moves no mass and no constraint fixes it)", self.coordinates[j].name),
+            pivot,
+        })?;
+        ws.prepared = Some(t);
+        ws.prepared_z.copy_from_slice(z);
         Ok(())
+    }
+
+    /// Factor `S` over the first `rows` rows at the prepared `(t, z)`.
+    fn factor_schur(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64], rows: usize) -> Result<(), Error> {
+        ws.kkt.factor_schur(&self.sparsity, &self.mass, rows).map_err(|()| Error::NonFinite {
+            stage: Stage::Constraints,
+            t,
+            q: z.to_vec(),
+        })
+    }
+
+    /// Solve the multiplier equations with `J` (prepared), `γ` and `F` in `ws`: `z̈` into
+    /// `ws.zddot`, `λ` into `ws.multipliers` ([`schur`]).
+    ///
+    /// # Errors
+    /// [`Error::InconsistentConstraints`] naming the rows whose residual after refinement
+    /// exceeds [`CONSISTENT`] of the largest term of `b`; [`Error::NonFinite`] when `S` cannot
+    /// be factored.
+    fn solve(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64]) -> Result<(), Error> {
+        let sparsity = &*self.sparsity;
+        // F̃ = F − Σ_R w_i γ_i J_iᵀ and the unconstrained accelerations M̃⁻¹ F̃.
+        ws.augmented_force.copy_from_slice(&ws.force);
+        ws.kkt.augment_force(sparsity, &ws.convective, &mut ws.augmented_force);
+        ws.step.copy_from_slice(&ws.augmented_force);
+        ws.kkt.solve_mass(sparsity, &self.mass, &mut ws.step);
+        // b = J M̃⁻¹ F̃ + γ, and the size of its terms.
+        ws.kkt.product(sparsity, &ws.step, &mut ws.multipliers, Some(&mut ws.sizes));
+        for ((b, size), gamma) in ws.multipliers.iter_mut().zip(ws.sizes.iter_mut()).zip(&ws.convective) {
+            *b += gamma;
+            *size += gamma.abs();
+        }
+        // S λ = b, shifted and refined.
+        self.factor_schur(ws, t, z, self.m())?;
+        ws.kkt.solve_schur(sparsity, &mut ws.multipliers);
+        self.check_consistent(ws, t, z)?;
+        // z̈ = M̃⁻¹ (F̃ − Jᵀ λ).
+        ws.kkt.transpose_product(sparsity, &ws.multipliers, &mut ws.zddot);
+        for (a, f) in ws.zddot.iter_mut().zip(&ws.augmented_force) {
+            *a = f - *a;
+        }
+        ws.kkt.solve_mass(sparsity, &self.mass, &mut ws.zddot);
+        Ok(())
+    }
+
+    /// The rows of `S λ = b` (solved; the sizes of `b`'s terms in `ws.sizes`) hold together:
+    /// every scaled residual within [`CONSISTENT`] of the largest scaled term.
+    ///
+    /// # Errors
+    /// [`Error::InconsistentConstraints`] naming the rows beyond it.
+    fn check_consistent(&self, ws: &CartesianWorkspace, t: f64, z: &[f64]) -> Result<(), Error> {
+        let work = ws.kkt.work(self.m());
+        let largest = ws.sizes.iter().zip(&work.scale).fold(0.0_f64, |w, (size, s)| w.max(size * s));
+        let beyond = |i: usize| work.residual[i].abs() > CONSISTENT * largest;
+
+        if !(0..self.m()).any(beyond) {
+            return Ok(());
+        }
+        let worst = (0..self.m()).fold(0.0_f64, |w, i| w.max(work.residual[i].abs() / work.scale[i]));
+
+        Err(Error::InconsistentConstraints {
+            t,
+            q: z.to_vec(),
+            constraints: (0..self.m()).filter(|&i| beyond(i)).map(|i| self.equation_names[i].clone()).collect(),
+            residual: worst,
+        })
     }
 
     /// Everything at `(t, z, ż)`: `J`, `γ`, `Φ̇`, `F`, then `z̈` and `λ` (into `ws`).
     ///
     /// # Errors
     /// [`Error::NonFinite`] for a non-finite state, potential or result;
-    /// [`Error::SingularMassMatrix`] for a singular KKT matrix.
+    /// [`Error::SingularMassMatrix`] for a coordinate that moves no mass and that no constraint
+    /// fixes; [`Error::InconsistentConstraints`] for constraint rows that cannot hold together.
     pub(crate) fn evaluate(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64], zdot: &[f64]) -> Result<(), Error> {
         debug_assert!(z.len() == self.n() && zdot.len() == self.n(), "z and ż have 3B entries");
         if !(t.is_finite() && z.iter().chain(zdot).all(|v| v.is_finite())) {
             return Err(Error::NonFinite { stage: Stage::State, t, q: z.to_vec() });
         }
-        self.jacobian(ws, t, z);
+        self.prepare(ws, t, z)?;
         self.convective(ws, t, z, zdot);
-        if !ws.jacobian.iter().chain(&ws.convective).all(|v| v.is_finite()) {
+        if !ws.convective.iter().all(|v| v.is_finite()) {
             return Err(Error::NonFinite { stage: Stage::Kinematics, t, q: z.to_vec() });
         }
         self.applied_forces(ws, t, z, zdot)?;
@@ -516,49 +655,36 @@ impl CartesianSystem {
 
     /// The constraint forces `−Jᵀλ` (n) of the last [`evaluate`](Self::evaluate) into `out`.
     pub(crate) fn constraint_forces(&self, ws: &CartesianWorkspace, out: &mut [f64]) {
-        let (n, m) = (self.n(), self.m());
-        for (j, f) in out.iter_mut().enumerate() {
-            *f = -(0..m).map(|i| ws.jacobian[i * n + j] * ws.multipliers[i]).sum::<f64>();
+        ws.kkt.transpose_product(&self.sparsity, &ws.multipliers, out);
+        for f in out.iter_mut() {
+            *f = -*f;
         }
     }
 
-    /// Check that the KKT matrix at `z` (with `J` in `ws`) is non-singular: `J` has full row
-    /// rank (`J Jᵀ` positive definite) and `M` is positive definite on the null space of `J`
-    /// (`M + w JᵀJ` positive definite, `w = max M_jj`), each to a relative pivot of
-    /// [`PIVOT_RTOL`].
+    /// Check that the equations at `z` can be solved: every coordinate without mass is fixed by
+    /// the constraints (the blocks of `M̃` are positive definite to a relative pivot of
+    /// [`schur::PIVOT_RTOL`]). A rank-deficient `J` is not an error: the solve goes through it.
+    /// Leaves `J` at `z` in `ws`.
     ///
     /// # Errors
-    /// [`Error::SingularMassMatrix`] naming the constraint equation (rank-deficient `J`) or
-    /// the coordinate (moves no mass and is fixed by no constraint) whose pivot vanished.
+    /// [`Error::SingularMassMatrix`] naming the coordinate (moves no mass and is fixed by no
+    /// constraint); [`Error::NonFinite`] for a non-finite `J`.
     pub(crate) fn check_well_posed(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64]) -> Result<(), Error> {
-        let (n, m) = (self.n(), self.m());
-        let singular =
-            |coordinate: String, pivot: f64| Error::SingularMassMatrix { t, q: z.to_vec(), coordinate, pivot };
-        gram(n, m, &ws.jacobian, &mut ws.gram);
-        cholesky(m, &mut ws.gram).map_err(|(i, pivot)| {
-            singular(format!("constraint `{}` (Φ_z rank-deficient)", self.equation_names[i]), pivot)
-        })?;
-        let weight = self.mass.iter().fold(0.0_f64, |w, &v| w.max(v));
-        let weight = if weight > 0.0 { weight } else { 1.0 };
-        for a in 0..n {
-            for b in 0..n {
-                let product: f64 = (0..m).map(|i| ws.jacobian[i * n + a] * ws.jacobian[i * n + b]).sum();
-                ws.augmented[a * n + b] = weight * product + if a == b { self.mass[a] } else { 0.0 };
-            }
-        }
-        cholesky(n, &mut ws.augmented).map_err(|(j, pivot)| {
-            singular(format!("{} (moves no mass and no constraint fixes it)", self.coordinates[j].name), pivot)
-        })
+        self.prepare(ws, t, z)
     }
 
-    /// Project `(z, ż)` at `t` onto the constraint manifold: positions by Gauss–Newton
-    /// `z ← z − Jᵀ (J Jᵀ)⁻¹ Φ` until `max|Φ| ≤ PROJECTION_RTOL · max(1, max|z_i|)`, then
-    /// velocities `ż ← ż − Jᵀ (J Jᵀ)⁻¹ (J ż + Φ_t)` (exact in one step: `Φ̇` is linear in `ż`).
-    /// Leaves `J` at the projected `z` in `ws`.
+    /// Project `(z, ż)` at `t` onto the constraint manifold, in the metric of the masses
+    /// (the smallest change of kinetic energy; independent of units and of the world's
+    /// origin): positions by Gauss–Newton `z ← z − M̃⁻¹ J_hᵀ S_hh⁻¹ Φ` on the holonomic rows
+    /// until every `|Φ_i| ≤ PROJECTION_RTOL · size_i`
+    /// ([`equation_sizes`](KktWorkspace::equation_sizes)) or an iteration no longer halves the largest `|Φ_i| / size_i` (round-off); then velocities in one exact step
+    /// `ż ← ż − M̃⁻¹ Jᵀ S⁻¹ (J ż + Φ_t)` (`Φ̇` is linear in `ż`). Leaves `J` at the projected
+    /// `z` in `ws`.
     ///
     /// # Errors
-    /// [`Error::SingularMassMatrix`] for a rank-deficient `J` or a KKT matrix that is not
-    /// well posed; [`Error::Diverged`] when the positions cannot be projected.
+    /// [`Error::Diverged`] when the positions cannot be projected (a violation above
+    /// [`PROJECTION_ACCEPT`] of an equation's size remains); [`Error::SingularMassMatrix`] for
+    /// a coordinate without mass that no constraint fixes.
     pub(crate) fn project(
         &self,
         ws: &mut CartesianWorkspace,
@@ -566,54 +692,58 @@ impl CartesianSystem {
         z: &mut [f64],
         zdot: &mut [f64],
     ) -> Result<(), Error> {
-        let (n, m, h) = (self.n(), self.m(), self.holonomic);
-        let scale = z.iter().fold(1.0_f64, |s, v| s.max(v.abs()));
+        let (sparsity, m, h) = (&*self.sparsity, self.m(), self.holonomic);
         // Positions: Gauss–Newton on Φ(z, t) = 0 (the holonomic rows of J).
-        let (mut violation, iterations) = if h == 0 { (0.0, 0) } else { (f64::INFINITY, PROJECTION_ITERATIONS) };
-        for _ in 0..iterations {
-            self.constraint_values(t, z, &mut ws.phi);
-            violation = ws.phi.iter().fold(0.0_f64, |w, v| w.max(v.abs()));
-            if violation <= PROJECTION_RTOL * scale {
-                break;
+        if h > 0 {
+            let (mut violation, mut previous) = (f64::INFINITY, f64::INFINITY);
+            for iteration in 0..=PROJECTION_ITERATIONS {
+                self.constraint_values(t, z, &mut ws.phi);
+                self.prepare(ws, t, z)?;
+                ws.kkt.equation_sizes(sparsity, z, &mut ws.sizes[..h]);
+                let (phi, sizes) = (&ws.phi, &ws.sizes[..h]);
+                if phi.iter().zip(sizes).all(|(v, size)| v.abs() <= PROJECTION_RTOL * size) {
+                    violation = 0.0;
+                    break;
+                }
+                violation = phi.iter().zip(sizes).fold(0.0_f64, |w, (v, size)| w.max(v.abs() / size));
+                if violation.is_nan()
+                    || violation > PROJECTION_PROGRESS * previous
+                    || iteration == PROJECTION_ITERATIONS
+                {
+                    break;
+                }
+                previous = violation;
+                // Δz = M̃⁻¹ J_hᵀ S_hh⁻¹ Φ: the mass-weighted least change that cancels Φ to first order.
+                self.factor_schur(ws, t, z, h)?;
+                ws.correction[..h].copy_from_slice(&ws.phi);
+                ws.kkt.solve_schur(sparsity, &mut ws.correction[..h]);
+                ws.kkt.transpose_product(sparsity, &ws.correction[..h], &mut ws.step);
+                ws.kkt.solve_mass(sparsity, &self.mass, &mut ws.step);
+                for (zi, d) in z.iter_mut().zip(&ws.step) {
+                    *zi -= d;
+                }
             }
-            self.jacobian(ws, t, z);
-            ws.gram_rhs[..h].copy_from_slice(&ws.phi);
-            self.gram_solve(ws, t, z, h)?;
-            for j in 0..n {
-                z[j] -= (0..h).map(|i| ws.jacobian[i * n + j] * ws.gram_rhs[i]).sum::<f64>();
+            if violation.is_nan() || violation > PROJECTION_ACCEPT {
+                return Err(Error::Diverged {
+                    t,
+                    step: 0,
+                    quantity: format!(
+                        "constraint violation {violation:e} (relative to the equations' sizes) after projection onto Φ = 0"
+                    ),
+                });
             }
         }
-        if violation.is_nan() || violation > PROJECTION_ACCEPT * scale {
-            return Err(Error::Diverged {
-                t,
-                step: 0,
-                quantity: format!("constraint violation {violation:e} after projection onto Φ = 0"),
-            });
-        }
-        // Velocities: remove the component along the constraint normals.
-        self.jacobian(ws, t, z);
-        self.check_well_posed(ws, t, z)?;
+        // Velocities: ż ← ż − M̃⁻¹ Jᵀ S⁻¹ Φ̇, exact in one step.
+        self.prepare(ws, t, z)?;
         self.constraint_rate(ws, t, z, zdot);
-        ws.gram_rhs.copy_from_slice(&ws.rate);
-        self.gram_solve(ws, t, z, m)?;
-        for j in 0..n {
-            zdot[j] -= (0..m).map(|i| ws.jacobian[i * n + j] * ws.gram_rhs[i]).sum::<f64>();
+        self.factor_schur(ws, t, z, m)?;
+        ws.correction.copy_from_slice(&ws.rate);
+        ws.kkt.solve_schur(sparsity, &mut ws.correction);
+        ws.kkt.transpose_product(sparsity, &ws.correction, &mut ws.step);
+        ws.kkt.solve_mass(sparsity, &self.mass, &mut ws.step);
+        for (v, d) in zdot.iter_mut().zip(&ws.step) {
+            *v -= d;
         }
-        Ok(())
-    }
-
-    /// Solve `J_r J_rᵀ x = ws.gram_rhs[..rows]` in place, `J_r` the first `rows` rows of `J`
-    /// (in `ws`).
-    fn gram_solve(&self, ws: &mut CartesianWorkspace, t: f64, z: &[f64], rows: usize) -> Result<(), Error> {
-        let n = self.n();
-        gram(n, rows, &ws.jacobian, &mut ws.gram);
-        cholesky(rows, &mut ws.gram).map_err(|(i, pivot)| Error::SingularMassMatrix {
-            t,
-            q: z.to_vec(),
-            coordinate: format!("constraint `{}` (Φ_z rank-deficient)", self.equation_names[i]),
-            pivot,
-        })?;
-        cholesky_solve(rows, &ws.gram, &mut ws.gram_rhs[..rows]);
         Ok(())
     }
 
@@ -632,16 +762,15 @@ impl CartesianSystem {
         for (b, body) in self.bodies.iter().enumerate() {
             let v = &zdot[3 * b..3 * b + 3];
             energy += 0.5 * body.mass * (v[0] * v[0] + v[1] * v[1]) + 0.5 * body.inertia * v[2] * v[2];
-            energy += body.mass * self.gravity * z[3 * b + 1];
+            energy += body.mass * self.gravity * (z[3 * b + 1] + self.frame[1]);
         }
         if self.has_potential {
-            Self::fill_states(&mut ws.states, z, zdot);
+            self.fill_states(&mut ws.states, z, zdot);
             energy += maps::potential(&self.scene, &self.params, t, &ws.states, None)?.0;
         }
         if let Some(graph) = &self.graph {
-            let poses: Vec<lagrange::Pose<f64>> =
-                (0..self.bodies.len()).map(|b| lagrange::Pose::new(z[3 * b], z[3 * b + 1], z[3 * b + 2])).collect();
-            energy += graph.force_potential(&poses);
+            fill_poses(&mut ws.poses, z);
+            energy += graph.force_potential(&ws.poses);
         }
         Ok(energy)
     }
@@ -668,44 +797,35 @@ fn all_names(constraints: &[Constraint], velocity: &[VelocityConstraint]) -> Vec
     names
 }
 
-/// `J Jᵀ` (m × m) of `J` (m × n), both row-major.
-fn gram(n: usize, m: usize, jacobian: &[f64], out: &mut [f64]) {
-    for a in 0..m {
-        for b in 0..m {
-            out[a * m + b] = (0..n).map(|j| jacobian[a * n + j] * jacobian[b * n + j]).sum();
-        }
+/// The body poses of `z` into `poses` (B).
+fn fill_poses(poses: &mut [Pose<f64>], z: &[f64]) {
+    for (pose, p) in poses.iter_mut().zip(z.chunks_exact(3)) {
+        *pose = Pose::new(p[0], p[1], p[2]);
     }
 }
 
-/// In-place Cholesky `A = L Lᵀ` of a symmetric matrix (k × k, row-major; `L` in the lower
-/// triangle). Returns `Err((j, ratio))` at the first pivot `j` that is not positive relative
-/// to its diagonal entry by more than [`PIVOT_RTOL`].
-fn cholesky(k: usize, a: &mut [f64]) -> Result<(), (usize, f64)> {
-    for j in 0..k {
-        let diagonal = a[j * k + j];
-        let pivot = diagonal - (0..j).map(|p| a[j * k + p] * a[j * k + p]).sum::<f64>();
-        let ratio = if diagonal > 0.0 { pivot / diagonal } else { 0.0 };
-        if ratio.is_nan() || ratio <= PIVOT_RTOL {
-            return Err((j, ratio));
+/// `graph` seen from a frame whose origin is at `origin`: the ground's points (joint anchors on
+/// the ground, ends of springs and dampers, points of application) move by `−origin`.
+fn moved_graph(graph: &JointGraph, origin: [f64; 2]) -> JointGraph {
+    let mut graph = graph.clone();
+    let shift = |point: &mut [f64; 2]| *point = [point[0] - origin[0], point[1] - origin[1]];
+    for joint in &mut graph.joints {
+        if joint.parent == GROUND {
+            shift(&mut joint.parent_anchor);
         }
-        let root = pivot.sqrt();
-        a[j * k + j] = root;
-        for i in j + 1..k {
-            let dot: f64 = (0..j).map(|p| a[i * k + p] * a[j * k + p]).sum();
-            a[i * k + j] = (a[i * k + j] - dot) / root;
+        if joint.child == GROUND {
+            shift(&mut joint.child_anchor);
         }
     }
-    Ok(())
-}
-
-/// Solve `L Lᵀ x = b` in place with the factor of [`cholesky`].
-fn cholesky_solve(k: usize, factor: &[f64], b: &mut [f64]) {
-    for i in 0..k {
-        let dot: f64 = (0..i).map(|p| factor[i * k + p] * b[p]).sum();
-        b[i] = (b[i] - dot) / factor[i * k + i];
+    for force in &mut graph.forces {
+        let points = match force {
+            ForceElement::Spring { a, b, .. } | ForceElement::Damper { a, b, .. } => vec![a, b],
+            ForceElement::Force { at, .. } => vec![at],
+            _ => Vec::new(),
+        };
+        for point in points.into_iter().filter(|p| p.body == GROUND) {
+            shift(&mut point.at);
+        }
     }
-    for i in (0..k).rev() {
-        let dot: f64 = (i + 1..k).map(|p| factor[p * k + i] * b[p]).sum();
-        b[i] = (b[i] - dot) / factor[i * k + i];
-    }
+    graph
 }

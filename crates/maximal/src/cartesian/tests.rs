@@ -9,7 +9,8 @@
 //! * [`TRAJECTORY_TOL`]: both runs integrate at [`TOLERANCE`] = 1e-12 per step; over 2 s and
 //!   O(10³) steps the global errors of either run stay ≲ 1e-10 for these non-chaotic horizons
 //!   (measured: see the printed reports), so 1e-8 bounds their difference with margin.
-//! * [`VIOLATION_TOL`]: the projection leaves `max|Φ| ≤ 1e-14 · scale` after every step; 1e-10
+//! * [`VIOLATION_TOL`]: the projection leaves every `|Φ_i| ≤ 4 ε · size_i` after every step
+//!   (`size_i` the magnitude of the positions and lever arms in the equation); 1e-10 of the size
 //!   is the largest violation it accepts when Gauss–Newton stalls at round-off.
 //! * [`FORCE_RTOL`]: at the same state the constraint forces are again two exact formulas
 //!   (round-off only); 1e-8 relative to the largest force (floored at 1 N) as the brief asks.
@@ -25,7 +26,7 @@ use lagrange::integrate::Tolerances;
 use lagrange::num_dual::Dual2_64;
 use lagrange::{Dynamics, Error, Mechanism, Method, Output, Pose, State};
 use lagrange_scenes::SceneType;
-use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, Scene, visit_mechanism};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, SINGULAR_DEFAULT_MOTION, Scene, visit_mechanism};
 use lagrange_validation::fixtures::{assert_close, max_abs, max_abs_diff};
 
 /// `z̈` against the reduced body accelerations, relative to the largest (floored at 1 m/s²).
@@ -36,12 +37,30 @@ const TOLERANCE: f64 = 1e-12;
 const HORIZON: f64 = 2.0;
 /// Read-back `(q, q̇)` against the reduced solution after [`HORIZON`] (m, rad, m/s, rad/s).
 const TRAJECTORY_TOL: f64 = 1e-8;
+/// [`TRAJECTORY_TOL`] for the scenes whose default motion passes singular configurations
+/// ([`SINGULAR_DEFAULT_MOTION`]): there the reduced run is the less accurate of the two — its
+/// regularized multiplier solve drops part of the vanishing rows' force within about 1e-5 of
+/// the flat position (docs/method.md#constraints; measured against the reduced run at 2 s:
+/// 1.5e-8 for the parallelogram chain, whose reduced run is 1.5e-8 off its exact solution,
+/// and 7.1e-6 for the change-point four-bar). The Cartesian runs themselves meet
+/// [`TRAJECTORY_TOL`] against the exact solutions (`cartesian_runs_follow_the_exact_solutions`).
+const SINGULAR_TRAJECTORY_TOL: f64 = 3e-5;
+/// [`ENERGY_RTOL`] for [`SINGULAR_DEFAULT_MOTION`]: the Cartesian solve is regularized the
+/// same way (its shift `μ = 1e-9`) and each pass through a flat position costs energy at the
+/// same level (measured 8.2e-10 relative for the change-point four-bar over 2 s, two passes).
+const SINGULAR_ENERGY_RTOL: f64 = 5e-9;
 /// Constraint violation after [`HORIZON`] (m, rad).
 const VIOLATION_TOL: f64 = 1e-10;
 /// Constraint forces against the reduced reaction forces, relative to the largest (floored at 1 N).
 const FORCE_RTOL: f64 = 1e-8;
 /// Energy change over [`HORIZON`], relative to `max(|E₀|, 1 J)`.
 const ENERGY_RTOL: f64 = 1e-10;
+/// Split of a redundant pair's multipliers against equal halves, relative to the largest
+/// multiplier: the shift `μ = 1e-9` of the Schur complement lets the round-off of the right-hand
+/// side into the redundant direction amplified by `1/μ`, once per solve and refinement:
+/// `(k + 1) ε / μ ≈ 9e-7` (measured 9e-8); 1e-5 keeps a margin, while a split decided by the
+/// order of the rows (the whole force on one copy) is off by 1/2.
+const REDUNDANT_RTOL: f64 = 1e-5;
 
 /// The scene and its parameters with `overrides` set.
 fn scene_and_params(id: &str, overrides: &[(&str, f64)]) -> (&'static dyn Scene, Params) {
@@ -195,8 +214,9 @@ fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
     // Angles are read back on the branch nearest the reduced solution (a crank turns many
     // times; its angle is compared modulo 2π).
     let (q, qdot) = maps::generalized(id, &params, horizon, &bodies, &end.q).unwrap();
-    report.trajectory_q = assert_close(&format!("{id}: q after {horizon} s"), &end.q, &q, TRAJECTORY_TOL);
-    report.trajectory_qdot = assert_close(&format!("{id}: q̇ after {horizon} s"), &end.qdot, &qdot, TRAJECTORY_TOL);
+    let bound = if SINGULAR_DEFAULT_MOTION.contains(&id) { SINGULAR_TRAJECTORY_TOL } else { TRAJECTORY_TOL };
+    report.trajectory_q = assert_close(&format!("{id}: q after {horizon} s"), &end.q, &q, bound);
+    report.trajectory_qdot = assert_close(&format!("{id}: q̇ after {horizon} s"), &end.qdot, &qdot, bound);
     report.violation = simulation.constraint_violation().unwrap();
     assert!(report.violation <= VIOLATION_TOL, "{id}: constraint violation {:e}", report.violation);
     report.steps = simulation.steps();
@@ -223,7 +243,8 @@ fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
         let (z1, zdot1) = flatten(&bodies);
         let e1 = system.energy_function(&mut ws, horizon, &z1, &zdot1).unwrap();
         let drift = (e1 - e0).abs() / e0.abs().max(1.0);
-        assert!(drift <= ENERGY_RTOL, "{id}: energy {e0} → {e1}, relative change {drift:e}");
+        let bound = if SINGULAR_DEFAULT_MOTION.contains(&id) { SINGULAR_ENERGY_RTOL } else { ENERGY_RTOL };
+        assert!(drift <= bound, "{id}: energy {e0} → {e1}, relative change {drift:e}");
         report.energy = Some(drift);
     }
     eprintln!("cartesian {id} {overrides:?}: {report:?}");
@@ -348,6 +369,9 @@ scene_tests! {
     slider_crank: "slider_crank";
     slider_crank_driven: "slider_crank", "torque" = -1.5;
     andrews_squeezer: "andrews_squeezer";
+    parallelogram_chain: "parallelogram_chain";
+    change_point_four_bar: "change_point_four_bar";
+    redundant_parallelogram: "redundant_parallelogram";
 }
 
 #[test]
@@ -355,6 +379,35 @@ fn every_scene_is_compared() {
     for id in lagrange_scenes::ids() {
         assert!(COVERED.contains(&id), "{id} has no Cartesian comparison test");
     }
+}
+
+/// Every scene with an exact solution (closed forms, Kepler's equation, Jacobi elliptic
+/// functions through a parallelogram's flat positions), run in Cartesian coordinates for
+/// [`HORIZON`] at [`TOLERANCE`], against that solution, to [`TRAJECTORY_TOL`]: the same bound as
+/// against the reduced run, with the reduced solver out of the comparison.
+#[test]
+fn cartesian_runs_follow_the_exact_solutions() {
+    let settings = Settings { tolerance: TOLERANCE, ..Settings::default() };
+    let mut compared = 0;
+    for scene in lagrange_scenes::all() {
+        let (id, params) = (scene.id(), scene.default_params());
+        let initial = scene.default_state(&params).unwrap();
+        let horizon = horizon(id);
+        let Some(exact) = scene.exact_solution(&params, &initial, horizon).unwrap() else {
+            continue;
+        };
+        let mut simulation = super::build(id, &params, &initial, &settings).unwrap().simulation;
+        simulation.advance_to(horizon).unwrap();
+        let (q, qdot) = maps::generalized(id, &params, horizon, &simulation.bodies(), &exact.q).unwrap();
+        let (error_q, error_qdot) = (max_abs_diff(&exact.q, &q), max_abs_diff(&exact.qdot, &qdot));
+        eprintln!(
+            "{id}: Cartesian against the exact solution after {horizon} s: {error_q:.1e} in q, {error_qdot:.1e} in q̇"
+        );
+        assert_close(&format!("{id}: q against the exact solution"), &exact.q, &q, TRAJECTORY_TOL);
+        assert_close(&format!("{id}: q̇ against the exact solution"), &exact.qdot, &qdot, TRAJECTORY_TOL);
+        compared += 1;
+    }
+    assert!(compared >= 10, "{compared} scenes have exact solutions");
 }
 
 /// The constraint forces are the closed-form forces the lecture's systems name: the Atwood
@@ -453,9 +506,8 @@ fn initial_states_off_the_constraints_are_rejected() {
 }
 
 /// A massless pulley without its joint (the pin and the rope's no-slip coupling) has nothing
-/// fixing it; a constraint written twice makes `Φ_z` rank-deficient: both are singular KKT
-/// matrices, reported as `SingularMassMatrix` naming the coordinate or the constraint, never a
-/// panic or NaN.
+/// fixing it: its augmented mass matrix is singular, reported as `SingularMassMatrix` naming the
+/// coordinate, never a panic or NaN.
 #[test]
 fn singular_kkt_matrices_are_errors_naming_the_culprit() {
     let (scene, params) = scene_and_params("atwood", &[("pulley_inertia", 0.0)]);
@@ -475,17 +527,38 @@ fn singular_kkt_matrices_are_errors_naming_the_culprit() {
     );
     let error = CartesianSimulation::new(slipping, &states, 0.0, TOLERANCE).err().unwrap();
     assert!(matches!(error, Error::SingularMassMatrix { .. }), "{error}");
-    // With the rope constraint written twice.
+}
+
+/// A constraint written twice (the Atwood rope's joint, three rows) is redundant, not singular:
+/// the accelerations are those of the rope written once (to [`FORCE_RTOL`]: round-off), and the
+/// rope's multipliers are shared equally between the copies — the least `Σ S_ii λ_i²` among the
+/// multipliers that hold the rope — to [`REDUNDANT_RTOL`].
+#[test]
+fn a_constraint_written_twice_shares_its_force() {
+    let (scene, params) = scene_and_params("atwood", &[]);
+    let initial = scene.default_state(&params).unwrap();
+    let (z, zdot) = flatten(&maps::body_states("atwood", &params, &initial).unwrap());
+    let system = CartesianSystem::new("atwood", &params).unwrap();
+    let mut ws = system.workspace();
+    system.evaluate(&mut ws, 0.0, &z, &zdot).unwrap();
+    // The rope's rows in the single system, and the copy's rows (appended last).
+    let mut first = 0;
+    let rope = system.constraints.iter().position(|c| c.name == "rope to m2").unwrap();
+    for constraint in &system.constraints[..rope] {
+        first += constraint.equations();
+    }
+    let rows = system.constraints[rope].equations();
     let mut doubled = system.constraints.clone();
-    let rope = doubled.iter().find(|c| c.name == "rope to m2").unwrap().clone();
-    doubled.push(Constraint { name: "rope again".into(), joint: rope.joint });
-    let doubled = system.with_constraints(doubled);
-    let mut ws = doubled.workspace();
-    let error = doubled.evaluate(&mut ws, 0.0, &z, &zdot).unwrap_err();
-    assert!(
-        matches!(error, Error::SingularMassMatrix { ref coordinate, .. } if coordinate.contains("rope")),
-        "{error}"
-    );
+    doubled.push(Constraint { name: "rope again".into(), joint: system.constraints[rope].joint.clone() });
+    let doubled = system.clone().with_constraints(doubled);
+    let mut twice = doubled.workspace();
+    doubled.evaluate(&mut twice, 0.0, &z, &zdot).unwrap();
+    let scale = max_abs(&ws.multipliers);
+    assert_close("z̈ with the rope twice", &ws.zddot, &twice.zddot, FORCE_RTOL * max_abs(&ws.zddot));
+    let half: Vec<f64> = ws.multipliers[first..first + rows].iter().map(|l| 0.5 * l).collect();
+    let copy = system.m();
+    assert_close("the rope's share", &half, &twice.multipliers[first..first + rows], REDUNDANT_RTOL * scale);
+    assert_close("the copy's share", &half, &twice.multipliers[copy..copy + rows], REDUNDANT_RTOL * scale);
 }
 
 /// The projection takes a state perturbed off both manifolds back onto `Φ = 0` to

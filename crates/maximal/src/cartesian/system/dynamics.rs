@@ -24,11 +24,14 @@ impl LagrangianFunction for CartesianSystem {
         for (b, body) in self.bodies.iter().enumerate() {
             let v = &zdot[3 * b..3 * b + 3];
             lagrangian += (v[0] * v[0] + v[1] * v[1]) * (0.5 * body.mass) + v[2] * v[2] * (0.5 * body.inertia);
-            lagrangian -= z[3 * b + 1] * (body.mass * self.gravity);
+            lagrangian -= (z[3 * b + 1] + self.frame[1]) * (body.mass * self.gravity);
         }
         if self.has_potential {
             let states: Vec<BodyState> = (0..self.bodies.len())
-                .map(|b| BodyState { pose: std::array::from_fn(|c| z[3 * b + c].re()), velocity: [0.0; 3] })
+                .map(|b| {
+                    let pose = [z[3 * b].re() + self.frame[0], z[3 * b + 1].re() + self.frame[1], z[3 * b + 2].re()];
+                    BodyState { pose, velocity: [0.0; 3] }
+                })
                 .collect();
             let value = maps::potential(&self.scene, &self.params, t.re(), &states, None).map_or(f64::NAN, |v| v.0);
             lagrangian -= S::from(value);
