@@ -31,7 +31,7 @@ scene_params! {
     /// number of coordinates `2N + 1`.
     pub struct ParallelogramChain {
         /// Number of windows `N` (1 to 64).
-        pub windows: usize = ["N", "", 4.0, Domain::Integer { min: 1, max: 64 }, "number of parallelogram windows"],
+        pub windows: usize = ["N", "", 4.0, Domain::Integer { min: 1, max: 128 }, "number of parallelogram windows"],
         /// Gravitational acceleration `g` (m/s²).
         pub gravity: f64 = [GRAVITY],
         /// Initial angular velocity of the cranks `ω0` (rad/s), counter-clockwise.

@@ -513,13 +513,20 @@ impl GraphMechanism {
     }
 
     /// The [`Tree`] of the articulated-body path, when every body `b` hangs from an earlier body
-    /// (or the ground) by a coordinate joint whose coordinate is `q_b`.
+    /// (or the ground) by a coordinate joint whose coordinate is `q_b`, in any order that lists
+    /// parents first.
     fn articulated_tree(&self) -> Result<Option<Tree>, Error> {
         if self.coordinates.len() != self.bodies.len() {
             return Ok(None);
         }
+        // Each body's tree joint; the bodies must be listed parents first (any such order:
+        // the forward kinematics' own order is breadth first, a chain listed as written is not).
+        let mut joint_of = vec![usize::MAX; self.bodies.len()];
+        for &(j, body) in &self.order {
+            joint_of[body] = j;
+        }
         let mut tree_joints = Vec::with_capacity(self.bodies.len());
-        for (b, &(j, body)) in self.order.iter().enumerate() {
+        for (b, &j) in joint_of.iter().enumerate() {
             let joint = &self.joints[j];
             let spec = &self.graph.joints[j];
             let parent = match joint.parent {
@@ -527,7 +534,7 @@ impl GraphMechanism {
                 Some(p) if p < b => Parent::Body(p),
                 Some(_) => return Ok(None),
             };
-            if body != b || joint.reversed || joint.value != JointValue::Coordinate(b) {
+            if joint.reversed || joint.value != JointValue::Coordinate(b) {
                 return Ok(None);
             }
             let tree_joint = match (spec.kind, spec.angle) {
