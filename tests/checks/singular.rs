@@ -164,8 +164,8 @@ fn thirty_parallelogram_windows_project_at_the_round_off_of_their_positions() {
 /// at a stage a step's drift off the constraints is wrong by about drift × speed / distance).
 #[test]
 fn the_parallelogram_chain_keeps_its_branch_through_fifty_flat_positions_at_every_setting() {
-    use lagrange_scenes::{ParallelogramChain, SceneType};
     use lagrange::Tolerances;
+    use lagrange_scenes::{ParallelogramChain, SceneType};
     let tolerances = [1e-6, 1e-8, 1e-10, 1e-12];
     for windows in [2, 10] {
         let scene = ParallelogramChain::new(windows, 9.81, 8.0).expect("valid");

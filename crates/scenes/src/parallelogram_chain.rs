@@ -30,7 +30,7 @@ scene_params! {
     /// The scene is the reduced model of its joint graph ([`GraphMechanism`]), with a run-time
     /// number of coordinates `2N + 1`.
     pub struct ParallelogramChain {
-        /// Number of windows `N` (1 to 64).
+        /// Number of windows `N` (1 to 128).
         pub windows: usize = ["N", "", 4.0, Domain::Integer { min: 1, max: 128 }, "number of parallelogram windows"],
         /// Gravitational acceleration `g` (m/s²).
         pub gravity: f64 = [GRAVITY],
