@@ -424,13 +424,13 @@ mod tests {
 
     #[test]
     fn window_count_is_validated() {
-        for windows in [0, 65] {
+        for windows in [0, 129] {
             let result = ParallelogramChain::new(windows, 9.81, 8.0);
             assert!(matches!(result, Err(lagrange::Error::InvalidParameter { ref name, .. }) if name == "windows"));
         }
         let mut params = scene_of::<ParallelogramChain>().default_params();
         assert!(params.set("N", 2.5).is_err());
-        params.set("N", 64.0).unwrap();
-        assert_eq!(scene_of::<ParallelogramChain>().coordinates(&params).unwrap().len(), 129);
+        params.set("N", 128.0).unwrap();
+        assert_eq!(scene_of::<ParallelogramChain>().coordinates(&params).unwrap().len(), 257);
     }
 }
