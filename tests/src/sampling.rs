@@ -141,7 +141,7 @@ fn constrained_state(system: &mut dyn lagrange::System, default: &State, rng: &m
 /// nears its flat position: the smallest singular value is about the distance to it). Rows
 /// dependent everywhere (a redundant constraint) leave singular values at the round-off,
 /// below `1e-12`, and do not count.
-pub fn near_singular(system: &mut dyn lagrange::System, state: &State) -> bool {
+fn near_singular(system: &mut dyn lagrange::System, state: &State) -> bool {
     let singular = constraint_singular_values(system, state);
     let largest = singular.iter().copied().fold(0.0, f64::max);
     singular.iter().any(|&s| s > 1e-12 * largest && s < 1e-4 * largest)

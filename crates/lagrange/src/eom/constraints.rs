@@ -279,41 +279,62 @@ fn schur_solve<S: Scalar>(
     if !(crate::eom::all_finite(&b.jacobian) && crate::eom::all_finite(&b.convective)) {
         return Err(crate::eom::non_finite(Stage::Constraints, t, q));
     }
-    // U = D^(−1/2) L⁻¹ Gᵀ, row by row (forward substitutions only), so that S = G M⁻¹ Gᵀ = U Uᵀ.
-    b.mobility.copy_from_slice(&b.jacobian);
-    for j in 0..n {
-        b.step[j] = factor[j * n + j].sqrt().recip();
-    }
-    for row in b.mobility.chunks_mut(n) {
-        crate::linalg::ldlt_forward(n, factor, row);
-        for (u, w) in row.iter_mut().zip(&b.step) {
-            *u *= *w;
-        }
-    }
-    // S = U Uᵀ (symmetric), right-hand side G q̈_u + γ in λ.
+    schur_complement(n, c, factor, &b.jacobian, &mut b.mobility, &mut b.schur, &mut b.step);
+    // Right-hand side G q̈_u + γ in λ.
     for i in 0..c {
-        let u = &b.mobility[i * n..(i + 1) * n];
-        for k in 0..=i {
-            let s = dot(u, &b.mobility[k * n..(k + 1) * n]);
-            b.schur[i * c + k] = s;
-            b.schur[k * c + i] = s;
-        }
         b.multipliers[i] = dot(&b.jacobian[i * n..(i + 1) * n], qddot) + b.convective[i];
     }
     let ConstraintBuffers { schur, schur_factor, multipliers, dependent, refine, right, .. } = b;
     regularized_factor(c, REGULARIZATION, schur, schur_factor, dependent);
     regularized_solve(c, (schur, schur_factor, dependent), multipliers, right, refine);
-    // q̈ = q̈_u − M⁻¹ Gᵀ λ = q̈_u − L⁻ᵀ D^(−1/2) Uᵀ λ: one backward substitution.
-    let (scaling, mobility, multipliers) = (&mut b.step, &b.mobility, &b.multipliers);
-    for (j, w) in scaling.iter_mut().enumerate() {
-        let sum = (0..c).fold(S::zero(), |sum, i| sum + mobility[i * n + j] * multipliers[i]);
-        *w *= sum;
-    }
-    crate::linalg::ldlt_backward(n, factor, scaling);
-    for (a, d) in qddot.iter_mut().zip(scaling.iter()) {
+    // q̈ = q̈_u − M⁻¹ Gᵀ λ.
+    along_forces(n, c, factor, &b.mobility, &b.multipliers, &mut b.step);
+    for (a, d) in qddot.iter_mut().zip(b.step.iter()) {
         *a -= *d;
     }
     Ok(())
+}
+
+/// `U = D^(−1/2) L⁻¹ Gᵀ` (stored by rows, `rows × n`) from the first `rows` rows of `g` and the
+/// LDLᵀ factor of `M = L D Lᵀ`, forward substitutions only, and `S = G M⁻¹ Gᵀ = U Uᵀ`
+/// (`rows × rows`); `scale` ends holding `D^(−1/2)` for [`along_forces`].
+fn schur_complement<S: Scalar>(
+    n: usize,
+    rows: usize,
+    factor: &[S],
+    g: &[S],
+    mobility: &mut [S],
+    schur: &mut [S],
+    scale: &mut [S],
+) {
+    mobility[..rows * n].copy_from_slice(&g[..rows * n]);
+    for j in 0..n {
+        scale[j] = factor[j * n + j].sqrt().recip();
+    }
+    for row in mobility[..rows * n].chunks_mut(n) {
+        crate::linalg::ldlt_forward(n, factor, row);
+        for (u, w) in row.iter_mut().zip(scale.iter()) {
+            *u *= *w;
+        }
+    }
+    for i in 0..rows {
+        let u = &mobility[i * n..(i + 1) * n];
+        for k in 0..=i {
+            let s = dot(u, &mobility[k * n..(k + 1) * n]);
+            schur[i * rows + k] = s;
+            schur[k * rows + i] = s;
+        }
+    }
+}
+
+/// `M⁻¹ Gᵀ λ = L⁻ᵀ D^(−1/2) Uᵀ λ` into `scale` (which holds `D^(−1/2)` from
+/// [`schur_complement`] on entry): one backward substitution.
+fn along_forces<S: Scalar>(n: usize, rows: usize, factor: &[S], mobility: &[S], lambda: &[S], scale: &mut [S]) {
+    for (j, w) in scale.iter_mut().enumerate() {
+        let sum = (0..rows).fold(S::zero(), |sum, i| sum + mobility[i * n + j] * lambda[i]);
+        *w *= sum;
+    }
+    crate::linalg::ldlt_backward(n, factor, scale);
 }
 
 /// The shift of the regularized constrained solve, relative to the mean diagonal of `S`:
@@ -550,9 +571,8 @@ const ROUNDOFF_BAND: f64 = 1e3;
 /// becomes exactly dependent. A projection in the mass metric shifts by [`REGULARIZATION`]
 /// instead: it leaves free the same nearly dependent directions that the accelerations leave
 /// free, so that near a singular configuration the projection does not push the state along
-/// a direction the equations of motion do not constrain (with `1e-15` there, the parallelogram
-/// chain of 10 windows left its branch at tolerances 1e-10 and 1e-12; with the same shift as
-/// the accelerations every run stayed on it).
+/// a direction the equations of motion do not constrain (where it does, it turns the velocity
+/// onto the crossing branch).
 const ASSEMBLY_REGULARIZATION: f64 = 1e-15;
 
 /// The scale `L` of the positions at `(t, q)`: `1 + max(|x_b|, |y_b|)` over the bodies and
@@ -738,9 +758,8 @@ fn jump_check<M: Mechanism>(
 /// the metric of `M`, `step = M⁻¹ Gᵀ μ` with `(G M⁻¹ Gᵀ) μ = rhs` — the correction an impulse
 /// along the constraint forces makes, which leaves the kinetic energy of the motion along the
 /// constraints untouched (a Euclidean correction of a drift along the constraint forces also
-/// changes the speed along the motion; on the parallelogram chain, 2.3e-3 of RK4's error at
-/// step 1e-3 over 20 s, against 5.3e-8 in the mass metric). Otherwise `step = Gᵀ μ` with
-/// `(G Gᵀ) μ = rhs` over the free coordinates (the held columns removed).
+/// changes the speed along the motion). Otherwise `step = Gᵀ μ` with `(G Gᵀ) μ = rhs` over the
+/// free coordinates (the held columns removed).
 fn min_norm_step(
     b: &mut ConstraintBuffers<f64>,
     n: usize,
@@ -768,30 +787,14 @@ fn min_norm_step(
         Rhs::Residual => residual,
         Rhs::Rate => rate,
     };
-    if let (Some(factor), None) = (weight, held) {
-        // Mass-weighted: U = D^(−1/2) L⁻¹ Gᵀ (M = L D Lᵀ), U Uᵀ μ = rhs, step = M⁻¹ Gᵀ μ.
-        for i in 0..rows {
-            let u = &mut mobility[i * n..(i + 1) * n];
-            u.copy_from_slice(&g[i * n..(i + 1) * n]);
-            crate::linalg::ldlt_forward(n, factor, u);
-            for (j, v) in u.iter_mut().enumerate() {
-                *v /= factor[j * n + j].sqrt();
-            }
-        }
-        for i in 0..rows {
-            for l in 0..=i {
-                let s = dot(&mobility[i * n..(i + 1) * n], &mobility[l * n..(l + 1) * n]);
-                gram[i * rows + l] = s;
-                gram[l * rows + i] = s;
-            }
-        }
+    if let Some(factor) = weight {
+        debug_assert!(held.is_none(), "the mass metric is for projections that hold no coordinate");
+        // In the metric of M: U Uᵀ μ = rhs with U = D^(−1/2) L⁻¹ Gᵀ, step = M⁻¹ Gᵀ μ.
+        schur_complement(n, rows, factor, g, mobility, gram, step);
         regularized_factor(rows, REGULARIZATION, gram, gram_factor, dependent);
         mu[..rows].copy_from_slice(&rhs[..rows]);
         regularized_solve(rows, (gram, gram_factor, dependent), mu, right, residual_scratch);
-        for j in 0..n {
-            step[j] = (0..rows).map(|i| mobility[i * n + j] * mu[i]).sum::<f64>() / factor[j * n + j].sqrt();
-        }
-        crate::linalg::ldlt_backward(n, factor, step);
+        along_forces(n, rows, factor, mobility, mu, step);
         return;
     }
     for i in 0..rows {

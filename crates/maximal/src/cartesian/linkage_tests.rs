@@ -14,9 +14,9 @@
 use super::simulation::CartesianSimulation;
 use super::system::CartesianSystem;
 use crate::{BodyState, MaximalSimulation};
-use lagrange::graph::{GROUND, GraphBody, GraphJoint, GraphMechanism, JointGraph};
+use lagrange::graph::{GROUND, GraphMechanism, JointGraph};
 use lagrange::{Dynamics, Error};
-use lagrange_scenes::Params;
+use lagrange_scenes::{ParallelogramChain, Params, RedundantParallelogram, SceneType};
 use std::f64::consts::FRAC_PI_2;
 use std::sync::Arc;
 
@@ -36,51 +36,37 @@ fn simulate(graph: JointGraph, states: &[BodyState], tolerance: f64) -> Cartesia
 /// states at crank angle `θ` and rate `θ̇` on the parallel branch (bodies: crank 0, coupler 0,
 /// crank 1, …, crank N).
 fn parallelogram_chain(windows: usize, shift: [f64; 2], theta: f64, rate: f64) -> (JointGraph, Vec<BodyState>) {
-    let rod = |name: String| GraphBody::rigid(name, 1.0, 1.0 / 12.0);
-    let mut graph = JointGraph::new("parallelogram chain", GRAVITY);
+    let scene = ParallelogramChain::new(windows, GRAVITY, rate).unwrap();
+    let graph = shifted(scene.joint_graph().unwrap(), shift);
     let mut states = Vec::new();
     let (sin, cos) = theta.sin_cos();
     for k in 0..=windows {
         let pivot = [k as f64 + shift[0], shift[1]];
-        graph = graph.with_body(rod(format!("crank {k}")));
         states.push(BodyState {
             pose: [pivot[0] + 0.5 * cos, pivot[1] + 0.5 * sin, theta],
             velocity: [-0.5 * rate * sin, 0.5 * rate * cos, rate],
         });
         if k < windows {
-            graph = graph.with_body(rod(format!("coupler {k}")));
             states.push(BodyState {
                 pose: [pivot[0] + cos + 0.5, pivot[1] + sin, 0.0],
                 velocity: [-rate * sin, rate * cos, 0.0],
             });
         }
     }
-    for k in 0..=windows {
-        let (pivot, crank) = ([k as f64 + shift[0], shift[1]], format!("crank {k}"));
-        graph = graph
-            .with_joint(GraphJoint::revolute(format!("θ{k}"), GROUND, pivot, crank.as_str(), [-0.5, 0.0]).absolute());
-        if k >= 1 {
-            let previous = format!("coupler {}", k - 1);
-            graph = graph.with_joint(GraphJoint::revolute(
-                format!("B{k}"),
-                previous,
-                [0.5, 0.0],
-                crank.as_str(),
-                [0.5, 0.0],
-            ));
-        }
-        if k < windows {
-            let coupler = format!("coupler {k}");
-            graph = graph.with_joint(GraphJoint::revolute(
-                format!("φ{k}"),
-                crank.as_str(),
-                [0.5, 0.0],
-                coupler,
-                [-0.5, 0.0],
-            ));
+    (graph, states)
+}
+
+/// `graph` with its ground anchors moved by `shift`.
+fn shifted(mut graph: JointGraph, shift: [f64; 2]) -> JointGraph {
+    for joint in &mut graph.joints {
+        for (end, anchor) in [(&joint.parent, &mut joint.parent_anchor), (&joint.child, &mut joint.child_anchor)] {
+            if end == GROUND {
+                anchor[0] += shift[0];
+                anchor[1] += shift[1];
+            }
         }
     }
-    (graph, states)
+    graph
 }
 
 /// The crank angles of a chain's body states (bodies 0, 2, 4, …).
@@ -256,18 +242,7 @@ fn accelerations_through_the_flat_position_are_the_branch_accelerations() {
 /// middle — one of its rows repeats the others' everywhere — with every crank at `θ` turning at
 /// `θ̇` (bodies: crank, coupler, rocker, third crank).
 fn redundant_parallelogram(theta: f64, rate: f64) -> (JointGraph, Vec<BodyState>) {
-    let rod = |name: &str, l: f64| GraphBody::rigid(name, 1.0, l * l / 12.0);
-    let graph = JointGraph::new("redundant parallelogram", GRAVITY)
-        .with_body(rod("crank", 1.0))
-        .with_body(rod("coupler", 2.0))
-        .with_body(rod("rocker", 1.0))
-        .with_body(rod("third crank", 1.0))
-        .with_joint(GraphJoint::revolute("θ1", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]).absolute())
-        .with_joint(GraphJoint::revolute("φ", "crank", [0.5, 0.0], "coupler", [-1.0, 0.0]))
-        .with_joint(GraphJoint::revolute("θ2", GROUND, [2.0, 0.0], "rocker", [-0.5, 0.0]).absolute())
-        .with_joint(GraphJoint::revolute("B", "coupler", [1.0, 0.0], "rocker", [0.5, 0.0]))
-        .with_joint(GraphJoint::revolute("θ3", GROUND, [1.0, 0.0], "third crank", [-0.5, 0.0]).absolute())
-        .with_joint(GraphJoint::revolute("C", "coupler", [0.0, 0.0], "third crank", [0.5, 0.0]));
+    let graph = RedundantParallelogram::new(GRAVITY, rate).unwrap().joint_graph().unwrap();
     let (sin, cos) = theta.sin_cos();
     let crank = |pivot: f64| BodyState {
         pose: [pivot + 0.5 * cos, 0.5 * sin, theta],
