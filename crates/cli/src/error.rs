@@ -63,6 +63,14 @@ pub enum CliError {
         /// The value.
         value: f64,
     },
+    /// A rapier step longer than the run: no sample after the first would fall on a step.
+    #[error("--dt {} is longer than the run (--t-end {}): rapier would not take one step inside it", compact(*.dt), compact(*.t_end))]
+    StepBeyondRun {
+        /// The step.
+        dt: f64,
+        /// The simulated time.
+        t_end: f64,
+    },
     /// A step too small to advance the time over the run: `t + dt` rounds back to `t`.
     #[error(
         "{flag} {} is below the resolution of the time at t = {} (the spacing of f64 there is {}): \
@@ -175,6 +183,66 @@ pub enum CliError {
         /// The condition number of the mass matrix at the state.
         condition_number: f64,
     },
+    /// A run that did not keep what its scene declares (a constant of the motion, the
+    /// constraints) to the error its method and setting allow.
+    #[error(
+        "the run of {scene} with {method} did not keep what the scene declares: {findings}; the result is \
+         not to be trusted (expected relative error {}): use a smaller {flag}, or --allow-drift to keep it anyway",
+        compact(*.expected)
+    )]
+    Unhealthy {
+        /// The scene's id.
+        scene: String,
+        /// The method and its setting (`rk4 at dt = 1e-3`).
+        method: String,
+        /// What drifted, joined.
+        findings: String,
+        /// The run's expected relative error.
+        expected: f64,
+        /// The flag that sets the accuracy: `--dt` or `--tol`.
+        flag: &'static str,
+    },
+    /// A run that failed after it had diverged: the failure is a consequence, the divergence
+    /// the cause.
+    #[error(
+        "the run of {scene} with {method} diverged ({findings}) before it stopped with: {source}; \
+         use a smaller {flag}"
+    )]
+    DivergedFirst {
+        /// The scene's id.
+        scene: String,
+        /// The method and its setting.
+        method: String,
+        /// What drifted, joined.
+        findings: String,
+        /// The error the run stopped with.
+        source: Box<lagrange::Error>,
+        /// The flag that sets the accuracy.
+        flag: &'static str,
+    },
+    /// A run whose step size collapsed where the motion is not stiff: the stiffness test's
+    /// verdict refuted by the Jacobian.
+    #[error(
+        "the run of {scene} with {method} stopped at t = {} with the step at h = {}, far below the explicit \
+         method's stability limit there (about 3.3 / ω = {} for the fastest rate ω = {} 1/s): not stiffness; \
+         the motion is not resolved there (a singular configuration, a discontinuity, or a tolerance too loose \
+         for the motion: {source})",
+        compact(*.t), compact(*.h), compact(3.3 / *.rate), compact(*.rate)
+    )]
+    NotStiff {
+        /// The scene's id.
+        scene: String,
+        /// The method and its setting.
+        method: String,
+        /// Where it stopped.
+        t: f64,
+        /// The last step.
+        h: f64,
+        /// The fastest rate of the motion there.
+        rate: f64,
+        /// The error the run stopped with.
+        source: Box<lagrange::Error>,
+    },
     /// The validation library failed: a reference, a sweep or a stability case could not run.
     #[error(transparent)]
     Validation(#[from] lagrange_validation::Error),
@@ -247,6 +315,7 @@ impl CliError {
             | CliError::NotFinite { .. }
             | CliError::NotPositive { .. }
             | CliError::StepBelowResolution { .. }
+            | CliError::StepBeyondRun { .. }
             | CliError::RepeatedParam { .. }
             | CliError::NotForIntegrator { .. }
             | CliError::UnknownEngine(_)
@@ -267,6 +336,9 @@ impl CliError {
             | CliError::Compare { .. }
             | CliError::Extreme { .. }
             | CliError::Disagreement { .. }
+            | CliError::Unhealthy { .. }
+            | CliError::DivergedFirst { .. }
+            | CliError::NotStiff { .. }
             | CliError::Validation(_)
             | CliError::Io { .. }
             | CliError::OutputDirectory { .. }

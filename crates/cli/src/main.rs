@@ -2,9 +2,9 @@
 //!
 //! ```text
 //! lagrange scenes [--json]
-//! lagrange accel <scene> [--param NAME=VALUE]... [--q a,b,..] [--qdot a,b,..] [--t T] [--check] [--json]
+//! lagrange accel <scene> [--param NAME=VALUE]... [--q a,b,..] [--qdot a,b,..] [--hold NAME,..] [--t T] [--check] [--json]
 //! lagrange simulate <scene> [--param ..] [--q ..] [--qdot ..] --t-end T
-//!          [--integrator rk4|adaptive|variational] [--dt H | --tol E] [--every S] [--out FILE.csv]
+//!          [--integrator rk4|adaptive|dop853|implicit|variational|gauss] [--dt H | --tol E] [--every S] [--out FILE.csv]
 //! lagrange compare <scene> [--param ..] [--engine cartesian|rapier-impulse|rapier-multibody|
 //!          rapier-impulse-f32|rapier-multibody-f32|all] [--dt H] [--substeps K] [--t-end T] [--json]
 //! lagrange report [--scene ID]... [--quick] [--out DIR] [--t-end T] [--json]
@@ -56,7 +56,7 @@ enum Command {
     /// Run the reduced solver and the maximal-coordinate engines (Cartesian with multipliers,
     /// rapier impulse and multibody joints in f64 and f32) side by side.
     Compare(commands::compare::Args),
-    /// The validation report: every scene by every method (reduced RK4, adaptive and variational
+    /// The validation report: every scene by every method (reduced RK4, adaptive, DOP853 and variational
     /// integrators, the Cartesian solver, rapier impulse and multibody joints in f64 and f32)
     /// over step and tolerance sweeps, against each scene's reference; writes report.json,
     /// report.md and work-precision plots to --out.

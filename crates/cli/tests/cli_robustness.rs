@@ -387,3 +387,54 @@ fn hold_brings_a_given_state_onto_the_constraints() {
     let (code, err) = one_line_error(&["simulate", "double_pendulum", "--hold", "θ1", "--t-end", "0.1"]);
     assert_eq!(code, Some(2), "{err}");
 }
+
+/// `accel` refuses a state off the constraints as `simulate` does (exit 2, naming `--hold`), and
+/// brings it onto them with `--hold`. At 6d4bf6b each of these exited 0: a bob 2 m out on a
+/// 1 m rod, a four-bar open by 0.2 m, a sleigh sliding sideways.
+#[test]
+fn accel_refuses_a_state_off_the_constraints() {
+    for args in [
+        &["accel", "nonminimal_pendulum", "--q", "2,0", "--qdot", "0,0"][..],
+        &["accel", "four_bar", "--q", "0,0,0", "--qdot", "0,0,0"],
+        &["accel", "chaplygin_sleigh", "--q", "0,0,0", "--qdot", "1,1,0"],
+    ] {
+        let (code, err) = one_line_error(args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains("does not satisfy the scene's constraints") && err.contains("--hold"), "{args:?}: {err}");
+    }
+    let output = lagrange(&["accel", "four_bar", "--q", "1,0,0", "--qdot", "0,0,0", "--hold", "θ2", "--check"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(stdout(&output).lines().count(), 3, "{}", stdout(&output));
+}
+
+/// `--hold` takes each coordinate once, by name; holding every coordinate of a state off the
+/// constraints is the same usage error on every scene (at 6d4bf6b: exit 2 naming a library
+/// function on the sleigh, exit 1 on the four-bar; an empty list moved the crank silently).
+#[test]
+fn hold_takes_each_coordinate_once_and_not_all_of_an_inconsistent_state() {
+    for (args, says) in [
+        (&["simulate", "four_bar", "--q", "1,0,0", "--hold", "", "--t-end", "0.1"][..], "an empty name"),
+        (&["simulate", "four_bar", "--q", "1,0,0", "--hold", "θ2,θ2", "--t-end", "0.1"], "named twice"),
+        (&["simulate", "four_bar", "--q", "1,0,0", "--hold", "θ2,θ3,θ4", "--t-end", "0.1"], "every coordinate is held"),
+        (
+            &["simulate", "chaplygin_sleigh", "--qdot", "1,1,0", "--hold", "x,y,φ", "--t-end", "0.1"],
+            "every coordinate is held",
+        ),
+    ] {
+        let (code, err) = one_line_error(args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+    // Holding every coordinate of a state already on the constraints changes nothing.
+    let output = lagrange(&["simulate", "four_bar", "--hold", "θ2,θ3,θ4", "--t-end", "0.1"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+}
+
+/// A rapier step longer than `compare`'s run is refused (at 6d4bf6b `--dt 2` over 1 s exited 0
+/// with an "error" of 14.5 that measured nothing).
+#[test]
+fn compare_refuses_a_step_longer_than_the_run() {
+    let (code, err) = one_line_error(&["compare", "four_bar", "--t-end", "1", "--dt", "2"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--dt 2 is longer than the run"), "{err}");
+}

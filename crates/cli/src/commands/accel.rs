@@ -1,5 +1,9 @@
 //! `lagrange accel`: generalized accelerations at one state, beside the scene's closed form.
 //!
+//! A state off the scene's constraints (a loop that does not close, a velocity that breaks a
+//! rolling condition) is refused with exit 2, as `simulate` refuses to start from it; `--hold`
+//! brings it onto them first, keeping the named coordinates.
+//!
 //! A state outside the scene's admissible region (docs/method.md#admissible-regions) is refused
 //! with exit 1, as `simulate` refuses to step there; `--ignore-region` evaluates it anyway with a
 //! warning, to look at where the models part.
@@ -33,6 +37,11 @@ pub struct Args {
     /// Generalized velocities, comma-separated (default: the scene's initial state).
     #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
     qdot: Option<String>,
+    /// For a mechanism with constraints among its coordinates (a four-bar): bring the state onto
+    /// them first, keeping these coordinates and their rates (comma-separated names, e.g. `θ2`).
+    /// Without it, a given state must already satisfy the constraints (exit 2 otherwise).
+    #[arg(long, value_name = "NAME,..")]
+    hold: Option<String>,
     /// Time (default: the scene's initial time, 0).
     #[arg(long, allow_hyphen_values = true)]
     t: Option<f64>,
@@ -105,6 +114,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let params = args::params(scene, &args.params)?;
     let state = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), args.t)?;
     let mut system = scene.build(&params)?;
+    // A state off the constraints has no accelerations of the mechanism: refused, as
+    // `simulate` refuses to start from it (or brought onto them with --hold).
+    let state = args::hold(system.as_mut(), state, args.hold.as_deref())?;
     let coordinates: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
     let explain = |error| args::explain(error, &params, &coordinates, &state);
     match system.check_admissible(state.t, &state.q, &state.qdot) {
@@ -113,6 +125,15 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     let qddot = system.accelerations(state.t, &state.q, &state.qdot).map_err(explain)?.to_vec();
     let closed_form = scene.closed_form_accelerations(&params, state.t, &state.q, &state.qdot).map_err(explain)?;
+    // A hand-derived formula that divides by zero at this state (a singular configuration) has
+    // no value here: said, not printed as NaN.
+    let closed_form = closed_form.filter(|exact| {
+        let defined = exact.iter().all(|v| v.is_finite());
+        if !defined {
+            warn("warning: the scene's closed form is undefined at this state (it divides by zero there); the engine's q̈ is shown alone");
+        }
+        defined
+    });
     let agreement = match &closed_form {
         Some(exact) => {
             let mass_matrix = system.mass_matrix(state.t, &state.q, &state.qdot).map_err(explain)?;

@@ -40,14 +40,14 @@ pub struct Args {
     /// rapier-multibody-f32, or all.
     #[arg(long, default_value = "all")]
     engine: String,
-    /// rapier step (s).
-    #[arg(long, default_value_t = 1.0 / 240.0, allow_negative_numbers = true)]
+    /// rapier step (s) [default: 1/240].
+    #[arg(long, default_value_t = 1.0 / 240.0, hide_default_value = true, allow_negative_numbers = true)]
     dt: f64,
     /// rapier substeps per step.
     #[arg(long, default_value_t = 4)]
     substeps: usize,
     /// Tolerance of the Cartesian engine's integrator.
-    #[arg(long, default_value_t = 1e-12, allow_negative_numbers = true)]
+    #[arg(long, default_value = "1e-12", allow_negative_numbers = true)]
     tol: f64,
     /// Simulated time (s).
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
@@ -210,7 +210,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     args::step("--dt", args.dt, args.t_end)?;
     let settings = Settings { dt: args.dt, substeps: args.substeps, tolerance: args.tol };
-    let every = args.t_end / 100.0;
+    if args.dt > args.t_end {
+        return Err(CliError::StepBeyondRun { dt: args.dt, t_end: args.t_end });
+    }
+    // A hundred samples; with a rapier step longer than that, one sample per step (a sample
+    // between two steps would measure the rounding of its time, not the engine).
+    let every = (args.t_end / 100.0).max(args.dt);
     // What each engine will cost, before any runs (skipped with --force).
     let estimates: Vec<Option<long_work::Estimate>> = if args.force {
         vec![None; engines.len()]
