@@ -6,6 +6,7 @@ mod bad_input;
 mod constant_mass;
 mod constraints;
 mod derivatives;
+mod health;
 mod identities;
 mod integrators;
 mod layering;

@@ -15,6 +15,7 @@ pub mod compare;
 mod error;
 pub mod fixtures;
 pub mod graphs;
+pub mod health;
 pub mod measure;
 pub mod pareto;
 pub mod plan;

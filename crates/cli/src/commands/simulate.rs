@@ -1,6 +1,8 @@
 //! `lagrange simulate`: integrate a scene and write `t, q, q̇, h` as CSV, with units in the
-//! header; warn when a conserved energy drifts beyond what the method's tolerance or step
-//! allows; refuse a request whose estimated cost is absurd (`--force` runs it anyway); write
+//! header; check the run against every constant of the motion its scene declares and against
+//! its constraints, to the error its method's tolerance or step allows
+//! ([`lagrange_validation::health`]: exit 1 beyond it, after writing, unless `--allow-drift`);
+//! tell a divergence from stiffness when a run fails; refuse a request whose estimated cost is absurd (`--force` runs it anyway); write
 //! `--out` whole or not at all.
 
 use super::files::Pending;
@@ -10,6 +12,7 @@ use crate::error::CliError;
 use indicatif::ProgressBar;
 use lagrange::integrate::{MethodKind, Sample, Sink, Stats};
 use lagrange::{Coordinate, Method, Output, State, System, Trajectory};
+use lagrange_validation::health;
 use std::io::Write;
 
 /// Which integrator: a [`MethodKind`], spelled and described as the solver names it.
@@ -83,6 +86,11 @@ pub struct Args {
     /// 1 GB).
     #[arg(long)]
     force: bool,
+    /// Exit 0 (with a warning) when the run drifts from a constant of the motion or from its
+    /// constraints beyond what its method and setting allow; without it such a run exits 1
+    /// (after writing its output).
+    #[arg(long)]
+    allow_drift: bool,
 }
 
 /// The method and output interval the arguments ask for, over `span` simulated seconds.
@@ -153,91 +161,38 @@ fn header(coordinates: &[Coordinate], constrained: bool) -> String {
     header.join(",")
 }
 
-/// Write the trajectory as CSV.
+/// Write the trajectory as CSV: every number in its shortest form that reads back to the same
+/// `f64` (scientific outside 1e-4 … 1e6, never 17 leading zeros), the time to 15 digits.
 fn write_csv(out: &mut dyn Write, coordinates: &[Coordinate], trajectory: &Trajectory) -> std::io::Result<()> {
     let constrained = !trajectory.violation.is_empty();
     writeln!(out, "{}", header(coordinates, constrained))?;
     for k in 0..trajectory.len() {
-        let mut row = vec![trajectory.t[k].to_string()];
-        row.extend(trajectory.q(k).iter().map(f64::to_string));
-        row.extend(trajectory.qdot(k).iter().map(f64::to_string));
-        row.push(trajectory.energy[k].to_string());
+        let number = |v: &f64| crate::output::compact(*v).to_string();
+        // The time to 15 significant digits: a sample time `t0 + k · every` carries the rounding
+        // of the product (`0.8999999999999999` for 0.9), which is not a time anyone asked for.
+        let t: f64 = format!("{:.14e}", trajectory.t[k]).parse().unwrap_or(trajectory.t[k]);
+        let mut row = vec![number(&t)];
+        row.extend(trajectory.q(k).iter().map(number));
+        row.extend(trajectory.qdot(k).iter().map(number));
+        row.push(number(&trajectory.energy[k]));
         if let Some(violation) = trajectory.violation.get(k) {
-            row.extend(violation.iter().map(f64::to_string));
+            row.extend(violation.iter().map(number));
         }
         writeln!(out, "{}", row.join(","))?;
     }
     Ok(())
 }
 
-/// The fastest rate of the motion at the state `(t, q, q̇)`, `ω` (1/s): from the acceleration
-/// Jacobian, `√‖∂q̈/∂q‖∞ + ‖∂q̈/∂q̇‖∞` — the row-sum norms bound the spectral radii, so this
-/// bounds the frequency of the stiffest linearized mode plus its damping rate. `None` where the
-/// Jacobian cannot be evaluated.
-fn fastest_rate(system: &mut dyn System, t: f64, q: &[f64], qdot: &[f64]) -> Option<f64> {
-    let n = q.len();
-    let jacobian = system.acceleration_jacobian(t, q, qdot).ok()?;
-    let row_sum = |columns: std::ops::Range<usize>| {
-        (0..n).map(|i| columns.clone().map(|j| jacobian[i * 2 * n + j].abs()).sum::<f64>()).fold(0.0, f64::max)
-    };
-    let rate = row_sum(0..n).sqrt() + row_sum(n..2 * n);
-    rate.is_finite().then_some(rate)
-}
-
-/// The relative drift of the energy function `h` that a run of `method` over `steps` steps can
-/// be expected to stay below, on a scene that conserves `h`; `rate` is
-/// [`fastest_rate`] at the initial state. Beyond it, the run is not resolving the motion (a
-/// tolerance too loose, a step too large, an instability) and `simulate` warns.
-///
-/// - Error-controlled methods (adaptive, implicit) keep each step's local error below `tol`
-///   relative to the state; `h` is quadratic in the velocities, so a relative state error `δ`
-///   moves `h` by about `2δ`, and in the worst case these add up over the steps: `2 N tol`.
-///   The threshold `10 N tol` leaves a factor 5 for the dense output between steps and for
-///   states of order one, where the absolute part of the tolerance counts as much.
-/// - Fixed steps: an order-`p` method's local error is `O((ω dt)^{p+1})`. RK4 is not
-///   symplectic: its energy error accumulates step after step, `≲ N (ω dt)⁵`. The variational
-///   (order 2) and Gauss (order 4) integrators are symplectic: their energy error stays bounded,
-///   `≲ (ω dt)^p`, however long the run (docs/method.md). The threshold is 10 times that, plus
-///   `10 N ε` for round-off adding up over the steps.
-///
-/// Whatever these allow, a drift beyond [`MAX_DRIFT`] is warned about: the estimates lose their
-/// meaning once `ω dt` approaches 1 or `N tol` a percent, and a run that moves a conserved
-/// energy by a tenth does not resolve the motion.
-fn drift_threshold(method: Method, steps: usize, rate: Option<f64>) -> Option<f64> {
-    let n = steps.max(1) as f64;
-    let round_off = 10.0 * n * f64::EPSILON;
-    let threshold = match method {
-        Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
-            10.0 * n * tol.rtol.max(tol.atol)
-        }
-        Method::Rk4 { dt } => 10.0 * n * (rate? * dt).powi(5) + round_off,
-        Method::Variational { dt } => 10.0 * (rate? * dt).powi(2) + round_off,
-        Method::Gauss { dt } => 10.0 * (rate? * dt).powi(4) + round_off,
-    };
-    Some(threshold.min(MAX_DRIFT))
-}
-
-/// The largest relative energy drift `simulate` accepts without a warning, whatever the method.
-const MAX_DRIFT: f64 = 0.1;
-
-/// The largest drift of `h` over the samples relative to `|h(t0)|`; `None` for a run without
-/// samples or starting at `h = 0`, where a relative drift is undefined.
-fn energy_drift(trajectory: &Trajectory) -> Option<f64> {
-    let h0 = *trajectory.energy.first()?;
-    let drift = trajectory.energy.iter().map(|h| (h - h0).abs()).fold(0.0, f64::max);
-    (h0 != 0.0).then(|| drift / h0.abs())
-}
-
-/// A [`Trajectory`] that also sets a progress bar to the fraction of the horizon each sample
-/// reaches (in thousandths).
-struct Progress<'a> {
+/// A [`Trajectory`] that also sets a progress bar (when there is one) to the fraction of the
+/// horizon each sample reaches (in thousandths).
+struct Progress {
     trajectory: Trajectory,
-    bar: &'a ProgressBar,
+    bar: Option<ProgressBar>,
     t0: f64,
     span: f64,
 }
 
-impl Sink for Progress<'_> {
+impl Sink for Progress {
     fn wants_energy(&self) -> bool {
         self.trajectory.wants_energy()
     }
@@ -247,7 +202,9 @@ impl Sink for Progress<'_> {
     }
 
     fn record(&mut self, sample: Sample<'_>) {
-        self.bar.set_position(((sample.t - self.t0) / self.span * 1e3) as u64);
+        if let Some(bar) = &self.bar {
+            bar.set_position(((sample.t - self.t0) / self.span * 1e3) as u64);
+        }
         self.trajectory.record(sample);
     }
 
@@ -257,7 +214,7 @@ impl Sink for Progress<'_> {
 }
 
 /// The run, with a progress bar and the time left when standard error is a terminal: the same
-/// run as [`System::simulate`], into a sink that moves the bar as it records.
+/// run as [`System::simulate`], into a sink that keeps the samples recorded before a failure.
 fn simulate(
     scene: &dyn lagrange_scenes::Scene,
     system: &dyn System,
@@ -265,17 +222,86 @@ fn simulate(
     t_end: f64,
     method: Method,
     output: &Output,
-) -> Result<Trajectory, CliError> {
-    if !long_work::shows_progress() {
-        return Ok(system.simulate(initial, t_end, method, output)?);
-    }
-    let bar = long_work::progress_bar(1000);
-    bar.set_message(scene.id());
+) -> (Trajectory, Result<Stats, lagrange::Error>) {
+    let bar = long_work::shows_progress().then(|| {
+        let bar = long_work::progress_bar(1000);
+        bar.set_message(scene.id());
+        bar
+    });
     let trajectory = Trajectory::with_capacity(initial.q.len(), 0);
-    let mut progress = Progress { trajectory, bar: &bar, t0: initial.t, span: t_end - initial.t };
-    system.simulate_into(initial, t_end, method, output, &mut progress)?;
-    bar.finish_and_clear();
-    Ok(progress.trajectory)
+    let mut progress = Progress { trajectory, bar, t0: initial.t, span: t_end - initial.t };
+    let result = system.simulate_into(initial, t_end, method, output, &mut progress);
+    if let Some(bar) = &progress.bar {
+        bar.finish_and_clear();
+    }
+    (progress.trajectory, result)
+}
+
+/// The flag that sets a method's accuracy.
+fn accuracy_flag(method: Method) -> &'static str {
+    if method.kind().is_fixed_step() { "--dt" } else { "--tol" }
+}
+
+/// Why a run failed, with the evidence of its samples: a run that had already left its
+/// constants of the motion diverged (the failure that stopped it is the consequence); a step
+/// that collapsed far below the explicit stability limit of the motion's fastest rate is not
+/// stiffness, whatever the stiffness test said.
+fn diagnose(
+    scene: &dyn lagrange_scenes::Scene,
+    params: &lagrange_scenes::Params,
+    system: &mut dyn System,
+    method: Method,
+    partial: &Trajectory,
+    error: lagrange::Error,
+) -> CliError {
+    let describe = || describe(method);
+    if !matches!(
+        error,
+        lagrange::Error::StepSizeUnderflow { .. }
+            | lagrange::Error::Stiff { .. }
+            | lagrange::Error::TooManySteps { .. }
+            | lagrange::Error::NewtonFailed { .. }
+            | lagrange::Error::Diverged { .. }
+    ) || partial.len() < 2
+    {
+        return CliError::Engine(error);
+    }
+    if let Ok(health) = health::check(scene, params, system, method, partial)
+        && !health.is_healthy()
+    {
+        return CliError::DivergedFirst {
+            scene: scene.id().to_string(),
+            method: describe(),
+            findings: joined(&health.findings),
+            source: Box::new(error),
+            flag: accuracy_flag(method),
+        };
+    }
+    if let lagrange::Error::Stiff { t, h } | lagrange::Error::StepSizeUnderflow { t, h } = error {
+        let last = partial.len() - 1;
+        if let Some(rate) = health::fastest_rate(system, partial.t[last], partial.q(last), partial.qdot(last))
+            && rate * h < STIFF_STEP
+        {
+            return CliError::NotStiff {
+                scene: scene.id().to_string(),
+                method: describe(),
+                t,
+                h,
+                rate,
+                source: Box::new(error),
+            };
+        }
+    }
+    CliError::Engine(error)
+}
+
+/// `ω h` below which a collapsed explicit step is not held back by stability (whose limit is
+/// `ω h ≈ 3.3` for Dormand–Prince): a factor 100 below it.
+const STIFF_STEP: f64 = 0.033;
+
+/// The findings, one sentence.
+fn joined(findings: &[health::Finding]) -> String {
+    findings.iter().map(ToString::to_string).collect::<Vec<_>>().join("; ")
 }
 
 /// Integrate and write.
@@ -317,25 +343,22 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let what = format!("simulating {span:e} s of {} with {}", scene.id(), describe(method));
         long_work::check_time(estimate, args.force, &what, flag)?;
     }
-    let trajectory = simulate(scene, system.as_ref(), &initial, args.t_end, method, &Output::Every(every))?;
-    if let Some(t) = trajectory.stats.stiffness {
-        crate::output::warn(&format!("warning: the problem looks stiff from t = {t}; try --integrator implicit"));
+    let (trajectory, result) = simulate(scene, system.as_ref(), &initial, args.t_end, method, &Output::Every(every));
+    if let Err(error) = result {
+        return Err(diagnose(scene, &params, system.as_mut(), method, &trajectory, error));
     }
-    if system.conserves_energy() {
-        let rate = fastest_rate(system.as_mut(), initial.t, &initial.q, &initial.qdot);
-        if let (Some(drift), Some(threshold)) =
-            (energy_drift(&trajectory), drift_threshold(method, trajectory.stats.steps, rate))
-            && drift > threshold
-        {
-            crate::output::warn(&format!(
-                "warning: the energy h of this conservative scene drifted by {drift:.2e} (relative) over the run, \
-                 beyond the {threshold:.1e} that {} over {} steps allows: the result is not to be trusted; \
-                 use a smaller {}",
-                describe(method),
-                trajectory.stats.steps,
-                if method.kind().is_fixed_step() { "--dt" } else { "--tol" }
-            ));
-        }
+    // The run checks itself against what the scene declares (docs/cli.md); the output is
+    // written either way, and a run that failed its checks exits 1 after it.
+    let health = health::check(scene, &params, system.as_mut(), method, &trajectory)?;
+    let unhealthy = (!health.is_healthy()).then(|| CliError::Unhealthy {
+        scene: scene.id().to_string(),
+        method: describe(method),
+        findings: joined(&health.findings),
+        expected: health.expected,
+        flag: accuracy_flag(method),
+    });
+    if let (Some(t), None) = (trajectory.stats.stiffness, &unhealthy) {
+        crate::output::warn(&format!("warning: the problem looks stiff from t = {t}; try --integrator implicit"));
     }
     match &args.out {
         Some(path) => {
@@ -356,5 +379,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             write_csv(&mut stdout.lock(), &coordinates, &trajectory).map_err(CliError::Stdout)?;
         }
     }
-    Ok(())
+    match unhealthy {
+        Some(error) if args.allow_drift => {
+            crate::output::warn(&format!("warning: {error} (kept: --allow-drift)"));
+            Ok(())
+        }
+        Some(error) => Err(error),
+        None => Ok(()),
+    }
 }
