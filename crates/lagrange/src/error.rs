@@ -227,8 +227,8 @@ pub enum Error {
     /// unwritten (or wrote NaN) at a probe state: the engine fills the poses with NaN first,
     /// so that a forgotten body is an error instead of a body at the origin.
     #[error(
-        "the poses do not write the {component} of body `{body}` at t = {}, q = {} \
-         (it is still NaN): every body's pose must be written",
+        "the poses leave the {component} of body `{body}` NaN at t = {}, q = {} \
+         (unwritten, or written as NaN): every body's pose must be written, finite",
         compact(.t),
         compact_all(.q)
     )]
@@ -284,7 +284,7 @@ pub enum Error {
     /// A consistent state could not be found: Gauss–Newton on `Φ(t, q) = 0` (with the held
     /// coordinates fixed) did not converge, e.g. a four-bar whose links cannot close.
     #[error(
-        "cannot assemble at t = {}: {} = {} after {iterations} Gauss–Newton iterations (the constraints cannot be met with the held coordinates, or not near this guess)",
+        "cannot assemble at t = {}: {} = {} after {iterations} Gauss–Newton iterations (the constraints cannot be met from this guess: links that cannot close, coordinates held where no closed configuration has them, or a guess outside the basin)",
         compact(.t), .constraint, compact(.residual)
     )]
     AssemblyFailed {

@@ -60,7 +60,7 @@ pub fn render(report: &Report) -> String {
         md,
         "- **error**: max over the saved times of `‖q − q_ref‖∞` (m, rad); **final**: the same at the horizon;\n\
          - **energy**: `max |E − E₀| / |E₀|`, only where the scene conserves energy (— otherwise);\n\
-         - **violation**: largest constraint violation of a maximal engine, where it has one (— otherwise);\n\
+         - **violation**: largest constraint violation over the saved times, of the reduced solver's constraints among its coordinates or of a maximal engine's joints, where the model has any (— otherwise);\n\
          - **time**: {}; {};\n\
          - **reference**: the scene's closed form where it has one, else the reduced solution (dop853) at tol 3e-15 \
          checked against the Cartesian solver; an engine that needs a deviation from the scene is measured \
@@ -71,7 +71,7 @@ pub fn render(report: &Report) -> String {
     let _ = writeln!(md, "## Summary\n");
     let _ = writeln!(
         md,
-        "Ours = the Pareto front of the reduced solver's RK4, adaptive and variational runs together. \
+        "Ours = the Pareto front of the reduced solver's RK4, adaptive, DOP853 and variational runs together. \
          Columns: `e_rapier / e_ours` at equal wall time (the smallest over the overlap of the time ranges; \
          docs/validation.md#targets target ≥ {ERROR_RATIO_TARGET:.0e}) and `t_rapier / t_ours` at equal error {EQUAL_ERROR:.0e} \
          (target ≥ {TIME_RATIO_TARGET}). Both are read off the fronts by log-log interpolation, never \

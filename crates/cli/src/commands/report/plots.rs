@@ -25,6 +25,19 @@ const PALETTE: [RGBColor; Family::ALL.len()] = [
     RGBColor(250, 190, 120), // rapier-multibody-f32
 ];
 
+/// One colour per coordinate of the reference plot, cycled: saturated enough to read on white
+/// (plotters' `Palette99` starts with a pale yellow).
+const COORDINATE_COLOURS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 150, 34),
+];
+
 fn colour(family: Family) -> RGBColor {
     let index = Family::ALL.iter().position(|f| *f == family).unwrap_or(0);
     PALETTE[index]
@@ -216,7 +229,7 @@ fn draw_reference(
         .map_err(drawing_error(path))?;
     chart.configure_mesh().x_desc("t (s)").y_desc("q_ref (m, rad)").draw().map_err(drawing_error(path))?;
     for (i, coordinate) in runs.coordinates.iter().enumerate() {
-        let colour = Palette99::pick(i).to_rgba();
+        let colour = COORDINATE_COLOURS[i % COORDINATE_COLOURS.len()];
         let points = times.iter().zip(&reference.q).map(|(&t, q)| (t, q[i]));
         chart
             .draw_series(LineSeries::new(points, colour.stroke_width(2)))
