@@ -182,3 +182,39 @@ fn fixed_step_methods_land_on_the_requested_times() {
         }
     }
 }
+
+/// A sink that asks the run to stop (`Sink::keep_going`) stops it at the first step past its
+/// mark with `Error::Stopped`, for every method, and keeps the samples recorded before.
+#[test]
+fn a_sink_stops_a_run_and_keeps_its_samples() {
+    use lagrange::Trajectory;
+    use lagrange::integrate::{MethodKind, Sample, Sink, Stats};
+    struct Until(Trajectory, f64);
+    impl Sink for Until {
+        fn record(&mut self, sample: Sample<'_>) {
+            self.0.record(sample);
+        }
+        fn finish(&mut self, stats: Stats) {
+            self.0.finish(stats);
+        }
+        fn keep_going(&mut self, t: f64) -> bool {
+            t < self.1
+        }
+    }
+    let s = scene("double_pendulum");
+    let params = s.default_params();
+    let initial = s.default_state(&params).expect("valid");
+    let system = s.build(&params).expect("valid");
+    for kind in MethodKind::ALL {
+        let mut sink = Until(Trajectory::with_capacity(2, 0), 1.0);
+        let result = system.simulate_into(&initial, 3.0, kind.default_method(), &Output::Every(0.1), &mut sink);
+        match result {
+            Err(lagrange::Error::Stopped { t, steps }) => {
+                assert!((1.0..1.2).contains(&t) && steps > 0, "{kind:?}: stopped at t = {t} after {steps} steps");
+            }
+            other => panic!("{kind:?}: {other:?}"),
+        }
+        // Samples at 0, 0.1, …, up to the last one before the stop.
+        assert!((10..=12).contains(&sink.0.len()), "{kind:?}: {} samples", sink.0.len());
+    }
+}

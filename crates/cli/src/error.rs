@@ -243,6 +243,18 @@ pub enum CliError {
         /// The error the run stopped with.
         source: Box<lagrange::Error>,
     },
+    /// A run stopped by `--max-seconds`, with what it had by then.
+    #[error("{what} stopped after {:.2} s of wall time (--max-seconds {}): {why}; what it had is written", .elapsed, compact(*.limit))]
+    OutOfTime {
+        /// What was stopped, and how far it got.
+        what: String,
+        /// Wall time when it stopped (s).
+        elapsed: f64,
+        /// `--max-seconds`.
+        limit: f64,
+        /// Why (the deadline, or the projected time).
+        why: String,
+    },
     /// The validation library failed: a reference, a sweep or a stability case could not run.
     #[error(transparent)]
     Validation(#[from] lagrange_validation::Error),
@@ -339,6 +351,7 @@ impl CliError {
             | CliError::Unhealthy { .. }
             | CliError::DivergedFirst { .. }
             | CliError::NotStiff { .. }
+            | CliError::OutOfTime { .. }
             | CliError::Validation(_)
             | CliError::Io { .. }
             | CliError::OutputDirectory { .. }

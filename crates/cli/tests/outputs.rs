@@ -494,3 +494,37 @@ fn out_never_replaces_what_is_not_a_regular_file() {
     assert!(stderr(&output).contains("directory"), "{}", stderr(&output));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--max-seconds` stops a long run with what it has (exit 1, saying how far it got), also when
+/// the measured progress shows early that it cannot finish; the samples before the stop are
+/// written. At 6d4bf6b a run the up-front estimate got wrong ran on for minutes.
+#[test]
+fn max_seconds_stops_a_long_run_with_what_it_has() {
+    let started = std::time::Instant::now();
+    let output = lagrange(&[
+        "simulate",
+        "harmonic_oscillator",
+        "--t-end",
+        "1e5",
+        "--integrator",
+        "rk4",
+        "--dt",
+        "1e-3",
+        "--every",
+        "1",
+        "--max-seconds",
+        "2",
+    ]);
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(err.contains("--max-seconds 2") && err.contains("of 100000 s reached"), "{err}");
+    // Stopped at 2 s, or earlier on its projection; the process's own start-up on top.
+    assert!(started.elapsed().as_secs_f64() < 30.0, "ran {:?}", started.elapsed());
+    let rows = csv_rows(&stdout(&output));
+    assert!(rows.len() > 1, "the samples before the stop are written");
+    // compare: the engines not done in time are named.
+    let output = lagrange(&["compare", "chain", "--param", "N=64", "--t-end", "100", "--max-seconds", "1"]);
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(err.contains("left out: ") && err.contains("rapier-impulse"), "{err}");
+}

@@ -305,6 +305,15 @@ pub enum Error {
         /// What is wrong with it.
         why: String,
     },
+    /// The run's sink asked it to stop ([`Sink::keep_going`](crate::integrate::Sink::keep_going)):
+    /// a deadline or an interrupt, not a failure of the integration.
+    #[error("stopped by its caller at t = {} after {steps} steps", compact(.t))]
+    Stopped {
+        /// Time reached.
+        t: f64,
+        /// Steps taken.
+        steps: usize,
+    },
     /// A mechanism declared a property that its functions contradict.
     #[error("inconsistent mechanism: {what}")]
     Inconsistent {

@@ -58,6 +58,11 @@ pub struct Args {
     /// Run a request whose estimated wall time is beyond the limit (2 minutes).
     #[arg(long)]
     force: bool,
+    /// Wall-time limit (s): an engine still running then is abandoned, the rows of the engines
+    /// done are printed, and the command exits 1 naming the engines left out. With it, the
+    /// cost is not estimated up front.
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    max_seconds: Option<f64>,
 }
 
 /// Substeps of a rapier engine's calibration run: a rapier step costs its substeps, so a run
@@ -217,7 +222,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     // between two steps would measure the rounding of its time, not the engine).
     let every = (args.t_end / 100.0).max(args.dt);
     // What each engine will cost, before any runs (skipped with --force).
-    let estimates: Vec<Option<long_work::Estimate>> = if args.force {
+    let max_seconds = long_work::max_seconds(args.max_seconds)?;
+    let started = std::time::Instant::now();
+    let estimates: Vec<Option<long_work::Estimate>> = if args.force || max_seconds.is_some() {
         vec![None; engines.len()]
     } else {
         engines.iter().map(|&engine| estimate(engine, scene, &params, &initial, &settings, args.t_end)).collect()
@@ -242,13 +249,40 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let units = |estimate: Option<long_work::Estimate>| estimate.map_or(1, |e| (e.seconds * 1e3).ceil() as u64 + 1);
     let bar = long_work::progress_bar(estimates.iter().map(|&e| units(e)).sum());
     let mut rows = Vec::new();
+    let mut left_out: Vec<&'static str> = Vec::new();
+    let mut ticker = long_work::Ticker::new();
     for (engine, estimate) in engines.into_iter().zip(estimates) {
         bar.set_message(engine.name());
-        let result = compare(engine, scene, &params, &initial, &settings, args.t_end, every);
+        ticker.tick(|| format!("compare {}: {} rows done, running {}", scene.id(), rows.len(), engine.name()));
+        let remaining = max_seconds.map(|limit| limit - started.elapsed().as_secs_f64());
+        if !left_out.is_empty() || remaining.is_some_and(|r| r <= 0.0) {
+            left_out.push(engine.name());
+            continue;
+        }
+        // On its own thread, so that one still running at --max-seconds can be abandoned.
+        let (send, receive) = std::sync::mpsc::channel();
+        let (p, i) = (params.clone(), initial.clone());
+        let t_end = args.t_end;
+        std::thread::spawn(move || {
+            let _ = send.send(compare(engine, scene, &p, &i, &settings, t_end, every));
+        });
+        let result = match remaining {
+            Some(r) => receive.recv_timeout(std::time::Duration::from_secs_f64(r)).ok(),
+            None => receive.recv().ok(),
+        };
         bar.inc(units(estimate));
-        rows.push(Row::from(engine, result)?);
+        match result {
+            Some(result) => rows.push(Row::from(engine, result)?),
+            None => left_out.push(engine.name()),
+        }
     }
     bar.finish_and_clear();
+    let stopped = (!left_out.is_empty()).then(|| CliError::OutOfTime {
+        what: format!("comparing {} ({} of {} engines done)", scene.id(), rows.len(), rows.len() + left_out.len()),
+        elapsed: started.elapsed().as_secs_f64(),
+        limit: max_seconds.unwrap_or(0.0),
+        why: format!("left out: {}", left_out.join(", ")),
+    });
     if args.json {
         let document = Document {
             scene: scene.id(),
@@ -265,7 +299,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             rows,
         };
         outln!("{}", serde_json::to_string_pretty(&document)?)?;
-        return Ok(());
+        return stopped.map_or(Ok(()), Err);
     }
     outln!(
         "{} over {} s (rapier dt = {:.3e}, {} substeps; Cartesian tol = {:e}); errors against the reduced solution (dop853) at tol {:e}",
@@ -309,5 +343,5 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             outln!("{:<21}   deviation: {deviation}", "")?;
         }
     }
-    Ok(())
+    stopped.map_or(Ok(()), Err)
 }

@@ -187,3 +187,144 @@ pub fn progress_bar(total: u64) -> ProgressBar {
 pub fn shows_progress() -> bool {
     std::io::stderr().is_terminal()
 }
+
+/// Seconds between two progress lines on a standard error that is not a terminal (a log file,
+/// a CI job): the run says where it is without flooding the log.
+pub const PROGRESS_LINE_S: f64 = 10.0;
+
+/// A progress line every [`PROGRESS_LINE_S`] on a standard error that is not a terminal (where
+/// the bars are hidden); nothing on a terminal.
+pub struct Ticker {
+    last: Instant,
+    quiet: bool,
+}
+
+impl Ticker {
+    /// A ticker whose first line comes [`PROGRESS_LINE_S`] from now.
+    pub fn new() -> Ticker {
+        Ticker { last: Instant::now(), quiet: shows_progress() }
+    }
+
+    /// Print `line()` if the interval has passed since the last one.
+    pub fn tick(&mut self, line: impl FnOnce() -> String) {
+        if !self.quiet && self.last.elapsed().as_secs_f64() >= PROGRESS_LINE_S {
+            self.last = Instant::now();
+            crate::output::warn(&line());
+        }
+    }
+}
+
+/// The least share of `--max-seconds` a run is watched for before its measured progress may
+/// stop it early.
+const PREDICT_AFTER: f64 = 0.1;
+
+/// A run projected to need more than this many times `--max-seconds` is stopped early: the
+/// projection follows the measured rate and its trend, which can still change (a motion that
+/// slows down), so only a clear excess is acted on.
+const PREDICT_FACTOR: f64 = 3.0;
+
+/// Why a watched run was stopped.
+#[derive(Clone, Copy, Debug)]
+pub enum Stop {
+    /// `--max-seconds` passed.
+    Deadline,
+    /// The measured progress projected the run to need `seconds` in all.
+    WillNotFinish {
+        /// The projected wall time of the whole run (s).
+        seconds: f64,
+    },
+}
+
+/// Progress of a run over simulated time, measured: the simulated seconds per wall second over
+/// the recent part of the run, its trend, the time left, and `--max-seconds`.
+pub struct Watch {
+    start: Instant,
+    t0: f64,
+    t_end: f64,
+    max_seconds: Option<f64>,
+    /// `(wall, t)` at the start of the current and the previous measuring windows.
+    windows: [(f64, f64); 2],
+    /// Why the run was stopped, once it was.
+    pub stopped: Option<Stop>,
+    ticker: Ticker,
+    label: String,
+}
+
+impl Watch {
+    /// Watch a run of `label` from `t0` to `t_end`, stopped at `max_seconds` of wall time.
+    pub fn new(label: &str, t0: f64, t_end: f64, max_seconds: Option<f64>) -> Watch {
+        Watch {
+            start: Instant::now(),
+            t0,
+            t_end,
+            max_seconds,
+            windows: [(0.0, t0); 2],
+            stopped: None,
+            ticker: Ticker::new(),
+            label: label.to_string(),
+        }
+    }
+
+    /// Seconds since the run started.
+    pub fn elapsed(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+
+    /// The simulated seconds per wall second over the last window, and over the one before.
+    fn rates(&self, wall: f64, t: f64) -> (Option<f64>, Option<f64>) {
+        let [(w0, t_0), (w1, t_1)] = self.windows;
+        let rate = |dw: f64, dt: f64| (dw > 0.0 && dt > 0.0).then(|| dt / dw);
+        (rate(wall - w1, t - t_1), rate(w1 - w0, t_1 - t_0))
+    }
+
+    /// The projected wall time left from `t` (s): the last window's rate, scaled by its trend
+    /// (the ratio to the window before) once for the rest — a motion that keeps speeding up
+    /// keeps slowing the run down.
+    pub fn left(&self, t: f64) -> Option<f64> {
+        let wall = self.elapsed();
+        let (recent, before) = self.rates(wall, t);
+        let recent = recent.or_else(|| (t > self.t0 && wall > 0.0).then(|| (t - self.t0) / wall))?;
+        let trend = before.map_or(1.0, |b| (recent / b).clamp(0.1, 10.0));
+        Some((self.t_end - t) / (recent * trend.min(1.0)))
+    }
+
+    /// Whether the run goes on past `t`: `false` once `--max-seconds` has passed, or once the
+    /// measured progress (after a tenth of it) projects the run beyond three times it.
+    pub fn keep_going(&mut self, t: f64) -> bool {
+        let wall = self.elapsed();
+        // Windows of a quarter of the time so far: the rate of the recent part of the run.
+        if wall - self.windows[1].0 >= 0.25 * wall.max(0.4) {
+            self.windows = [self.windows[1], (wall, t)];
+        }
+        let (label, t_end) = (&self.label, self.t_end);
+        let left = self.left(t);
+        self.ticker.tick(|| {
+            let left = left.map_or_else(|| "unknown".to_string(), duration);
+            format!("{label}: t = {t:.4} of {t_end} s after {}, about {left} left", duration(wall))
+        });
+        let Some(limit) = self.max_seconds else { return true };
+        if wall > limit {
+            self.stopped = Some(Stop::Deadline);
+            return false;
+        }
+        if wall >= PREDICT_AFTER * limit
+            && let Some(left) = left
+            && wall + left > PREDICT_FACTOR * limit
+        {
+            self.stopped = Some(Stop::WillNotFinish { seconds: wall + left });
+            return false;
+        }
+        true
+    }
+}
+
+/// `--max-seconds`, checked: positive and finite.
+///
+/// # Errors
+/// [`CliError::NotPositive`].
+pub fn max_seconds(value: Option<f64>) -> Result<Option<f64>, CliError> {
+    match value {
+        Some(v) if !(v > 0.0 && v.is_finite()) => Err(CliError::NotPositive { flag: "--max-seconds", value: v }),
+        other => Ok(other),
+    }
+}

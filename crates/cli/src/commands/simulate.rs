@@ -86,6 +86,11 @@ pub struct Args {
     /// 1 GB).
     #[arg(long)]
     force: bool,
+    /// Wall-time limit (s): the run stops there — or earlier, once its measured progress
+    /// projects it beyond three times the limit — writes the samples it has, and exits 1
+    /// saying how far it got. With it, the cost is not estimated up front.
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    max_seconds: Option<f64>,
     /// Exit 0 (with a warning) when the run drifts from a constant of the motion or from its
     /// constraints beyond what its method and setting allow; without it such a run exits 1
     /// (after writing its output).
@@ -190,6 +195,7 @@ struct Progress {
     bar: Option<ProgressBar>,
     t0: f64,
     span: f64,
+    watch: long_work::Watch,
 }
 
 impl Sink for Progress {
@@ -211,30 +217,36 @@ impl Sink for Progress {
     fn finish(&mut self, stats: Stats) {
         self.trajectory.finish(stats);
     }
+
+    fn keep_going(&mut self, t: f64) -> bool {
+        self.watch.keep_going(t)
+    }
 }
 
-/// The run, with a progress bar and the time left when standard error is a terminal: the same
-/// run as [`System::simulate`], into a sink that keeps the samples recorded before a failure.
+/// The run, with a progress bar and the time left when standard error is a terminal (a line
+/// every 10 s otherwise), stopped by `max_seconds`: the same run as [`System::simulate`], into a
+/// sink that keeps the samples recorded before a failure or a stop.
 fn simulate(
     scene: &dyn lagrange_scenes::Scene,
     system: &dyn System,
     initial: &State,
-    t_end: f64,
+    (t_end, max_seconds): (f64, Option<f64>),
     method: Method,
     output: &Output,
-) -> (Trajectory, Result<Stats, lagrange::Error>) {
+) -> (Trajectory, Result<Stats, lagrange::Error>, long_work::Watch) {
     let bar = long_work::shows_progress().then(|| {
         let bar = long_work::progress_bar(1000);
         bar.set_message(scene.id());
         bar
     });
     let trajectory = Trajectory::with_capacity(initial.q.len(), 0);
-    let mut progress = Progress { trajectory, bar, t0: initial.t, span: t_end - initial.t };
+    let watch = long_work::Watch::new(&format!("simulate {}", scene.id()), initial.t, t_end, max_seconds);
+    let mut progress = Progress { trajectory, bar, t0: initial.t, span: t_end - initial.t, watch };
     let result = system.simulate_into(initial, t_end, method, output, &mut progress);
     if let Some(bar) = &progress.bar {
         bar.finish_and_clear();
     }
-    (progress.trajectory, result)
+    (progress.trajectory, result, progress.watch)
 }
 
 /// The flag that sets a method's accuracy.
@@ -304,6 +316,31 @@ fn joined(findings: &[health::Finding]) -> String {
     findings.iter().map(ToString::to_string).collect::<Vec<_>>().join("; ")
 }
 
+/// Write the samples as CSV to `--out` (whole or not at all; a pipe or device directly) or to
+/// standard output.
+fn write_output(args: &Args, id: &str, coordinates: &[Coordinate], trajectory: &Trajectory) -> Result<(), CliError> {
+    match &args.out {
+        Some(path) => {
+            let mut file = Pending::create(path)?;
+            write_csv(file.writer(), coordinates, trajectory).map_err(|e| file.error(e))?;
+            file.commit()?;
+            crate::output::warn(&format!(
+                "{}: {} samples to {} ({} steps, {} rejected)",
+                id,
+                trajectory.len(),
+                path.display(),
+                trajectory.stats.steps,
+                trajectory.stats.rejected
+            ));
+        }
+        None => {
+            let stdout = std::io::stdout();
+            write_csv(&mut stdout.lock(), coordinates, trajectory).map_err(CliError::Stdout)?;
+        }
+    }
+    Ok(())
+}
+
 /// Integrate and write.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let scene = args::scene(&args.scene)?;
@@ -332,7 +369,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => (dt, "--t-end or --dt"),
         Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. } => (0.0, "--t-end or --tol"),
     };
-    if !args.force {
+    if !args.force && args.max_seconds.is_none() {
         // The reduced solver's steps are short: its calibration runs to its end.
         let estimate = long_work::wall_time(span, first, |tau, _| {
             match system.simulate(&initial, initial.t + tau, method, &Output::Ends) {
@@ -343,9 +380,28 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let what = format!("simulating {span:e} s of {} with {}", scene.id(), describe(method));
         long_work::check_time(estimate, args.force, &what, flag)?;
     }
-    let (trajectory, result) = simulate(scene, system.as_ref(), &initial, args.t_end, method, &Output::Every(every));
-    if let Err(error) = result {
-        return Err(diagnose(scene, &params, system.as_mut(), method, &trajectory, error));
+    let max_seconds = long_work::max_seconds(args.max_seconds)?;
+    let (trajectory, result, watch) =
+        simulate(scene, system.as_ref(), &initial, (args.t_end, max_seconds), method, &Output::Every(every));
+    match result {
+        Err(lagrange::Error::Stopped { t, .. }) => {
+            // What it has, then why it stopped.
+            write_output(args, scene.id(), &coordinates, &trajectory)?;
+            let why = match watch.stopped {
+                Some(long_work::Stop::WillNotFinish { seconds }) => {
+                    format!("at its measured rate the whole run would take about {}", long_work::duration(seconds))
+                }
+                _ => "the time ran out".to_string(),
+            };
+            return Err(CliError::OutOfTime {
+                what: format!("simulating {} (t = {t:.6} of {} s reached)", scene.id(), args.t_end),
+                elapsed: watch.elapsed(),
+                limit: max_seconds.unwrap_or(0.0),
+                why,
+            });
+        }
+        Err(error) => return Err(diagnose(scene, &params, system.as_mut(), method, &trajectory, error)),
+        Ok(_) => {}
     }
     // The run checks itself against what the scene declares (docs/cli.md); the output is
     // written either way, and a run that failed its checks exits 1 after it.
@@ -360,25 +416,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let (Some(t), None) = (trajectory.stats.stiffness, &unhealthy) {
         crate::output::warn(&format!("warning: the problem looks stiff from t = {t}; try --integrator implicit"));
     }
-    match &args.out {
-        Some(path) => {
-            let mut file = Pending::create(path)?;
-            write_csv(file.writer(), &coordinates, &trajectory).map_err(|e| file.error(e))?;
-            file.commit()?;
-            crate::output::warn(&format!(
-                "{}: {} samples to {} ({} steps, {} rejected)",
-                scene.id(),
-                trajectory.len(),
-                path.display(),
-                trajectory.stats.steps,
-                trajectory.stats.rejected
-            ));
-        }
-        None => {
-            let stdout = std::io::stdout();
-            write_csv(&mut stdout.lock(), &coordinates, &trajectory).map_err(CliError::Stdout)?;
-        }
-    }
+    write_output(args, scene.id(), &coordinates, &trajectory)?;
     match unhealthy {
         Some(error) if args.allow_drift => {
             crate::output::warn(&format!("warning: {error} (kept: --allow-drift)"));

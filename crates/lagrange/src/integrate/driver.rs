@@ -113,6 +113,13 @@ pub trait Sink {
 
     /// The work done, at the end of a successful run.
     fn finish(&mut self, _stats: Stats) {}
+
+    /// Asked after every accepted step, with the time reached: `false` stops the run there
+    /// with [`Error::Stopped`] (a caller's deadline, a user's interrupt). The samples recorded
+    /// so far stay in the sink.
+    fn keep_going(&mut self, _t: f64) -> bool {
+        true
+    }
 }
 
 /// A trajectory records every sample, with its energy, and the run's statistics.
@@ -278,6 +285,9 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
             if region {
                 let (q, qdot) = integrator.current();
                 check(integrator.t(), q, qdot)?;
+            }
+            if !sink.keep_going(integrator.t()) {
+                return Err(Error::Stopped { t: integrator.t(), steps });
             }
         }
         integrator.read(system, &mut ws, t_out, &mut q, &mut qdot)?;

@@ -67,6 +67,20 @@ pub struct StabilityReport {
     pub wall_time_s: f64,
 }
 
+impl StabilityReport {
+    /// The report of no case at `effort` (a run stopped before the suite).
+    pub fn default_for(effort: Effort) -> StabilityReport {
+        StabilityReport {
+            mode: effort.pick("full", "quick"),
+            cases: Vec::new(),
+            passed: 0,
+            failed: 0,
+            unchecked: 0,
+            wall_time_s: 0.0,
+        }
+    }
+}
+
 /// One case.
 #[derive(Clone, Debug, Serialize)]
 pub struct Case {

@@ -42,7 +42,15 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let bar = progress_bar(scene_plans.iter().map(ScenePlan::runs).sum());
     let mut scenes = Vec::with_capacity(scene_plans.len());
     let mut files = 0;
+    let out_of_time = || options.max_seconds.is_some_and(|limit| start.elapsed().as_secs_f64() > limit);
+    let mut left_out: Vec<&str> = Vec::new();
+    let mut ticker = long_work::Ticker::new();
     for scene_plan in &scene_plans {
+        if !left_out.is_empty() || out_of_time() {
+            left_out.push(scene_plan.scene.id());
+            continue;
+        }
+        ticker.tick(|| format!("report: {} of {} scenes done", scenes.len(), scene_plans.len()));
         let scene_start = Instant::now();
         let runs = SceneRuns::execute(scene_plan, |label| {
             bar.set_message(label.to_string());
@@ -61,12 +69,18 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let ids: Vec<&str> =
         if options.all_scenes() { Vec::new() } else { options.scenes.iter().map(|s| s.id()).collect() };
     let effort = if plan.quick { Effort::Quick } else { Effort::Full };
-    let bar = progress_bar(stability::case_count(&ids));
-    let stability = stability::run(effort, &ids, |id| {
-        bar.set_message(format!("stability: {id}"));
-        bar.inc(1);
-    })?;
-    bar.finish_and_clear();
+    let stability = if left_out.is_empty() && !out_of_time() {
+        let bar = progress_bar(stability::case_count(&ids));
+        let stability = stability::run(effort, &ids, |id| {
+            bar.set_message(format!("stability: {id}"));
+            bar.inc(1);
+        })?;
+        bar.finish_and_clear();
+        stability
+    } else {
+        left_out.push("the stability suite");
+        stability::StabilityReport::default_for(effort)
+    };
     let report = Report {
         schema_version: SCHEMA_VERSION,
         generator: format!("lagrange-cli {}", env!("CARGO_PKG_VERSION")),
@@ -100,5 +114,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     } else {
         out!("{}", terminal::render(&report, &options.out, files))?;
     }
-    Ok(())
+    if left_out.is_empty() {
+        return Ok(());
+    }
+    Err(CliError::OutOfTime {
+        what: format!("the report ({} of {} scenes done)", report.scenes.len(), scene_plans.len()),
+        elapsed: start.elapsed().as_secs_f64(),
+        limit: options.max_seconds.unwrap_or(0.0),
+        why: format!("left out: {}", left_out.join(", ")),
+    })
 }

@@ -24,6 +24,11 @@ pub struct Args {
     /// Print report.json on standard output instead of the terminal summary (files are still written).
     #[arg(long)]
     json: bool,
+    /// Wall-time limit (s), checked before each scene and before the stability suite: past it
+    /// the report of the scenes done is written (without the stability suite) and the command
+    /// exits 1 naming the scenes left out.
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    max_seconds: Option<f64>,
 }
 
 /// Validated options.
@@ -36,6 +41,8 @@ pub struct Options {
     pub out: PathBuf,
     /// `--json`.
     pub json: bool,
+    /// `--max-seconds`.
+    pub max_seconds: Option<f64>,
 }
 
 impl Options {
@@ -46,6 +53,7 @@ impl Options {
     /// An unknown scene, a bad horizon, or an output directory that cannot be created or written.
     pub fn new(args: &Args) -> Result<Options, CliError> {
         let plan = Plan::new(args.quick, args.t_end).map_err(CliError::Argument)?;
+        let max_seconds = crate::commands::long_work::max_seconds(args.max_seconds)?;
         for id in &args.scenes {
             args::scene(id)?;
         }
@@ -67,7 +75,7 @@ impl Options {
         let probe = out.join(".lagrange-report-write-test");
         std::fs::write(&probe, b"").map_err(failed("cannot write into it"))?;
         let _ = std::fs::remove_file(&probe);
-        Ok(Options { scenes, plan, out, json: args.json })
+        Ok(Options { scenes, plan, out, json: args.json, max_seconds })
     }
 
     /// Whether every scene is reported (no `--scene` given).
