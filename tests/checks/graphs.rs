@@ -293,3 +293,38 @@ fn a_registered_graph_runs_through_compare_in_every_engine() {
         assert!(coarse.max_error / fine.max_error >= 1.6, "{engine}: {} then {}", coarse.max_error, fine.max_error);
     }
 }
+
+/// A four-bar whose crank is driven at a constant rate has no free coordinate — the coupler
+/// and rocker angles follow from the loop — and is a valid mechanism: its graph scene and its
+/// Cartesian build run, and agree. At 6d4bf6b `GraphScene::new` and `build_graph` refused it
+/// ("loop-closing joints lock every coordinate") while the reduced model simulated it; the
+/// Cartesian simulation then failed on a read 1.4e-17 s after the previous one (a sum of read
+/// intervals rounding below 0.1), which it now takes as reached.
+#[test]
+fn a_driven_four_bar_without_free_coordinates_is_a_mechanism() {
+    use lagrange::graph::Profile;
+    let graph = JointGraph::new("driven four-bar", 9.81)
+        .with_body(GraphBody::rigid("crank", 1.0, 1.0 / 12.0))
+        .with_body(GraphBody::rigid("coupler", 1.0, 4.0 / 12.0))
+        .with_body(GraphBody::rigid("rocker", 1.0, 4.0 / 12.0))
+        .with_joint(GraphJoint::revolute("θ2", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]).driven(Profile {
+            constant: 1.0,
+            rate: 2.0,
+            ..Profile::default()
+        }))
+        .with_joint(GraphJoint::revolute("θ3", "crank", [0.5, 0.0], "coupler", [-1.0, 0.0]))
+        .with_joint(GraphJoint::revolute("θ4", GROUND, [2.0, 0.0], "rocker", [-1.0, 0.0]))
+        .with_joint(GraphJoint::revolute("B", "coupler", [1.0, 0.0], "rocker", [1.0, 0.0]).closing());
+    let mechanism = GraphMechanism::new(graph.clone()).unwrap();
+    assert_eq!(lagrange::Mechanism::coordinates(&mechanism).len(), 2);
+    let guess = State::new(0.0, [-0.5, 1.5], [0.0, 0.0]);
+    let scene = lagrange_scenes::GraphScene::new(graph.clone(), guess).expect("a driven four-bar is a scene");
+    let initial =
+        lagrange_scenes::Scene::default_state(&scene, &lagrange_scenes::Scene::default_params(&scene)).unwrap();
+    assert_eq!(mechanism.degrees_of_freedom(0.0, &initial.q), 0);
+    let times: Vec<f64> = (1..=20).map(|k| 0.05 * k as f64).collect();
+    let reduced = reduced(&graph, &initial, &times);
+    let cartesian = maximal(Engine::Cartesian, &graph, &initial, &Settings::default(), &times);
+    let gap = largest_gap(&reduced, &cartesian);
+    assert!(gap <= CARTESIAN_VS_REDUCED, "Cartesian vs reduced: {gap:e}");
+}

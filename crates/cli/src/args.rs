@@ -17,10 +17,7 @@ pub fn params(scene: &dyn Scene, overrides: &[String]) -> Result<Params, CliErro
     let mut given: Vec<(&'static str, &String)> = Vec::new();
     for item in overrides {
         let (key, value) = item.split_once('=').ok_or_else(|| CliError::ParamForm(item.clone()))?;
-        let value: f64 = value
-            .trim()
-            .parse()
-            .map_err(|_| CliError::NotANumber { flag: format!("--param {key}"), value: value.to_string() })?;
+        let value = number(&format!("--param {}", key.trim()), value.trim())?;
         params.set(key.trim(), value).map_err(CliError::Param)?;
         // `set` accepted the key, so it names a parameter.
         if let Some(spec) = params.spec(key.trim()) {
@@ -80,7 +77,10 @@ pub fn extreme_inputs(params: &Params, names: &[String], state: &State) -> Vec<S
 /// value ([`extreme_inputs`]): "non-finite accelerations" alone does not say which input to
 /// change.
 pub fn explain(error: lagrange::Error, params: &Params, names: &[String], state: &State) -> CliError {
-    if matches!(error, lagrange::Error::NonFinite { .. }) {
+    // A quantity derived from the parameters that overflowed (`inertia of disc` = ½ m R² = inf
+    // at R = 1e300) is named with the inputs it came from.
+    let derived_overflow = matches!(error, lagrange::Error::InvalidParameter { value, .. } if !value.is_finite());
+    if matches!(error, lagrange::Error::NonFinite { .. }) || derived_overflow {
         let extremes = extreme_inputs(params, names, state);
         if !extremes.is_empty() {
             return CliError::Extreme { source: error, extremes: extremes.join(", ") };
@@ -89,13 +89,40 @@ pub fn explain(error: lagrange::Error, params: &Params, names: &[String], state:
     CliError::Engine(error)
 }
 
+/// `text` as a number for `flag`: a decimal beyond `f64`'s range (`1e400`) is named as such,
+/// not read as the infinity it rounds to.
+///
+/// # Errors
+/// [`CliError::NotANumber`], [`CliError::OutOfRange`].
+pub fn number(flag: &str, text: &str) -> Result<f64, CliError> {
+    let value: f64 =
+        text.parse().map_err(|_| CliError::NotANumber { flag: flag.to_string(), value: text.to_string() })?;
+    if value.is_infinite() && !text.to_ascii_lowercase().contains("inf") {
+        return Err(CliError::OutOfRange { flag: flag.to_string(), value: text.to_string() });
+    }
+    Ok(value)
+}
+
+/// The scene's system with `params`, a failure explained as [`explain`] does (at the given
+/// state, for the extreme inputs it names).
+///
+/// # Errors
+/// The scene's, explained.
+pub fn build(scene: &dyn Scene, params: &Params, state: &State) -> Result<Box<dyn lagrange::System>, CliError> {
+    scene.build(params).map_err(|error| {
+        let names: Vec<String> =
+            scene.coordinates(params).map(|c| c.iter().map(|c| c.name.clone()).collect()).unwrap_or_default();
+        explain(error, params, &names, state)
+    })
+}
+
 /// A comma-separated list of numbers with the scene's arity.
 pub fn vector(flag: &'static str, text: &str, coordinates: &[lagrange::Coordinate]) -> Result<Vec<f64>, CliError> {
     let values: Vec<f64> = text
         .split(',')
         .map(|v| {
             let v = v.trim();
-            v.parse::<f64>().map_err(|_| CliError::NotANumber { flag: flag.to_string(), value: v.to_string() })
+            number(flag, v)
         })
         .collect::<Result<_, _>>()?;
     if values.len() != coordinates.len() {

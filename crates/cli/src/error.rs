@@ -30,6 +30,14 @@ pub enum CliError {
         /// The text given.
         value: String,
     },
+    /// A decimal beyond the range of `f64` (about ±1.8e308), which would read as infinity.
+    #[error("{flag}: `{value}` is beyond the range of f64 (largest about 1.8e308)")]
+    OutOfRange {
+        /// The flag, with the parameter's name for `--param`.
+        flag: String,
+        /// The text given.
+        value: String,
+    },
     /// A coordinate list (`--q`, `--qdot`) with the wrong number of values.
     #[error("{flag} needs {} values ({}), got {got}", .coordinates.len(), .coordinates.join(", "))]
     Arity {
@@ -322,6 +330,7 @@ impl CliError {
         match self {
             CliError::ParamForm(_)
             | CliError::NotANumber { .. }
+            | CliError::OutOfRange { .. }
             | CliError::Arity { .. }
             | CliError::Hold { .. }
             | CliError::NotFinite { .. }

@@ -438,3 +438,35 @@ fn compare_refuses_a_step_longer_than_the_run() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("--dt 2 is longer than the run"), "{err}");
 }
+
+/// Parameters refused or misnamed at 6d4bf6b, from the trial: a four-bar that closes
+/// only away from θ2 = π/3 was refused (naming `coupler`); flat ground and the other incline
+/// were refused for the rolling disc; a squeezer length that opens the loops was reported by
+/// β's value; an overflowing inertia named the inertia, not the radius; `1e400` was called
+/// "inf"; a 1e300-row output was printed as a 300-digit number of GB.
+#[test]
+fn parameters_are_accepted_where_valid_and_named_where_not() {
+    for args in [
+        &["simulate", "four_bar", "--param", "b=0.25", "--param", "c=0.1", "--t-end", "0.5"][..],
+        &[
+            "simulate", "four_bar", "--param", "b=0.25", "--param", "c=0.1", "--q", "0.2,0,0", "--hold", "θ2",
+            "--t-end", "0.5",
+        ],
+        &["accel", "rolling_disc", "--param", "alpha=0", "--check"],
+        &["accel", "rolling_disc", "--param", "alpha=-0.3", "--check"],
+        &["compare", "rolling_disc", "--param", "alpha=-0.3", "--t-end", "1", "--engine", "cartesian"],
+    ] {
+        let output = lagrange(args);
+        assert!(output.status.success(), "{args:?}: {}", stderr(&output));
+    }
+    for (args, says) in [
+        (&["simulate", "four_bar", "--param", "b=0.1", "--param", "c=0.1", "--t-end", "1"][..], "`a, b, c, d`"),
+        (&["simulate", "andrews_squeezer", "--param", "xa=-1", "--t-end", "0.01"], "`xa` = -1"),
+        (&["simulate", "rolling_disc", "--param", "R=1e300", "--t-end", "1"], "--param radius = 1e300"),
+        (&["simulate", "kepler", "--q", "1e400,0", "--t-end", "1"], "`1e400` is beyond the range of f64"),
+        (&["simulate", "kepler", "--t-end", "1", "--every", "1e-300"], "1.1e293 GB"),
+    ] {
+        let (_, err) = one_line_error(args);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+}

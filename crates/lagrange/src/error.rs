@@ -314,6 +314,12 @@ pub enum Error {
         /// Steps taken.
         steps: usize,
     },
+    /// A scene registered under an id that is taken (`lagrange_scenes::register`).
+    #[error("a scene with id `{id}` exists already: register it under another id")]
+    Registered {
+        /// The id.
+        id: String,
+    },
     /// A mechanism declared a property that its functions contradict.
     #[error("inconsistent mechanism: {what}")]
     Inconsistent {

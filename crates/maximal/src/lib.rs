@@ -76,8 +76,8 @@ pub fn build(
 ///
 /// # Errors
 /// [`BuildError::Unbuildable`] naming the joint or body the engine cannot take;
-/// [`BuildError::Invalid`] for a graph that is not a mechanism (or cannot move from `initial`),
-/// a bad state or bad settings.
+/// [`BuildError::Invalid`] for a graph that is not a mechanism, a bad state or bad settings. A
+/// graph whose loops fix every coordinate (a truss, a fully driven linkage) is built.
 pub fn build_graph(
     engine: Engine,
     graph: &JointGraph,
@@ -86,7 +86,6 @@ pub fn build_graph(
 ) -> Result<Built, BuildError> {
     check_settings(engine, settings)?;
     let mechanism = GraphMechanism::new(graph.clone())?;
-    mechanism.check_mobile(initial.t, &initial.q)?;
     let params = Params::defaults(&[]);
     match engine {
         Engine::Cartesian => {

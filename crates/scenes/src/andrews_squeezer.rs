@@ -221,14 +221,56 @@ impl AndrewsSqueezer {
                 self.initial.copy_from_slice(&state.q);
                 Ok(self)
             }
-            Err(Error::AssemblyFailed { constraint, residual, .. }) => Err(Error::InvalidParameter {
-                name: "geometry (xa … zf)".into(),
-                value: INITIAL_ANGLES[0],
-                why: format!(
-                    "the squeezer's loops do not close at β = {}: {constraint} is left at {residual:e} m",
-                    INITIAL_ANGLES[0]
-                ),
-            }),
+            Err(Error::AssemblyFailed { constraint, residual, .. }) => {
+                // Named by the lengths that differ from the test problem's: those are what the
+                // user changed, and what keeps the loops open.
+                let s = &self;
+                let lengths = [
+                    ("xa", s.xa),
+                    ("ya", s.ya),
+                    ("xb", s.xb),
+                    ("yb", s.yb),
+                    ("xc", s.xc),
+                    ("yc", s.yc),
+                    ("d", s.d),
+                    ("da", s.da),
+                    ("e", s.e),
+                    ("ea", s.ea),
+                    ("rr", s.rr),
+                    ("ra", s.ra),
+                    ("ss", s.ss),
+                    ("sa", s.sa),
+                    ("sb", s.sb),
+                    ("sc", s.sc),
+                    ("sd", s.sd),
+                    ("ta", s.ta),
+                    ("tb", s.tb),
+                    ("u", s.u),
+                    ("ua", s.ua),
+                    ("ub", s.ub),
+                    ("zf", s.zf),
+                    ("zt", s.zt),
+                    ("fa", s.fa),
+                ];
+                let changed: Vec<(&str, f64)> = lengths
+                    .into_iter()
+                    .filter(|(name, value)| PARAMS.iter().any(|p| p.name == *name && p.default != *value))
+                    .collect();
+                let (name, value) = match changed.as_slice() {
+                    [(name, value)] => ((*name).to_string(), *value),
+                    [] => ("geometry (xa … fa)".to_string(), f64::NAN),
+                    many => (many.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", "), many[0].1),
+                };
+                Err(Error::InvalidParameter {
+                    name,
+                    value,
+                    why: format!(
+                        "with these lengths the squeezer's loops do not close at β = {}: {constraint} is left \
+                         {residual:.3e} m apart",
+                        INITIAL_ANGLES[0]
+                    ),
+                })
+            }
             Err(e) => Err(e),
         }
     }

@@ -38,10 +38,11 @@ scene_params! {
         pub torque: f64 = ["τ", "N m", 0.0, Domain::Finite, "constant torque on the crank"],
     }
     /// A four-bar linkage with link lengths `a`, `b`, `c`, `d`, masses `m2`, `m3`, `m4`, gravity
-    /// `g` and crank torque `τ`; the links must close at the default crank angle `θ2 = π/3`.
+    /// `g` and crank torque `τ`; the links must close at some crank angle (the default state
+    /// starts at `θ2 = π/3` where they close there, else where [`starting_angle`] says).
     pub fn new;
     derived {
-        _closes: () = check_closes([crank, coupler, rocker, ground], FRAC_PI_3)?,
+        start: f64 = starting_angle([crank, coupler, rocker, ground])?,
         coordinates: [Coordinate; 3] = [Coordinate::angle("θ2"), Coordinate::angle("θ3"), Coordinate::angle("θ4")],
         bodies: [Body; 3] = rods([crank, coupler, rocker], [mass_2, mass_3, mass_4]),
         linkage: Linkage = linkage([crank, coupler, rocker, ground], [mass_2, mass_3, mass_4], gravity, torque),
@@ -96,19 +97,38 @@ pub fn position_analysis<S: Scalar>(lengths: [f64; 4], theta_2: S) -> (S, S) {
     ((by - ay).atan2(bx - ax), by.atan2(bx - d))
 }
 
-/// An error unless the links close at crank angle `theta_2` away from a lock position
-/// (`B` strictly off the line `A O4`).
-fn check_closes(lengths: [f64; 4], theta_2: f64) -> Result<(), Error> {
+/// The crank angle the default state starts at: `π/3` where the links close there (away from
+/// a lock position: `B` strictly off the line `A O4`), else the angle in `(0, π)` where the
+/// distance `|O4 − A| = √(a² + d² − 2 a d cos θ2)` is the middle of the range the coupler and
+/// rocker can span, `(|b − c|, b + c)`, within the range the crank reaches, `[|d − a|, d + a]`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] naming the four lengths when the two ranges do not overlap: the
+/// links close at no crank angle.
+fn starting_angle(lengths: [f64; 4]) -> Result<f64, Error> {
     let [a, b, c, d] = lengths;
-    let dist = (d - a * theta_2.cos()).hypot(a * theta_2.sin());
-    if (b - c).abs() < dist && dist < b + c {
-        return Ok(());
+    let reach = |theta: f64| (d - a * theta.cos()).hypot(a * theta.sin());
+    let closes = |dist: f64| (b - c).abs() < dist && dist < b + c;
+    if closes(reach(FRAC_PI_3)) {
+        return Ok(FRAC_PI_3);
+    }
+    let (low, high) = ((b - c).abs().max((d - a).abs()), (b + c).min(d + a));
+    let middle = 0.5 * (low + high);
+    let cosine = (a * a + d * d - middle * middle) / (2.0 * a * d);
+    let theta = cosine.clamp(-1.0, 1.0).acos();
+    if low < high && closes(reach(theta)) {
+        return Ok(theta);
     }
     Err(Error::InvalidParameter {
-        name: "coupler".into(),
-        value: b,
+        name: "a, b, c, d".into(),
+        value: a,
         why: format!(
-            "the links a = {a}, b = {b}, c = {c}, d = {d} do not close at θ2 = π/3 (|b − c| < |O4 − A| = {dist} < b + c needed)"
+            "the links a = {a}, b = {b}, c = {c}, d = {d} close at no crank angle: the crank reaches \
+             |O4 − A| from |d − a| = {} to d + a = {}, the coupler and rocker span |b − c| = {} to b + c = {}",
+            (d - a).abs(),
+            d + a,
+            (b - c).abs(),
+            b + c
         ),
     })
 }
@@ -231,9 +251,10 @@ impl SceneType for FourBar {
         qddot.copy_from_slice(&self.closed_form_with_multipliers(q, qdot).0);
     }
 
-    /// `θ2 = π/3`, `θ̇2 = 6 rad/s`, the rest from [`FourBar::state_at`].
+    /// `θ2 = π/3` (or, for links that do not close there, the angle [`starting_angle`]
+    /// gives), `θ̇2 = 6 rad/s`, the rest from [`FourBar::state_at`].
     fn default_state(&self) -> State {
-        self.state_at(0.0, FRAC_PI_3, 6.0)
+        self.state_at(0.0, self.start, 6.0)
     }
 
     /// `E = T + V` without torque; with a constant torque `τ`, `E − τ θ2` (its work is

@@ -50,13 +50,13 @@ fn leak(s: String) -> &'static str {
 
 impl GraphScene {
     /// The scene of `graph` starting from `initial` (brought onto the loop constraints with
-    /// the first coordinate held, if the graph has loops).
+    /// the first coordinate held, if the graph has loops and the coordinate is free).
     ///
     /// # Errors
     /// [`Error::InvalidGraph`] for a graph that is not a mechanism; whatever
     /// [`Model::new`] rejects; [`Error::DimensionMismatch`] for a state of the wrong size;
-    /// [`Error::AssemblyFailed`] when the state cannot be brought onto the constraints;
-    /// [`Error::InvalidGraph`] when the loops lock every coordinate there.
+    /// [`Error::AssemblyFailed`] when the state cannot be brought onto the constraints. A
+    /// graph whose loops fix every coordinate (a truss, a fully driven linkage) is a scene.
     pub fn new(graph: JointGraph, initial: State) -> Result<Self, Error> {
         let model = Model::new(GraphMechanism::new(graph.clone())?)?;
         let n = model.dof();
@@ -64,13 +64,14 @@ impl GraphScene {
             return Err(Error::DimensionMismatch { what: "initial state", expected: n, got: initial.q.len() });
         }
         let initial = if model.mechanism().holonomic_constraints() > 0 {
+            // The first coordinate is held where it is free to be; where the loops fix every
+            // coordinate (a structure, a mechanism its drives move) none is.
             let mut held = vec![false; n];
-            held[0] = true;
+            held[0] = model.mechanism().degrees_of_freedom(initial.t, &initial.q) > 0;
             lagrange::Dynamics::assemble(&model, &initial, &held)?
         } else {
             initial
         };
-        model.mechanism().check_mobile(initial.t, &initial.q)?;
         let mut specs = vec![ParamSpec {
             name: "gravity",
             symbol: "g",
@@ -202,14 +203,10 @@ static REGISTERED: RwLock<Vec<&'static dyn Scene>> = RwLock::new(Vec::new());
 /// scene is kept for good).
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] when a scene with the same id is known already.
+/// [`Error::Registered`] when a scene with the same id is known already.
 pub fn register(scene: impl Scene + 'static) -> Result<&'static dyn Scene, Error> {
     if crate::find(scene.id()).is_some() {
-        return Err(Error::InvalidParameter {
-            name: "scene".into(),
-            value: f64::NAN,
-            why: format!("a scene with id `{}` exists already", scene.id()),
-        });
+        return Err(Error::Registered { id: scene.id().to_string() });
     }
     let scene: &'static dyn Scene = Box::leak(Box::new(scene));
     let mut registered = REGISTERED.write().unwrap_or_else(std::sync::PoisonError::into_inner);

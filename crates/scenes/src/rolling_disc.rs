@@ -21,8 +21,9 @@ scene_params! {
         pub mass: f64 = ["m", "kg", 1.0, Domain::Positive, "mass of the disc"],
         /// Disc radius `R` (m).
         pub radius: f64 = ["R", "m", 0.1, Domain::Positive, "radius of the disc"],
-        /// Incline angle `α` (rad), `0 < α < π/2`.
-        pub incline: f64 = ["α", "rad", 0.3, Domain::OpenInterval(0.0, FRAC_PI_2), "angle of the incline"],
+        /// Incline angle `α` (rad), `−π/2 < α < π/2`: 0 is flat ground (the disc rolls on at its
+        /// speed), a negative angle an incline descending towards +x.
+        pub incline: f64 = ["α", "rad", 0.3, Domain::OpenInterval(-FRAC_PI_2, FRAC_PI_2), "angle of the incline"],
         /// Gravitational acceleration `g` (m/s²).
         pub gravity: f64 = [GRAVITY],
     }

@@ -113,7 +113,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let scene = args::scene(&args.scene)?;
     let params = args::params(scene, &args.params)?;
     let state = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), args.t)?;
-    let mut system = scene.build(&params)?;
+    let mut system = args::build(scene, &params, &state)?;
     // A state off the constraints has no accelerations of the mechanism: refused, as
     // `simulate` refuses to start from it (or brought onto them with --hold).
     let state = args::hold(system.as_mut(), state, args.hold.as_deref())?;

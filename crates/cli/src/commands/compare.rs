@@ -204,7 +204,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let scene = args::scene(&args.scene)?;
     let params = args::params(scene, &args.params)?;
     let given = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), None)?;
-    let initial = args::hold(scene.build(&params)?.as_mut(), given, args.hold.as_deref())?;
+    let initial = args::hold(args::build(scene, &params, &given)?.as_mut(), given, args.hold.as_deref())?;
     let engines: Vec<Engine> = if args.engine == "all" {
         Engine::ALL.to_vec()
     } else {

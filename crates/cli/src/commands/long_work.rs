@@ -125,9 +125,13 @@ pub fn duration(seconds: f64) -> String {
     }
 }
 
-/// `850 MB`, `3.1 GB`.
+/// `850 MB`, `3.1 GB`, `1.1e292 GB`.
 pub fn size(bytes: f64) -> String {
-    if bytes < 1e9 { format!("{:.0} MB", bytes / 1e6) } else { format!("{:.1} GB", bytes / 1e9) }
+    match bytes {
+        b if b < 1e9 => format!("{:.0} MB", b / 1e6),
+        b if b < 1e13 => format!("{:.1} GB", b / 1e9),
+        b => format!("{:.1e} GB", b / 1e9),
+    }
 }
 
 /// Refuse a run whose estimated wall time is beyond [`TIME_LIMIT_S`], unless forced.

@@ -357,7 +357,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     let span = args.t_end - given.t;
     let (method, every) = method_and_every(args, span)?;
-    let mut system = scene.build(&params)?;
+    let mut system = args::build(scene, &params, &given)?;
     let initial = args::hold(system.as_mut(), given, args.hold.as_deref())?;
     let coordinates = system.coordinates().to_vec();
     // Refuse an absurd request before running it: the output's size first (known exactly),

@@ -798,7 +798,9 @@ impl GraphMechanism {
     /// The mechanism's degrees of freedom at `(t, q)`: the number of coordinates less the rank
     /// of the loop constraints' Jacobian `G = ∂Φ/∂q` there (rows whose pivot falls below 1e-10
     /// of the row's size count as dependent, as in the constrained solve). 0 means that the
-    /// loops lock every coordinate (a rigid loop of fixed joints).
+    /// loops fix every coordinate: a structure (a rigid loop, a truss) or a mechanism whose
+    /// motion its drives prescribe — valid mechanisms, whose coordinates follow from the
+    /// constraints alone.
     pub fn degrees_of_freedom(&self, t: f64, q: &[f64]) -> usize {
         let (n, m) = (self.coordinates.len(), self.rows);
         if m == 0 {
@@ -843,24 +845,6 @@ impl GraphMechanism {
             }
         }
         n - rank
-    }
-
-    /// Check that the mechanism can move at `(t, q)`.
-    ///
-    /// # Errors
-    /// [`Error::DimensionMismatch`] for `q` of the wrong size; [`Error::InvalidGraph`] when the
-    /// loops lock every coordinate ([`degrees_of_freedom`](Self::degrees_of_freedom) is 0).
-    pub fn check_mobile(&self, t: f64, q: &[f64]) -> Result<(), Error> {
-        if q.len() != self.coordinates.len() {
-            return Err(Error::DimensionMismatch { what: "q", expected: self.coordinates.len(), got: q.len() });
-        }
-        if self.degrees_of_freedom(t, q) == 0 {
-            return Err(invalid(
-                &format!("mechanism `{}`", self.graph.name),
-                "has no degree of freedom here: its loop-closing joints lock every coordinate".into(),
-            ));
-        }
-        Ok(())
     }
 
     /// The tree joints in forward-kinematics order, each with the body it places: parents

@@ -14,6 +14,10 @@ const INCLINE_HALF_LENGTH: f64 = 1000.0;
 /// (a uniform disc needs a friction force `m g sin α / 3` against `μ m g cos α`).
 const FRICTION_MARGIN: f64 = 3.0;
 
+/// The least friction coefficient of the contact: on flat ground (`α = 0`) a rolling disc needs
+/// no friction force, but without any a perturbation of the contact would let it slide.
+const MIN_FRICTION: f64 = 0.1;
+
 impl MaximalScene for RollingDisc {
     /// `s` = the centre's distance down the incline direction `(−cosα, −sinα)` from the origin;
     /// `φ` = the disc's angle.
@@ -45,11 +49,13 @@ impl MaximalScene for RollingDisc {
     /// the same in both joint modes (a free body). A ball collider of radius `R` whose density
     /// gives the mass `m` (parry's ball: inertia `½ m R²`, the disc's) on a fixed cuboid turned
     /// by `α`, its surface exactly `R` below the line of centres through the origin; friction
-    /// `μ = tan α` on both (three times the least that rolls), no restitution.
+    /// `μ = |tan α|` on both (three times the least that rolls; at least [`MIN_FRICTION`]), no
+    /// restitution.
     fn rapier(&self, draft: &mut Draft, _initial: &State) {
         let (sin, cos) = self.incline.sin_cos();
         let (radius, half_thickness) = (self.radius, self.radius);
-        let friction = FRICTION_MARGIN * self.incline.tan() / 3.0;
+        // On flat ground (or nearly) no friction is needed to roll; a little keeps it rolling.
+        let friction = (FRICTION_MARGIN * self.incline.tan().abs() / 3.0).max(MIN_FRICTION);
         let depth = radius + half_thickness;
         let incline = draft.fixed([depth * sin, -depth * cos, self.incline]);
         draft.collider(incline, Shape::Cuboid { half_extents: [INCLINE_HALF_LENGTH, half_thickness] }, friction);
