@@ -86,6 +86,15 @@ pub fn build_graph(
 ) -> Result<Built, BuildError> {
     check_settings(engine, settings)?;
     let mechanism = GraphMechanism::new(graph.clone())?;
+    // A state outside the graph's region (a spring of natural length l₀ > 0 whose ends meet)
+    // is named here, not met as a NaN force at the first step.
+    let mut bounds = lagrange::Bounds::new();
+    if initial.q.len() == lagrange::Mechanism::coordinates(&mechanism).len()
+        && lagrange::Mechanism::admissible(&mechanism, initial.t, &initial.q, &initial.qdot, &mut bounds)
+        && let Some(error) = bounds.error(initial.t)
+    {
+        return Err(error.into());
+    }
     let params = Params::defaults(&[]);
     match engine {
         Engine::Cartesian => {

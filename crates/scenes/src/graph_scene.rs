@@ -68,10 +68,25 @@ impl GraphScene {
             // coordinate (a structure, a mechanism its drives move) none is.
             let mut held = vec![false; n];
             held[0] = model.mechanism().degrees_of_freedom(initial.t, &initial.q) > 0;
-            lagrange::Dynamics::assemble(&model, &initial, &held)?
+            lagrange::Dynamics::assemble(&model, &initial, &held).map_err(|error| match error {
+                // Named by the loop, not by one of its rows: what does not close is the links.
+                Error::AssemblyFailed { constraint, residual, .. } => Error::InvalidGraph {
+                    element: format!("the loop closed by {}", constraint.split(" (").next().unwrap_or(&constraint)),
+                    why: format!(
+                        "does not close from the initial state (still {residual:.3e} m apart): the lengths along \
+                         it may admit no closed configuration, or the initial angles are far from one"
+                    ),
+                },
+                other => other,
+            })?
         } else {
             initial
         };
+        // A body that moves no mass along a coordinate leaves the reduced model without
+        // accelerations: said here, not at the first step.
+        let mut probe = Buffered::new(model.clone());
+        probe.check_admissible(initial.t, &initial.q, &initial.qdot)?;
+        probe.accelerations(initial.t, &initial.q, &initial.qdot)?;
         let mut specs = vec![ParamSpec {
             name: "gravity",
             symbol: "g",

@@ -28,6 +28,19 @@ fn to_body<S: Scalar>(pose: Option<&Pose<S>>, x: [S; 2]) -> [S; 2] {
 }
 
 impl GraphMechanism {
+    /// The springs of natural length `l₀ > 0` whose ends meet: `(index among the force
+    /// elements, length)` of each, where the direction of the spring's force is undefined.
+    pub(crate) fn spring_lengths(&self, poses: &[Pose<f64>]) -> impl Iterator<Item = (usize, f64)> {
+        let pose = move |end: Option<usize>| end.map(|b| &poses[b]);
+        self.elements().iter().enumerate().filter_map(move |(i, element)| match *element {
+            Element::Spring { a, b, rest, .. } if rest > 0.0 => {
+                let (xa, xb) = (world(pose(a.0), a.1), world(pose(b.0), b.1));
+                Some((i, (xb[0] - xa[0]).hypot(xb[1] - xa[1])))
+            }
+            _ => None,
+        })
+    }
+
     /// The springs' potential `V(t, poses)` (joint springs through their joints' values).
     pub(crate) fn potential_at<S: Scalar>(&self, poses: &[Pose<S>]) -> S {
         let pose = |end: Option<usize>| end.map(|b| &poses[b]);
@@ -37,8 +50,14 @@ impl GraphMechanism {
                 Element::Spring { a, b, stiffness, rest } => {
                     let (xa, xb) = (world(pose(a.0), a.1), world(pose(b.0), b.1));
                     let (dx, dy) = (xb[0] - xa[0], xb[1] - xa[1]);
-                    let stretch = (dx * dx + dy * dy).sqrt() - rest;
-                    value += stretch * stretch * (0.5 * stiffness);
+                    let squared = dx * dx + dy * dy;
+                    if rest == 0.0 {
+                        // ½ k L²: smooth where the ends meet (the length's derivative is not).
+                        value += squared * (0.5 * stiffness);
+                    } else {
+                        let stretch = squared.sqrt() - rest;
+                        value += stretch * stretch * (0.5 * stiffness);
+                    }
                 }
                 Element::JointSpring { joint, stiffness, rest } => {
                     let resolved = &self.joints()[joint];

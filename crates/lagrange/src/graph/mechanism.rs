@@ -6,7 +6,7 @@ use super::description::{ForceElement, GROUND, JointGraph, JointType, Profile, R
 use super::invalid;
 use crate::mechanism::Loads;
 use crate::tree::{AngleReference, Joint, Parent, Tree};
-use crate::{Body, Coordinate, Error, Mechanism, Pose, Scalar};
+use crate::{Body, Bounds, Coordinate, Error, Mechanism, Pose, Scalar};
 use num_dual::Dual;
 
 /// How far a prismatic axis may be from unit length (relative).
@@ -887,6 +887,22 @@ impl Mechanism for GraphMechanism {
             let known = from.map_or(Pose::new(S::zero(), S::zero(), S::zero()), |b| world_from_body[b]);
             world_from_body[body] = self.place(j, known, self.value(j, t, &coordinate));
         }
+    }
+
+    /// A spring of natural length `l₀ > 0` needs its ends apart (where they meet, the direction
+    /// of its force is undefined): its length is bounded above 0, named by the spring's ends.
+    fn admissible(&self, t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
+        if !self.elements.iter().any(|e| matches!(e, Element::Spring { rest, .. } if *rest > 0.0)) {
+            return false;
+        }
+        let mut poses = vec![Pose::new(0.0, 0.0, 0.0); self.bodies.len()];
+        self.poses(t, q, &mut poses);
+        for (i, length) in self.spring_lengths(&poses) {
+            let ForceElement::Spring { a, b, .. } = &self.graph.forces[i] else { continue };
+            let name = format!("length of the spring from {} {:?} to {} {:?}", a.body, a.at, b.body, b.at);
+            bounds.above(&name, length, 0.0);
+        }
+        true
     }
 
     fn potential<S: Scalar>(&self, _t: S, _q: &[S], world_from_body: &[Pose<S>]) -> Option<S> {

@@ -520,7 +520,9 @@ fn assemble_multibody(
     mb.damping_mut().fill(0.0);
     let mut displacement = vec![0.0; mb.ndofs()];
     let mut velocity = vec![0.0; mb.ndofs()];
-    for (joint, &link_id) in plan.joints.iter().zip(&joint_links).filter(|(j, _)| !j.closing) {
+    // A fixed joint has no degree of freedom in the multibody (and no slot in its vectors).
+    let moves = |j: &JointSpec| !j.closing && !matches!(j.kind, JointKind::Fixed { .. });
+    for (joint, &link_id) in plan.joints.iter().zip(&joint_links).filter(|(j, _)| moves(j)) {
         let link = mb.link(link_id).ok_or_else(|| inconsistent("a joint without a link"))?;
         let (q, qdot) = joint.coordinate(&plan.bodies[joint.parent].initial, &plan.bodies[joint.child].initial);
         displacement[link.assembly_id()] = real(q);
