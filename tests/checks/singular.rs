@@ -3,7 +3,7 @@
 //! world's origin is nor how many loops a mechanism has decides whether a run goes on.
 
 use lagrange::graph::{ForceElement, GROUND, GraphMechanism, JointGraph, Point};
-use lagrange::{Dynamics, Method, Model, Output, State, simulate};
+use lagrange::{Method, Model, Output, State, simulate};
 use lagrange_scenes::{ParallelogramChain, SceneType};
 use lagrange_validation::fixtures::max_abs_diff;
 

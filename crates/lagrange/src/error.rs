@@ -7,8 +7,10 @@ use std::fmt;
 /// (MuJoCo's `mj_checkPos` / `mj_checkVel` / `mj_checkAcc`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
-    /// The state handed to the engine (`t`, `q`, `q̇`).
+    /// The state handed to the engine (`t`, `q`).
     State,
+    /// The velocities `q̇` handed to the engine (the message shows `q`, which is finite).
+    Velocities,
     /// Body poses and their derivatives.
     Kinematics,
     /// The user potential or its gradient.
@@ -33,6 +35,7 @@ impl fmt::Display for Stage {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
             Stage::State => "state",
+            Stage::Velocities => "velocities q̇",
             Stage::Kinematics => "kinematics",
             Stage::Potential => "potential",
             Stage::GeneralizedForce => "generalized force",

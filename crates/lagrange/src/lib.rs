@@ -277,6 +277,7 @@ pub use dynamics::Dynamics;
 pub use eom::constraints::{assemble, constraint_multipliers, project};
 pub use eom::energy::{kinetic_energy, potential_energy, total_energy};
 pub use eom::equations::{Equations, accelerations, energy_function, lagrangian, mass_matrix, momenta};
+pub use eom::point::{PointMotion, point_motion};
 pub use eom::raw::{RawModel, RawWorkspace};
 pub use eom::reactions::reaction_forces;
 pub use error::{Derived, Error, Stage};

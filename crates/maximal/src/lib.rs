@@ -69,7 +69,7 @@ pub fn build(
 /// let mut built = build_graph(Engine::RapierMultibody, &graph, &initial, &Settings::default())?;
 /// built.simulation.advance_to(0.25)?;
 /// let mechanism = GraphMechanism::new(graph)?;
-/// let (q, _) = maps::graph_generalized(&mechanism, &built.simulation.bodies(), &initial.q);
+/// let (q, _) = maps::graph_generalized(&mechanism, &built.simulation.bodies());
 /// assert!((q[0] - 0.5).abs() > 0.05, "it swings: θ = {}", q[0]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```

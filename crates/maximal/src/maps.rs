@@ -78,7 +78,7 @@ pub fn generalized(
     reference: &[f64],
 ) -> Result<(Vec<f64>, Vec<f64>), Error> {
     if let Some(mechanism) = crate::scenes::graph(scene, params)? {
-        return Ok(graph_generalized(&mechanism, bodies, reference));
+        return Ok(graph_generalized(&mechanism, bodies));
     }
     let z: Vec<[Dual64; 3]> =
         bodies.iter().map(|b| std::array::from_fn(|c| Dual64::new(b.pose[c], b.velocity[c]))).collect();
@@ -202,8 +202,10 @@ fn states_of<M: Mechanism>(m: &M, state: &State) -> Result<Vec<BodyState>, Error
 
 /// `(q, q̇)` of a joint graph from body states: every coordinate joint's value from its two
 /// bodies (relative or absolute angle, slide along the axis; [`GraphMechanism::coordinates_of`])
-/// and its rate by one dual pass; angles unwrapped to the branch nearest `reference`.
-pub fn graph_generalized(mechanism: &GraphMechanism, bodies: &[BodyState], reference: &[f64]) -> (Vec<f64>, Vec<f64>) {
+/// and its rate by one dual pass. Angles come out on the branch of the bodies' angles, which
+/// every build reports continuous (rapier's are unwrapped after every step): a crank that has
+/// turned twice reads `θ₀ + 4π`, however rarely it is read.
+pub fn graph_generalized(mechanism: &GraphMechanism, bodies: &[BodyState]) -> (Vec<f64>, Vec<f64>) {
     let poses: Vec<Pose<Dual64>> = bodies
         .iter()
         .map(|b| {
@@ -216,13 +218,7 @@ pub fn graph_generalized(mechanism: &GraphMechanism, bodies: &[BodyState], refer
         .collect();
     let mut q = vec![Dual64::from(0.0); mechanism.coordinates().len()];
     mechanism.coordinates_of(&poses, &mut q);
-    let mut values: Vec<f64> = q.iter().map(|v| v.re).collect();
-    for (i, c) in mechanism.coordinates().iter().enumerate() {
-        if c.kind == lagrange::CoordinateKind::Angle && i < reference.len() {
-            values[i] += 2.0 * PI * ((reference[i] - values[i]) / (2.0 * PI)).round();
-        }
-    }
-    (values, q.iter().map(|v| v.eps).collect())
+    (q.iter().map(|v| v.re).collect(), q.iter().map(|v| v.eps).collect())
 }
 
 /// A joint graph's spring potential at body states and, with `gradient`, `∂V/∂p_b` (3B); the

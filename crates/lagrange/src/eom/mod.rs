@@ -12,6 +12,7 @@ pub(crate) mod energy;
 pub(crate) mod equations;
 pub(crate) mod kinematics;
 pub(crate) mod mass_matrix;
+pub(crate) mod point;
 pub(crate) mod raw;
 pub(crate) mod reactions;
 pub(crate) mod sparse;
@@ -153,7 +154,7 @@ pub(crate) fn check_state<S: Scalar>(n: usize, t: S, q: &[S], qdot: Option<&[S]>
             return Err(Error::DimensionMismatch { what: "q̇", expected: n, got: qdot.len() });
         }
         if !all_finite(qdot) {
-            return Err(non_finite(Stage::State, t, q));
+            return Err(non_finite(Stage::Velocities, t, q));
         }
     }
     if !(t.re().is_finite() && all_finite(q)) {

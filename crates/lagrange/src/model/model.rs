@@ -213,6 +213,16 @@ impl<M: Mechanism> Model<M> {
         self.constant.is_some()
     }
 
+    /// A consistent state from an approximate one, the coordinates marked in `held` kept:
+    /// [`assemble`](crate::assemble), callable as a method without importing
+    /// [`Dynamics`](crate::Dynamics).
+    ///
+    /// # Errors
+    /// As [`assemble`](crate::assemble).
+    pub fn assemble(&self, approximate: &crate::State, held: &[bool]) -> Result<crate::State, Error> {
+        crate::assemble(self, approximate, held)
+    }
+
     /// Whether [`accelerations`](crate::accelerations) runs the articulated-body algorithm on
     /// the mechanism's declared [`Tree`] (built with [`new`](Self::new), a tree declared, no
     /// constant mass matrix).
