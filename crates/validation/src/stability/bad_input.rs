@@ -23,7 +23,10 @@ pub const BAD_INPUT: CaseSpec = CaseSpec {
              correct, below 10 ε the error estimate is rounding noise. A run that leaves its scene's \
              admissible region (docs/method.md#admissible-regions) ends in Inadmissible, whatever the \
              method: Kepler's radial infall stepped over r = 0 by RK4, the Atwood machines pulling a mass \
-             through a pulley, the wedge's block sliding off its incline.",
+             through a pulley, the wedge's block sliding off its incline. A start off the constraints is \
+             refused (InvalidSetting). A run that does not resolve its motion fails its own check \
+             (lagrange_validation::health): a declared constant of the motion drifts beyond the error its \
+             method and setting allow.",
     run: bad_input,
 };
 
@@ -237,7 +240,10 @@ fn bad_input(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error
                   admissible region: Kepler from r = 1 at rest with RK4 (dt = 1e-3) for 2 s; the Atwood machine and \
                   the wedge from their defaults for 100 s and the double Atwood machine with l' = 0.001 for 10 s \
                   (adaptive, tol 1e-10). The harmonic oscillator with tolerances 10, 1 and 1e-20 (adaptive, \
-                  implicit)."
+                  implicit). Starts off the constraints: the non-minimal pendulum at q = (2, 0), the four-bar at \
+                  q = 0, the sleigh at q̇ = (1, 1, 0). Runs that do not resolve their motion, checked against \
+                  their scene's constants: the four-bar with τ = 1 at tol 1e-3 for 8.98 s and by RK4 at \
+                  dt = 0.05 for 10 s, Andrews' squeezer by RK4 and Gauss at dt = 1e-3 for 0.03 s."
         .into();
     // Panics are caught and counted here: keep their messages off the terminal.
     let hook = std::panic::take_hook();
@@ -246,7 +252,88 @@ fn bad_input(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error
     std::panic::set_hook(hook);
     result?;
     leaving_the_region(case)?;
-    refused_tolerances(case)
+    refused_tolerances(case)?;
+    inconsistent_starts(case)?;
+    runs_that_fail_their_check(case)
+}
+
+/// A run that must fail its own check (`health::check`): `(label, scene, parameter changes,
+/// method, horizon)`.
+type Drifting<'a> = (&'a str, &'a str, &'a [(&'a str, f64)], Method, f64);
+
+/// Runs that do not resolve their motion — each exited 0 with a wrong answer before runs
+/// checked themselves — fail their check: the largest drift of a declared constant of the
+/// motion over its bound is above 1.
+fn runs_that_fail_their_check(case: &mut CaseBuilder) -> Result<(), crate::Error> {
+    let runs: [Drifting<'_>; 4] = [
+        (
+            "τ = 1 at tol 1e-3",
+            "four_bar",
+            &[("torque", 1.0)],
+            Method::Adaptive { tol: Tolerances::uniform(1e-3) },
+            8.98,
+        ),
+        ("RK4 at the default step", "andrews_squeezer", &[], Method::Rk4 { dt: 1e-3 }, 0.03),
+        ("Gauss at the default step", "andrews_squeezer", &[], Method::Gauss { dt: 1e-3 }, 0.03),
+        ("RK4 at dt = 0.05", "four_bar", &[], Method::Rk4 { dt: 0.05 }, 10.0),
+    ];
+    for (label, id, changes, method, horizon) in runs {
+        let scene = crate::error::scene(id)?;
+        let params = super::scene_params(scene, changes)?;
+        let mut system = scene.build(&params)?;
+        let initial = scene.default_state(&params)?;
+        // A hundred samples, on the step grid for the fixed-step methods.
+        let every = horizon / 100.0;
+        let output = Output::Every(match method {
+            Method::Rk4 { dt } | Method::Gauss { dt } | Method::Variational { dt } => {
+                dt * (every / dt).round().max(1.0)
+            }
+            Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. } => every,
+        });
+        let (run, wall) = timed_simulate(system.as_ref(), &initial, horizon, method, &output);
+        let m = Measurement::new(label, id, method.name(), "largest drift of a declared constant over its bound")
+            .params(changes)
+            .method_settings(method, horizon);
+        let m = match run {
+            Ok(t) => {
+                let health = crate::health::check(scene, &params, system.as_mut(), method, &t)?;
+                let ratio = health.findings.iter().map(|f| f.drift / f.bound).fold(0.0, f64::max);
+                m.value(ratio).cost(Cost::of(&t.stats, wall))
+            }
+            Err(e) => m.failed(e),
+        };
+        case.push(m.check(Check::AtLeast, None, Some(1.0)));
+    }
+    Ok(())
+}
+
+/// A start off the constraints is refused by every run (`InvalidSetting`), the inconsistency
+/// named: a bob 2 m out on a 1 m rod, a four-bar open by 0.2 m, a sleigh sliding sideways.
+fn inconsistent_starts(case: &mut CaseBuilder) -> Result<(), crate::Error> {
+    let starts = [
+        ("bob 2 m out on a 1 m rod", "nonminimal_pendulum", State::new(0.0, [2.0, 0.0], [0.0, 0.0])),
+        ("loop open by 0.2 m", "four_bar", State::new(0.0, [0.0, 0.0, 0.0], [0.0; 3])),
+        ("sliding sideways", "chaplygin_sleigh", State::new(0.0, [0.0, 0.0, 0.0], [1.0, 1.0, 0.0])),
+    ];
+    let method = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
+    for (label, id, initial) in starts {
+        let scene = crate::error::scene(id)?;
+        let system = scene.build(&scene.default_params())?;
+        let (run, wall) = timed_simulate(system.as_ref(), &initial, 1.0, method, &Output::Ends);
+        let m = Measurement::new(label, id, method.name(), "the inconsistent start is refused")
+            .method_settings(method, 1.0);
+        let m = match run {
+            Ok(t) => m.value(t.t[t.len() - 1]).cost(Cost::of(&t.stats, wall)),
+            Err(e) => {
+                let kind = ErrorKind::of(&e);
+                let mut m = m.failed(e);
+                m.error = Some(kind);
+                m
+            }
+        };
+        case.push(m.expect_error(ErrorKind::InvalidSetting));
+    }
+    Ok(())
 }
 
 /// A run that must leave its scene's admissible region: `(label, scene, parameter changes,
