@@ -252,14 +252,15 @@ pub enum CliError {
         source: Box<lagrange::Error>,
     },
     /// A run stopped by `--max-seconds`, with what it had by then.
-    #[error("{what} stopped after {:.2} s of wall time (--max-seconds {}): {why}; what it had is written", .elapsed, compact(*.limit))]
+    #[error("{what} stopped after {:.2} s of wall time ({limit}): {why}; what it had is written", .elapsed)]
     OutOfTime {
         /// What was stopped, and how far it got.
         what: String,
         /// Wall time when it stopped (s).
         elapsed: f64,
-        /// `--max-seconds`.
-        limit: f64,
+        /// The limit: `--max-seconds S`, or the default watch of a request estimated within
+        /// the time limit.
+        limit: String,
         /// Why (the deadline, or the projected time).
         why: String,
     },

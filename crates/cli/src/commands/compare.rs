@@ -60,7 +60,8 @@ pub struct Args {
     force: bool,
     /// Wall-time limit (s): an engine still running then is abandoned, the rows of the engines
     /// done are printed, and the command exits 1 naming the engines left out. With it, the
-    /// cost is not estimated up front.
+    /// cost is not estimated up front; without it (and without --force) a request estimated
+    /// within 2 minutes runs under a 4-minute limit.
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     max_seconds: Option<f64>,
 }
@@ -222,9 +223,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     // between two steps would measure the rounding of its time, not the engine).
     let every = (args.t_end / 100.0).max(args.dt);
     // What each engine will cost, before any runs (skipped with --force).
-    let max_seconds = long_work::max_seconds(args.max_seconds)?;
+    let limit = long_work::max_seconds(args.max_seconds, args.force)?;
+    let max_seconds = limit.as_ref().map(|(seconds, _)| *seconds);
     let started = std::time::Instant::now();
-    let estimates: Vec<Option<long_work::Estimate>> = if args.force || max_seconds.is_some() {
+    let estimates: Vec<Option<long_work::Estimate>> = if args.force || args.max_seconds.is_some() {
         vec![None; engines.len()]
     } else {
         engines.iter().map(|&engine| estimate(engine, scene, &params, &initial, &settings, args.t_end)).collect()
@@ -280,7 +282,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let stopped = (!left_out.is_empty()).then(|| CliError::OutOfTime {
         what: format!("comparing {} ({} of {} engines done)", scene.id(), rows.len(), rows.len() + left_out.len()),
         elapsed: started.elapsed().as_secs_f64(),
-        limit: max_seconds.unwrap_or(0.0),
+        limit: limit.map_or_else(String::new, |(_, said)| said),
         why: format!("left out: {}", left_out.join(", ")),
     });
     if args.json {

@@ -322,13 +322,28 @@ impl Watch {
     }
 }
 
-/// `--max-seconds`, checked: positive and finite.
+/// The wall-time limit a request runs under without `--max-seconds` and without `--force`:
+/// twice [`TIME_LIMIT_S`]. The up-front estimate admits requests within [`TIME_LIMIT_S`], but a
+/// motion that speeds up past the calibration's beginning (Andrews' squeezer) can take ten
+/// times longer; the measured progress stops such a run early.
+pub const WATCH_LIMIT_S: f64 = 2.0 * TIME_LIMIT_S;
+
+/// The limit a request runs under, in seconds, and how to say it: `--max-seconds`, checked
+/// positive and finite; without it, [`WATCH_LIMIT_S`] unless `--force`.
 ///
 /// # Errors
 /// [`CliError::NotPositive`].
-pub fn max_seconds(value: Option<f64>) -> Result<Option<f64>, CliError> {
+pub fn max_seconds(value: Option<f64>, force: bool) -> Result<Option<(f64, String)>, CliError> {
     match value {
         Some(v) if !(v > 0.0 && v.is_finite()) => Err(CliError::NotPositive { flag: "--max-seconds", value: v }),
-        other => Ok(other),
+        Some(v) => Ok(Some((v, format!("--max-seconds {v}")))),
+        None if force => Ok(None),
+        None => Ok(Some((
+            WATCH_LIMIT_S,
+            format!(
+                "the {} limit of a request estimated within {TIME_LIMIT}; --force lifts it, --max-seconds sets another",
+                duration(WATCH_LIMIT_S)
+            ),
+        ))),
     }
 }

@@ -72,8 +72,8 @@ pub struct Args {
     /// Step of the fixed-step integrators: rk4, variational, gauss (default 1e-3).
     #[arg(long, allow_negative_numbers = true)]
     dt: Option<f64>,
-    /// Tolerance (relative and absolute) of the error-controlled integrators: adaptive, implicit
-    /// (default 1e-10 for adaptive, 1e-8 for implicit).
+    /// Tolerance (relative and absolute) of the error-controlled integrators: adaptive, dop853,
+    /// implicit (default 1e-10 for adaptive and dop853, 1e-8 for implicit).
     #[arg(long, allow_negative_numbers = true)]
     tol: Option<f64>,
     /// Output interval (default: 200 samples; a multiple of --dt for fixed steps).
@@ -88,7 +88,8 @@ pub struct Args {
     force: bool,
     /// Wall-time limit (s): the run stops there — or earlier, once its measured progress
     /// projects it beyond three times the limit — writes the samples it has, and exits 1
-    /// saying how far it got. With it, the cost is not estimated up front.
+    /// saying how far it got. With it, the cost is not estimated up front; without it (and
+    /// without --force) a request estimated within 2 minutes runs under a 4-minute limit.
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     max_seconds: Option<f64>,
     /// Exit 0 (with a warning) when the run drifts from a constant of the motion or from its
@@ -380,7 +381,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let what = format!("simulating {span:e} s of {} with {}", scene.id(), describe(method));
         long_work::check_time(estimate, args.force, &what, flag)?;
     }
-    let max_seconds = long_work::max_seconds(args.max_seconds)?;
+    let limit = long_work::max_seconds(args.max_seconds, args.force)?;
+    let max_seconds = limit.as_ref().map(|(seconds, _)| *seconds);
     let (trajectory, result, watch) =
         simulate(scene, system.as_ref(), &initial, (args.t_end, max_seconds), method, &Output::Every(every));
     match result {
@@ -396,7 +398,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             return Err(CliError::OutOfTime {
                 what: format!("simulating {} (t = {t:.6} of {} s reached)", scene.id(), args.t_end),
                 elapsed: watch.elapsed(),
-                limit: max_seconds.unwrap_or(0.0),
+                limit: limit.map_or_else(String::new, |(_, said)| said),
                 why,
             });
         }

@@ -120,7 +120,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     Err(CliError::OutOfTime {
         what: format!("the report ({} of {} scenes done)", report.scenes.len(), scene_plans.len()),
         elapsed: start.elapsed().as_secs_f64(),
-        limit: options.max_seconds.unwrap_or(0.0),
+        limit: format!("--max-seconds {}", options.max_seconds.unwrap_or(0.0)),
         why: format!("left out: {}", left_out.join(", ")),
     })
 }

@@ -53,7 +53,8 @@ impl Options {
     /// An unknown scene, a bad horizon, or an output directory that cannot be created or written.
     pub fn new(args: &Args) -> Result<Options, CliError> {
         let plan = Plan::new(args.quick, args.t_end).map_err(CliError::Argument)?;
-        let max_seconds = crate::commands::long_work::max_seconds(args.max_seconds)?;
+        // The main job has no default limit: only --max-seconds sets one.
+        let max_seconds = crate::commands::long_work::max_seconds(args.max_seconds, true)?.map(|(s, _)| s);
         for id in &args.scenes {
             args::scene(id)?;
         }
