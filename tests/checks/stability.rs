@@ -48,6 +48,7 @@ mod report_cases {
             "kepler_e099",
             "chaos",
             "near_singular",
+            "parallelogram_branch",
             "constraints",
             "long_run",
             "rapier_long_run",
@@ -79,6 +80,11 @@ mod report_cases {
     #[test]
     fn chaos() {
         assert_case_passes("chaos");
+    }
+
+    #[test]
+    fn parallelogram_branch() {
+        assert_case_passes("parallelogram_branch");
     }
 
     #[test]

@@ -15,6 +15,7 @@
 use crate::Error;
 use crate::scene as find;
 mod bad_input;
+mod branch;
 mod chaos;
 mod constrained;
 mod extreme;
@@ -431,13 +432,14 @@ struct CaseSpec {
 const PARALLEL_CASES: usize = 2;
 
 /// Every case, in report order.
-const CASES: [CaseSpec; 10] = [
+const CASES: [CaseSpec; 11] = [
     stiff::STIFF_SPRING,
     stiff::STIFF_DAMPED,
     extreme::EXTREME,
     orbit::KEPLER,
     chaos::CHAOS,
     singular::SINGULAR,
+    branch::BRANCH,
     constrained::CONSTRAINED,
     long_run::LONG_RUN,
     long_run::RAPIER_LONG_RUN,
