@@ -32,7 +32,7 @@
 //! **The constraints** may be violated by `max(e, 1e-9) (1 + max |y|)`: the projected
 //! integrators hold them to round-off; the variational one to its Newton tolerance.
 
-use lagrange::{Method, State, System, Trajectory};
+use lagrange::{Method, System, Trajectory};
 use lagrange_scenes::{Conserved, Params, Scene};
 
 /// The largest drift of a constant of the motion, relative to its scale `S`, that any run
@@ -225,23 +225,4 @@ pub fn check(
         }
     }
     Ok(health)
-}
-
-/// [`check`] of a run from `initial` that was asked for but not recorded: runs `method` from
-/// `initial` to `t_end` at `every` and checks it (the helper the tests' grids use).
-///
-/// # Errors
-/// The run's or the scene's.
-pub fn run_and_check(
-    scene: &dyn Scene,
-    params: &Params,
-    initial: &State,
-    t_end: f64,
-    method: Method,
-    every: f64,
-) -> Result<(Trajectory, Health), lagrange::Error> {
-    let mut system = scene.build(params)?;
-    let run = system.simulate(initial, t_end, method, &lagrange::Output::Every(every))?;
-    let health = check(scene, params, system.as_mut(), method, &run)?;
-    Ok((run, health))
 }
