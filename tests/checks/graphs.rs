@@ -307,6 +307,19 @@ fn a_registered_graph_runs_through_compare_in_every_engine() {
     }
 }
 
+/// A crank-rocker four-bar of uniform rods (crank 1 m, coupler and rocker 2 m, pivots 2 m
+/// apart), its crank on the joint `crank` (free or driven), closed at the pin `B`.
+fn four_bar(crank: GraphJoint) -> JointGraph {
+    JointGraph::new("four-bar", 9.81)
+        .with_body(GraphBody::rigid("crank", 1.0, 1.0 / 12.0))
+        .with_body(GraphBody::rigid("coupler", 1.0, 4.0 / 12.0))
+        .with_body(GraphBody::rigid("rocker", 1.0, 4.0 / 12.0))
+        .with_joint(crank)
+        .with_joint(GraphJoint::revolute("θ3", "crank", [0.5, 0.0], "coupler", [-1.0, 0.0]))
+        .with_joint(GraphJoint::revolute("θ4", GROUND, [2.0, 0.0], "rocker", [-1.0, 0.0]))
+        .with_joint(GraphJoint::revolute("B", "coupler", [1.0, 0.0], "rocker", [1.0, 0.0]).closing())
+}
+
 /// A four-bar whose crank is driven at a constant rate has no free coordinate — the coupler
 /// and rocker angles follow from the loop — and is a valid mechanism: its graph scene and its
 /// Cartesian build run, and agree. At 6d4bf6b `GraphScene::new` and `build_graph` refused it
@@ -316,18 +329,8 @@ fn a_registered_graph_runs_through_compare_in_every_engine() {
 #[test]
 fn a_driven_four_bar_without_free_coordinates_is_a_mechanism() {
     use lagrange::graph::Profile;
-    let graph = JointGraph::new("driven four-bar", 9.81)
-        .with_body(GraphBody::rigid("crank", 1.0, 1.0 / 12.0))
-        .with_body(GraphBody::rigid("coupler", 1.0, 4.0 / 12.0))
-        .with_body(GraphBody::rigid("rocker", 1.0, 4.0 / 12.0))
-        .with_joint(GraphJoint::revolute("θ2", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]).driven(Profile {
-            constant: 1.0,
-            rate: 2.0,
-            ..Profile::default()
-        }))
-        .with_joint(GraphJoint::revolute("θ3", "crank", [0.5, 0.0], "coupler", [-1.0, 0.0]))
-        .with_joint(GraphJoint::revolute("θ4", GROUND, [2.0, 0.0], "rocker", [-1.0, 0.0]))
-        .with_joint(GraphJoint::revolute("B", "coupler", [1.0, 0.0], "rocker", [1.0, 0.0]).closing());
+    let crank = GraphJoint::revolute("θ2", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]);
+    let graph = four_bar(crank.driven(Profile { constant: 1.0, rate: 2.0, ..Profile::default() }));
     let mechanism = GraphMechanism::new(graph.clone()).unwrap();
     assert_eq!(lagrange::Mechanism::coordinates(&mechanism).len(), 2);
     let guess = State::new(0.0, [-0.5, 1.5], [0.0, 0.0]);
@@ -354,7 +357,7 @@ fn malformed_graphs_are_named_and_unusual_ones_run() {
     use lagrange::Error;
     use lagrange::graph::{ForceElement, Point};
     use lagrange_scenes::{GraphScene, Scene};
-    let four_bar = |a: f64, b: f64, d: f64, coupler_mass: f64| {
+    let linkage = |a: f64, b: f64, d: f64, coupler_mass: f64| {
         JointGraph::new("fb", 9.81)
             .with_body(GraphBody::rigid("crank", 1.0, 0.1))
             .with_body(GraphBody::rigid("coupler", coupler_mass, 0.1 * coupler_mass))
@@ -371,20 +374,19 @@ fn malformed_graphs_are_named_and_unusual_ones_run() {
         rest_length,
     };
     let guess = State::new(0.0, [1.0, 0.5, 1.5], [0.0; 3]);
-    let Err(Error::InvalidGraph { element, why }) = GraphScene::new(four_bar(0.2, 0.1, 2.0, 1.0), guess.clone()) else {
+    let Err(Error::InvalidGraph { element, why }) = GraphScene::new(linkage(0.2, 0.1, 2.0, 1.0), guess.clone()) else {
         panic!("links 0.2, 0.1, 0.1 across 2 m close")
     };
     assert!(element.contains("loop closed by B") && why.contains("does not close"), "{element} {why}");
-    let Err(Error::SingularMassMatrix { coordinate, .. }) =
-        GraphScene::new(four_bar(0.5, 1.0, 1.0, 0.0), guess.clone())
+    let Err(Error::SingularMassMatrix { coordinate, .. }) = GraphScene::new(linkage(0.5, 1.0, 1.0, 0.0), guess.clone())
     else {
         panic!("a massless coupler is refused up front")
     };
     assert_eq!(coordinate, "θ3");
-    let doubled = four_bar(0.5, 1.0, 1.0, 1.0)
+    let doubled = linkage(0.5, 1.0, 1.0, 1.0)
         .with_joint(GraphJoint::revolute("B2", "coupler", [1.0, 0.0], "rocker", [1.0, 0.0]).closing());
     let times = [0.25, 0.5];
-    for graph in [doubled, four_bar(0.5, 1.0, 1.0, 1.0).with_force(spring(0.0))] {
+    for graph in [doubled, linkage(0.5, 1.0, 1.0, 1.0).with_force(spring(0.0))] {
         let scene = GraphScene::new(graph.clone(), guess.clone()).unwrap_or_else(|e| panic!("{e}"));
         let initial = scene.default_state(&scene.default_params()).unwrap();
         let gap = largest_gap(
@@ -393,12 +395,12 @@ fn malformed_graphs_are_named_and_unusual_ones_run() {
         );
         assert!(gap <= CARTESIAN_VS_REDUCED, "{}: {gap:e}", graph.forces.len());
     }
-    let sprung = four_bar(0.5, 1.0, 1.0, 1.0).with_force(spring(0.3));
+    let sprung = linkage(0.5, 1.0, 1.0, 1.0).with_force(spring(0.3));
     let Err(Error::Inadmissible { quantity, .. }) = GraphScene::new(sprung.clone(), guess.clone()) else {
         panic!("a spring of natural length 0.3 with its ends on one point")
     };
     assert!(quantity.starts_with("length of the spring from coupler"), "{quantity}");
-    let initial = GraphScene::new(four_bar(0.5, 1.0, 1.0, 1.0), guess).unwrap();
+    let initial = GraphScene::new(linkage(0.5, 1.0, 1.0, 1.0), guess).unwrap();
     let initial = initial.default_state(&initial.default_params()).unwrap();
     for engine in [Engine::Cartesian, Engine::RapierMultibody] {
         let Err(BuildError::Invalid(Error::Inadmissible { quantity, .. })) =
@@ -421,14 +423,7 @@ fn malformed_graphs_are_named_and_unusual_ones_run() {
 #[test]
 fn the_motion_of_a_point_is_that_of_the_pin_it_shares() {
     use lagrange::{Method, Tolerances, point_motion};
-    let graph = JointGraph::new("four-bar", 9.81)
-        .with_body(GraphBody::rigid("crank", 1.0, 1.0 / 12.0))
-        .with_body(GraphBody::rigid("coupler", 1.0, 4.0 / 12.0))
-        .with_body(GraphBody::rigid("rocker", 1.0, 4.0 / 12.0))
-        .with_joint(GraphJoint::revolute("θ2", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]))
-        .with_joint(GraphJoint::revolute("θ3", "crank", [0.5, 0.0], "coupler", [-1.0, 0.0]))
-        .with_joint(GraphJoint::revolute("θ4", GROUND, [2.0, 0.0], "rocker", [-1.0, 0.0]))
-        .with_joint(GraphJoint::revolute("B", "coupler", [1.0, 0.0], "rocker", [1.0, 0.0]).closing());
+    let graph = four_bar(GraphJoint::revolute("θ2", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]));
     let model = Model::new(GraphMechanism::new(graph).unwrap()).unwrap();
     let state = model.assemble(&State::new(0.0, [1.0, 0.5, 1.5], [6.0, 0.0, 0.0]), &[true, false, false]).unwrap();
     let mut ws = model.workspace();

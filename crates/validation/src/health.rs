@@ -14,7 +14,7 @@
 //!   over `N` steps (a factor 5 over `2 N tol` for the dense output between steps and for
 //!   states of order one, where the absolute part of the tolerance counts as much);
 //! - fixed steps: an order-`p` method's local error is `O((ω h)^{p+1})` with `ω` the fastest
-//!   rate of the motion ([`fastest_rate`], the largest over the samples). RK4 is not
+//!   rate of the motion ([`fastest_rate`], the largest over 64 samples spread over the run). RK4 is not
 //!   symplectic, its errors accumulate: `e = 10 N (ω h)⁵`. The variational (order 2) and Gauss
 //!   (order 4) integrators are symplectic: their error in a constant of the motion stays
 //!   bounded, `e = 10 (ω h)^p`, however long the run; plus `10 N ε` for round-off.
@@ -23,8 +23,8 @@
 //! meaning once `ω h` approaches 1 or `N tol` a thousandth.
 //!
 //! **A constant of the motion** `I` ([`Conserved`]) may drift by `e S`, where
-//! `S = Σ_i |∂I/∂y_i| (1 + |y_i|)` over `y = (q, q̇)` (central differences, the largest over the
-//! samples; an angle counts up to π, since an error of a radian means the same after any number
+//! `S = Σ_i |∂I/∂y_i| (1 + |y_i|)` over `y = (q, q̇)` (central differences, the largest over 64
+//! samples spread over the run; an angle counts up to π, since an error of a radian means the same after any number
 //! of turns): how much errors of relative size `e` in every component of the state move `I`.
 //! This includes `E − τ θ` and the other integrals of forced scenes, which the engine's energy
 //! function does not see.
@@ -47,8 +47,9 @@ pub const LARGEST_RELATIVE_DRIFT: f64 = 1e-3;
 /// Newton tolerance of the implicit and variational methods (1e-12 … 1e-10) with a margin.
 pub const CONSTRAINT_FLOOR: f64 = 1e-9;
 
-/// Samples at which the fastest rate of the motion is evaluated (evenly spread over the run).
-const RATE_SAMPLES: usize = 64;
+/// Samples at which the fastest rate of the motion and the constants' scales are evaluated
+/// (evenly spread over the run, and its last).
+const SPREAD_SAMPLES: usize = 64;
 
 /// One quantity a run failed to keep.
 #[derive(Clone, Debug, PartialEq)]
@@ -182,11 +183,12 @@ pub fn check(
     if samples == 0 {
         return Ok(health);
     }
+    // The rate and the constants' scales vary with the motion, smoothly: read at a bounded set of
+    // samples spread over the run (each costs a Jacobian, or 4n evaluations of a constant).
+    let stride = samples.div_ceil(SPREAD_SAMPLES).max(1);
+    let spread = || (0..samples).step_by(stride).chain(std::iter::once(samples - 1));
     let rate = if method.kind().is_fixed_step() {
-        let stride = samples.div_ceil(RATE_SAMPLES).max(1);
-        (0..samples)
-            .step_by(stride)
-            .chain(std::iter::once(samples - 1))
+        spread()
             .map(|k| fastest_rate(system, run.t[k], run.q(k), run.qdot(k)))
             .try_fold(0.0_f64, |m, r| r.map(|r| m.max(r)))
     } else {
@@ -200,7 +202,7 @@ pub fn check(
         let value = |k: usize| quantity.value(run.t[k], run.q(k), run.qdot(k)).unwrap_or(f64::NAN);
         let start = value(0);
         let scale =
-            (0..samples).map(|k| sensitivity(&quantity, &angles, run.t[k], run.q(k), run.qdot(k))).fold(0.0, f64::max);
+            spread().map(|k| sensitivity(&quantity, &angles, run.t[k], run.q(k), run.qdot(k))).fold(0.0, f64::max);
         let bound = e * scale;
         // A NaN drift is beyond any bound.
         let drifts: Vec<f64> = (0..samples).map(|k| (value(k) - start).abs()).collect();

@@ -267,7 +267,6 @@ fn diagnose(
     partial: &Trajectory,
     error: lagrange::Error,
 ) -> CliError {
-    let describe = || describe(method);
     if !matches!(
         error,
         lagrange::Error::StepSizeUnderflow { .. }
@@ -284,7 +283,7 @@ fn diagnose(
     {
         return CliError::DivergedFirst {
             scene: scene.id().to_string(),
-            method: describe(),
+            method: describe(method),
             findings: joined(&health.findings),
             source: Box::new(error),
             flag: accuracy_flag(method),
@@ -297,7 +296,7 @@ fn diagnose(
         {
             return CliError::NotStiff {
                 scene: scene.id().to_string(),
-                method: describe(),
+                method: describe(method),
                 t,
                 h,
                 rate,

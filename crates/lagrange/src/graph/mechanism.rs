@@ -895,13 +895,23 @@ impl Mechanism for GraphMechanism {
         if !self.elements.iter().any(|e| matches!(e, Element::Spring { rest, .. } if *rest > 0.0)) {
             return false;
         }
-        let mut poses = vec![Pose::new(0.0, 0.0, 0.0); self.bodies.len()];
-        self.poses(t, q, &mut poses);
-        for (i, length) in self.spring_lengths(&poses) {
-            let ForceElement::Spring { a, b, .. } = &self.graph.forces[i] else { continue };
-            let name = format!("length of the spring from {} {:?} to {} {:?}", a.body, a.at, b.body, b.at);
-            bounds.above(&name, length, 0.0);
+        // Checked after every step: the poses in a per-thread buffer, the name written only for
+        // a bound that fails — no allocation on the way.
+        thread_local! {
+            static POSES: std::cell::RefCell<Vec<Pose<f64>>> = const { std::cell::RefCell::new(Vec::new()) };
         }
+        POSES.with_borrow_mut(|poses| {
+            poses.resize(self.bodies.len(), Pose::new(0.0, 0.0, 0.0));
+            self.poses(t, q, poses);
+            for (i, length) in self.spring_lengths(poses) {
+                if length > 0.0 {
+                    bounds.above("spring length", length, 0.0);
+                } else if let ForceElement::Spring { a, b, .. } = &self.graph.forces[i] {
+                    let name = format!("length of the spring from {} {:?} to {} {:?}", a.body, a.at, b.body, b.at);
+                    bounds.above(&name, length, 0.0);
+                }
+            }
+        });
         true
     }
 

@@ -322,15 +322,7 @@ fn inconsistent_starts(case: &mut CaseBuilder) -> Result<(), crate::Error> {
         let (run, wall) = timed_simulate(system.as_ref(), &initial, 1.0, method, &Output::Ends);
         let m = Measurement::new(label, id, method.name(), "the inconsistent start is refused")
             .method_settings(method, 1.0);
-        let m = match run {
-            Ok(t) => m.value(t.t[t.len() - 1]).cost(Cost::of(&t.stats, wall)),
-            Err(e) => {
-                let kind = ErrorKind::of(&e);
-                let mut m = m.failed(e);
-                m.error = Some(kind);
-                m
-            }
-        };
+        let m = m.ended(run, wall);
         case.push(m.expect_error(ErrorKind::InvalidSetting));
     }
     Ok(())
@@ -369,16 +361,7 @@ fn leaving_the_region(case: &mut CaseBuilder) -> Result<(), crate::Error> {
         let m = Measurement::new(label, id, method.name(), "the run ends in Inadmissible")
             .params(changes)
             .method_settings(method, horizon);
-        let m = match run {
-            Ok(t) => m.value(t.t[t.len() - 1]).cost(Cost::of(&t.stats, wall)),
-            Err(e) => {
-                let kind = ErrorKind::of(&e);
-                let mut m = m.failed(e);
-                m.error = Some(kind);
-                m.cost.wall_time_s = wall;
-                m
-            }
-        };
+        let m = m.ended(run, wall);
         case.push(m.expect_error(ErrorKind::Inadmissible));
     }
     Ok(())
@@ -398,15 +381,7 @@ fn refused_tolerances(case: &mut CaseBuilder) -> Result<(), crate::Error> {
             let (run, wall) = timed_simulate(system.as_ref(), &initial, 10.0, method, &Output::Ends);
             let m = Measurement::new(format!("tol = {tol:e}"), scene.id(), method.name(), "the tolerance is refused")
                 .method_settings(method, 10.0);
-            let m = match run {
-                Ok(t) => m.value(t.t[t.len() - 1]).cost(Cost::of(&t.stats, wall)),
-                Err(e) => {
-                    let kind = ErrorKind::of(&e);
-                    let mut m = m.failed(e);
-                    m.error = Some(kind);
-                    m
-                }
-            };
+            let m = m.ended(run, wall);
             case.push(m.expect_error(ErrorKind::InvalidSetting));
         }
     }

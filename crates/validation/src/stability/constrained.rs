@@ -3,7 +3,7 @@
 //! where the constraints lose rank, and Andrews' squeezer with its accelerations of 1e4–1e6
 //! rad/s².
 
-use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, ErrorKind, Measurement, find, scene_params, timed_simulate};
+use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find, scene_params, timed_simulate};
 use crate::andrews;
 use lagrange::{Body, Coordinate, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, System, Tolerances};
 
@@ -251,12 +251,7 @@ fn change_point(case: &mut CaseBuilder) -> Result<(), crate::Error> {
     let m = Measurement::new("a = c, b = d, flattened, θ̇ = (1, −1, −1)", "four_bar", "engine", "q̈").params(&changes);
     let m = match system.accelerations(0.0, &[0.0; 3], &[1.0, -1.0, -1.0]) {
         Ok(a) => m.value(a.iter().fold(0.0, |x: f64, v| x.max(v.abs()))),
-        Err(e) => {
-            let kind = ErrorKind::of(&e);
-            let mut m = m.failed(e);
-            m.error = Some(kind);
-            m
-        }
+        Err(e) => m.failed_with(&e),
     };
     // No acceleration keeps the vanished row at Φ̈ = 0: the regularized solve returns the
     // least-squares q̈, finite, rather than an error (docs/method.md#constraints).

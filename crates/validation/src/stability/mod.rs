@@ -335,6 +335,26 @@ impl Measurement {
         self
     }
 
+    /// A failure by the engine's `error`, its variant recorded (for [`Check::TypedError`]).
+    fn failed_with(self, error: &lagrange::Error) -> Self {
+        let mut m = self.failed(error);
+        m.error = Some(ErrorKind::of(error));
+        m
+    }
+
+    /// How a timed run ended: its last time and its cost, or its error (variant recorded) and
+    /// its wall time.
+    fn ended(self, run: Result<Trajectory, lagrange::Error>, wall: f64) -> Self {
+        match run {
+            Ok(t) => self.value(t.t[t.len() - 1]).cost(Cost::of(&t.stats, wall)),
+            Err(e) => {
+                let mut m = self.failed_with(&e);
+                m.cost.wall_time_s = wall;
+                m
+            }
+        }
+    }
+
     /// Check that the run ended in the engine's error `kind` ([`Check::TypedError`]).
     fn expect_error(mut self, kind: ErrorKind) -> Self {
         self.expected_error = Some(kind);

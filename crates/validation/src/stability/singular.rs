@@ -122,16 +122,7 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
         )
         .params(&[("mass_1", 1e-12)])
         .method_settings(method, 1.0);
-        m = match run {
-            Ok(t) => m.value(t.t[t.t.len() - 1]).cost(Cost::of(&t.stats, wall)),
-            Err(e) => {
-                let kind = ErrorKind::of(&e);
-                let mut m = m.failed(e);
-                m.error = Some(kind);
-                m.cost.wall_time_s = wall;
-                m
-            }
-        };
+        m = m.ended(run, wall);
         case.push(m.expect_error(ErrorKind::SingularMassMatrix));
     }
     // Polar coordinates at the origin.
