@@ -27,6 +27,7 @@
 //! constraints are not unique; this one spreads the force evenly).
 
 use crate::eom::kinematics::LANES_FROM;
+use crate::eom::sparse::SparseBuffers;
 use crate::error::{Error, Stage};
 use crate::mechanism::{CoordinateKind, Mechanism};
 use crate::model::Model;
@@ -621,11 +622,16 @@ pub(crate) fn project_holding<M: Mechanism>(
     // The mass metric of the corrections: M's factor at the state the projection starts from
     // (assembling coordinates held fixed take the plain smallest change instead).
     let weighted = held.is_none();
-    if weighted && model.constant.is_none() {
-        crate::eom::factor_mass_matrix(model, ws, t, q)?;
-    }
+    // A tree with many loops solves in its sparse structure (no coordinate is held there).
+    let sparse = if weighted { model.sparse.as_deref() } else { None };
+    let mut sb = if sparse.is_some() { ws.sparse.take() } else { None };
     let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
     let result = (|| {
+        if let (Some(st), Some(sb)) = (sparse, sb.as_mut()) {
+            st.factor_mass(model, &mut ws.q_lanes, &mut ws.poses_lanes, sb, t, q)?;
+        } else if weighted && model.constant.is_none() {
+            crate::eom::factor_mass_matrix(model, ws, t, q)?;
+        }
         let weight: Option<&[f64]> = match (weighted, model.constant.is_some()) {
             (false, _) => None,
             (true, true) => Some(&ws.constant_factor),
@@ -636,12 +642,23 @@ pub(crate) fn project_holding<M: Mechanism>(
             b.position_before.copy_from_slice(q);
             b.velocity_before.copy_from_slice(qdot);
         }
+        // Φ and G at q; the smallest step that removes the first-order residual `rhs`.
+        let mut evaluate_at = |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, q: &[f64]| {
+            match (sparse, sb.as_mut()) {
+                (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, &mut ws.q_lanes, b, sb, t, q),
+                _ => evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, b, t, q, qdot),
+            }
+        };
+        let step = |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, rows: usize, rhs: Rhs| match (
+            sparse,
+            sb.as_mut(),
+        ) {
+            (Some(st), Some(sb)) => st.min_norm_step(n, sb, b, rhs),
+            _ => min_norm_step(b, n, rows, rhs, held, weight),
+        };
         if m > 0 {
             let (mut iterations, mut previous) = (0, f64::INFINITY);
-            let mut evaluate_at = |b: &mut ConstraintBuffers<f64>, q: &[f64]| {
-                evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, b, t, q, qdot);
-            };
-            evaluate_at(&mut b, q);
+            evaluate_at(&mut b, &mut sb, q);
             loop {
                 let (worst, value) = largest(&b.residual);
                 if !value.is_finite() {
@@ -663,7 +680,7 @@ pub(crate) fn project_holding<M: Mechanism>(
                     });
                 }
                 // Smallest step: Δq = −Gᵀ (G Gᵀ)⁻¹ Φ over the free coordinates.
-                min_norm_step(&mut b, n, m, Rhs::Residual, held, weight);
+                step(&mut b, &mut sb, m, Rhs::Residual);
                 // Damped where the linear model does not hold: no angle turned by more than
                 // MAX_TURN, then halved until ‖Φ‖₂ falls. Near the constraints (every projection
                 // after an integration step) the full step is taken at no extra cost.
@@ -681,7 +698,7 @@ pub(crate) fn project_holding<M: Mechanism>(
                     for ((qi, start), d) in q.iter_mut().zip(&b.start).zip(&b.step) {
                         *qi = start - fraction * d;
                     }
-                    evaluate_at(&mut b, q);
+                    evaluate_at(&mut b, &mut sb, q);
                     let trial = l2(&b.residual);
                     if trial < norm || largest(&b.residual).1 <= POSITION_TOLERANCE * scale || halving == HALVINGS {
                         break;
@@ -693,8 +710,11 @@ pub(crate) fn project_holding<M: Mechanism>(
         }
         // Velocities: one exact linear step onto G q̇ + Φ_t = 0 and A q̇ + b = 0. The holonomic
         // rows (G and Φ̇) are those of the last Gauss–Newton evaluation, at the final q.
-        evaluate(&model.mechanism, (m, k), Rows::Velocity, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
-        min_norm_step(&mut b, n, m + k, Rhs::Rate, held, weight);
+        match (sparse, sb.as_mut()) {
+            (Some(st), Some(_)) => st.holonomic_rates(&model.mechanism, &mut ws.q_dual, &mut b, t, q, qdot),
+            _ => evaluate(&model.mechanism, (m, k), Rows::Velocity, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot),
+        }
+        step(&mut b, &mut sb, m + k, Rhs::Rate);
         for (v, d) in qdot.iter_mut().zip(&b.step) {
             *v -= d;
         }
@@ -704,6 +724,9 @@ pub(crate) fn project_holding<M: Mechanism>(
         Ok(())
     })();
     ws.constraints = Some(b);
+    if sb.is_some() {
+        ws.sparse = sb;
+    }
     result
 }
 
@@ -818,7 +841,7 @@ fn min_norm_step(
 
 /// Which residual a projection step removes.
 #[derive(Clone, Copy)]
-enum Rhs {
+pub(crate) enum Rhs {
     /// `Φ` (positions).
     Residual,
     /// `G q̇ + Φ_t`, `A q̇ + b` (velocities).
