@@ -59,6 +59,32 @@ fn poses_that_read_the_real_part_are_an_error_naming_body_component_and_variable
     assert!(Model::new(driven()).is_ok());
 }
 
+/// The cart pendulum's poses with the pendulum's angle read as a constant in the bob's `y`
+/// only (its `x` keeps the derivative): one dropped entry among four.
+#[derive(Debug)]
+struct CartDropsAngleInY(f64);
+
+impl Poses for CartDropsAngleInY {
+    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
+        p[0] = Pose::point(q[0], S::zero());
+        p[1] = Pose::point(q[0] + q[1].sin() * self.0, -S::from(q[1].re().cos()) * self.0);
+    }
+}
+
+/// The test of the poses' derivatives runs along one direction mixing every coordinate; a
+/// single dropped entry of the Jacobian among several coordinates and bodies is still found,
+/// and named by body, component and coordinate.
+#[test]
+fn one_lost_entry_among_several_coordinates_is_named() {
+    let whole = cart(2.0, 1.0, 1.5);
+    let error = Model::new(whole.poses().with_poses(CartDropsAngleInY(1.5))).unwrap_err();
+    assert!(
+        matches!(&error, Error::LostDerivative { of: Derived::Pose { body, component: "y" }, variable, .. }
+            if body == "bob" && variable == "θ"),
+        "{error}"
+    );
+}
+
 /// A Lagrangian whose kinetic term is negative: `L = −½ q̇²`.
 #[derive(Debug)]
 struct NegativeKinetic([Coordinate; 1]);

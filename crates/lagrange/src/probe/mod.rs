@@ -338,19 +338,26 @@ fn central_difference(exact: f64, [plus, minus, plus2, minus2]: [f64; 4], h: f64
 
 /// Check, at every probe state, that `poses` writes every component of every body (the
 /// buffer is pre-filled with NaN: a forgotten body would otherwise sit wherever the buffer
-/// left it), and that the exact derivatives `∂p/∂t` and `∂p/∂q_j` of the components that carry
-/// mass agree with central differences of the `f64` poses ([`central_difference`]) — they
-/// differ when `poses` reads the real part of `t` or of a coordinate (`t.re()`), which
-/// silently drops that derivative.
+/// left it), and that the exact derivatives of the components that carry mass agree with
+/// central differences of the `f64` poses ([`central_difference`]) — they differ when `poses`
+/// reads the real part of `t` or of a coordinate (`t.re()`), which silently drops that
+/// derivative.
+///
+/// The coordinates are tested together, along one direction `v` per probe with every
+/// `|v_j|` in `[½, 1]` and a random sign: a dropped `∂p/∂q_j` changes the derivative along
+/// `v` by `v_j ∂p/∂q_j`, never zero for a dropped derivative that is not, so a single
+/// dual pass and four `f64` passes test all `n` coordinates (the cost grows with one
+/// evaluation of the poses, not with `n` of them). Only a failing probe sweeps the
+/// coordinates one by one, to name the one whose derivative was lost; `t` is tested on its
+/// own.
 pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> Result<(), Error> {
     let bodies = mechanism.bodies();
     let n = probes.n;
     let mut poses = vec![Pose::default(); bodies.len()];
-    let mut moved = [vec![Pose::default(); bodies.len()], vec![Pose::default(); bodies.len()]];
-    let mut wide = [vec![Pose::default(); bodies.len()], vec![Pose::default(); bodies.len()]];
-    let mut jac = vec![0.0; 3 * bodies.len() * n];
     let mut q_dual = vec![Dual64::from_re(0.0); n];
-    let mut time_poses = vec![Pose::<Dual64>::default(); bodies.len()];
+    let mut exact = vec![Pose::<Dual64>::default(); bodies.len()];
+    let mut direction = vec![0.0; n];
+    let mut seed: u64 = 0xD1EC_7104_0000_0001;
     for k in 0..probes.len() {
         let (q, _, t) = probes.state(k);
         poses_f64(mechanism, t, q, &mut poses);
@@ -364,49 +371,100 @@ pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> 
                 });
             }
         }
-        // Exact derivatives: J by columns, ∂p/∂t by one pass with t seeded.
-        jacobian(mechanism, t, q, &mut jac);
+        for v in direction.iter_mut() {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            let unit = (seed >> 11) as f64 / (1u64 << 53) as f64;
+            *v = if seed >> 63 == 1 { 0.5 + 0.5 * unit } else { -0.5 - 0.5 * unit };
+        }
+        // Along v: the exact derivative by one pass with q seeded by v, the differences along q + s v.
+        seed::along(&mut q_dual, q, &direction);
+        mechanism.poses(Dual64::from_re(t), &q_dual, &mut exact);
+        let along_q = |s: f64, out: &mut [Pose<f64>]| {
+            let moved: Vec<f64> = q.iter().zip(&direction).map(|(x, v)| x + s * v).collect();
+            poses_f64(mechanism, t, &moved, out);
+        };
+        if lost_derivative(bodies, &exact, 0.0, along_q).is_some()
+            && let Some(error) = name_lost_derivative(mechanism, t, q)
+        {
+            return Err(error);
+        }
+        // Along t.
         seed::constant(&mut q_dual, q);
-        mechanism.poses(Dual64::new(t, 1.0), &q_dual, &mut time_poses);
-        // Variable j < n is q_j, j = n is t.
-        let mut q_moved = q.to_vec();
-        for j in 0..=n {
-            let x = if j < n { q[j] } else { t };
-            let h = f64::EPSILON.cbrt() * x.abs().max(1.0);
-            for (out, step) in moved.iter_mut().zip([h, -h]).chain(wide.iter_mut().zip([2.0 * h, -2.0 * h])) {
-                if j < n {
-                    q_moved[j] = x + step;
-                    poses_f64(mechanism, t, &q_moved, out);
-                } else {
-                    poses_f64(mechanism, x + step, q, out);
-                }
-            }
-            if j < n {
-                q_moved[j] = x;
-            }
-            for (b, body) in bodies.iter().enumerate() {
-                for c in 0..3 {
-                    let carries_mass = if c < 2 { body.mass != 0.0 } else { body.inertia != 0.0 };
-                    if !carries_mass {
-                        continue;
-                    }
-                    let exact = if j < n { jac[(3 * b + c) * n + j] } else { components(&time_poses[b])[c].eps };
-                    let at = |p: &[Pose<f64>]| components(&p[b])[c];
-                    let values = [at(&moved[0]), at(&moved[1]), at(&wide[0]), at(&wide[1])];
-                    if let Err(finite_difference) = central_difference(exact, values, h) {
-                        let coordinates = mechanism.coordinates();
-                        return Err(Error::LostDerivative {
-                            of: Derived::Pose { body: body.name.clone(), component: COMPONENTS[c] },
-                            variable: if j < n { coordinates[j].name.clone() } else { "t".into() },
-                            exact,
-                            finite_difference,
-                        });
-                    }
-                }
-            }
+        mechanism.poses(Dual64::new(t, 1.0), &q_dual, &mut exact);
+        let along_t = |s: f64, out: &mut [Pose<f64>]| poses_f64(mechanism, t + s, q, out);
+        if let Some((b, c, exact, finite_difference)) = lost_derivative(bodies, &exact, t, along_t) {
+            return Err(Error::LostDerivative {
+                of: Derived::Pose { body: bodies[b].name.clone(), component: COMPONENTS[c] },
+                variable: "t".into(),
+                exact,
+                finite_difference,
+            });
         }
     }
     Ok(())
+}
+
+/// The first body component carrying mass whose exact derivative (`exact`, the `eps` parts)
+/// disagrees with the central difference of `at(s, poses)` around `s = 0`, the variable being
+/// `x` (its size sets the difference step): `(body, component, exact, difference)`.
+fn lost_derivative(
+    bodies: &[crate::mechanism::Body],
+    exact: &[Pose<Dual64>],
+    x: f64,
+    mut at: impl FnMut(f64, &mut [Pose<f64>]),
+) -> Option<(usize, usize, f64, f64)> {
+    let h = f64::EPSILON.cbrt() * x.abs().max(1.0);
+    let mut moved: [Vec<Pose<f64>>; 4] = std::array::from_fn(|_| vec![Pose::default(); bodies.len()]);
+    for (out, step) in moved.iter_mut().zip([h, -h, 2.0 * h, -2.0 * h]) {
+        at(step, out);
+    }
+    for (b, body) in bodies.iter().enumerate() {
+        for c in 0..3 {
+            let carries_mass = if c < 2 { body.mass != 0.0 } else { body.inertia != 0.0 };
+            if !carries_mass {
+                continue;
+            }
+            let derivative = components(&exact[b])[c].eps;
+            let values = moved.each_ref().map(|p| components(&p[b])[c]);
+            if let Err(finite_difference) = central_difference(derivative, values, h) {
+                return Some((b, c, derivative, finite_difference));
+            }
+        }
+    }
+    None
+}
+
+/// The error for a derivative of the poses that [`check_poses`] found lost along a direction
+/// at `(q, t)`: the coordinates one by one (one dual pass and four `f64` passes each) name
+/// the first whose derivative disagrees. `None` when every coordinate passes on its own (the
+/// test along the direction judged a curvature its difference step did not resolve, not a
+/// lost derivative): the per-coordinate test is the definition, the directional one its
+/// shortcut.
+fn name_lost_derivative<M: Mechanism>(mechanism: &M, t: f64, q: &[f64]) -> Option<Error> {
+    let bodies = mechanism.bodies();
+    let coordinates = mechanism.coordinates();
+    let mut q_dual = vec![Dual64::from_re(0.0); q.len()];
+    let mut exact = vec![Pose::<Dual64>::default(); bodies.len()];
+    seed::constant(&mut q_dual, q);
+    for j in 0..q.len() {
+        q_dual[j].eps = 1.0;
+        mechanism.poses(Dual64::from_re(t), &q_dual, &mut exact);
+        q_dual[j].eps = 0.0;
+        let along = |s: f64, out: &mut [Pose<f64>]| {
+            let mut moved = q.to_vec();
+            moved[j] += s;
+            poses_f64(mechanism, t, &moved, out);
+        };
+        if let Some((b, c, exact, finite_difference)) = lost_derivative(bodies, &exact, q[j], along) {
+            return Some(Error::LostDerivative {
+                of: Derived::Pose { body: bodies[b].name.clone(), component: COMPONENTS[c] },
+                variable: coordinates[j].name.clone(),
+                exact,
+                finite_difference,
+            });
+        }
+    }
+    None
 }
 
 /// Check a raw Lagrangian at every probe state: `L` is finite, and its exact first derivatives
