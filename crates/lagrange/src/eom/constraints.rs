@@ -221,7 +221,7 @@ pub(crate) fn evaluate<M: Mechanism, S: Scalar>(
 
 /// `G_Φ` (m × n) and `Φ` in chunks of [`CHUNK`] columns: one vector-dual pass of the
 /// constraints per chunk, lane `k` seeding `q_{j0+k}`.
-fn holonomic_chunks<M: Mechanism, S: Scalar>(
+pub(crate) fn holonomic_chunks<M: Mechanism, S: Scalar>(
     mechanism: &M,
     q_lanes: &mut [Lanes<S>],
     phi_lanes: &mut [Lanes<S>],

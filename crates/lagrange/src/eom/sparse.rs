@@ -146,10 +146,13 @@ impl SparseStructure {
         let pose_passes = (max_depth + 1).div_ceil(CHUNK);
         // Pattern of G: the union of its nonzeros at the probe states.
         let mut pattern = vec![false; m * n];
+        let (mut q_lanes, mut phi_lanes) = (vec![Lanes::from_re(0.0); n], vec![Lanes::from_re(0.0); m]);
+        let (mut dense, mut residual) = (vec![0.0; m * n], vec![0.0; m]);
         for k in 0..probes.len() {
             let (q, _, t) = probes.state(k);
-            for (p, g) in pattern.iter_mut().zip(dense_constraint_jacobian(mechanism, m, t, q)) {
-                *p |= g != 0.0;
+            crate::eom::constraints::holonomic_chunks(mechanism, &mut q_lanes, &mut phi_lanes, &mut dense, &mut residual, t, q);
+            for (p, g) in pattern.iter_mut().zip(&dense) {
+                *p |= *g != 0.0;
             }
         }
         let mut g_start = vec![0];
@@ -247,9 +250,12 @@ impl SparseStructure {
         structure.reproduces(mechanism, m, probes).then_some(structure)
     }
 
-    /// Whether the compressed Jacobians equal the dense ones at a state between the probes
-    /// (to `1e-12` of the largest entry: the same derivatives by the same arithmetic, where a
-    /// missed dependence is off by its whole size).
+    /// Whether the compressed Jacobians equal the exact ones at a state between the probes:
+    /// `G v` and `J v` along a direction `v` mixing every coordinate (every `|v_j|` in
+    /// `[½, 1]`, random signs), each by one dual pass, against the same products of the
+    /// compressed entries — a column missing from the pattern changes its row's product by
+    /// `G_rj v_j` — to `1e-12` of the largest product's terms (the same derivatives by the same
+    /// arithmetic, summed in another order, where a missed dependence is off by its whole size).
     fn reproduces<M: Mechanism>(&self, mechanism: &M, m: usize, probes: &ProbeStates) -> bool {
         let n = self.parent.len();
         let (q0, _, t0) = probes.state(0);
@@ -257,6 +263,14 @@ impl SparseStructure {
         let q: Vec<f64> =
             q0.iter().zip(q1).enumerate().map(|(j, (a, b))| 0.6 * a + 0.4 * b + 0.01 * j as f64).collect();
         let t = 0.5 * (t0 + t1);
+        let mut seed: u64 = 0x5BA2_5E00_0000_0001;
+        let v: Vec<f64> = (0..n)
+            .map(|_| {
+                seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+                let unit = (seed >> 11) as f64 / (1u64 << 53) as f64;
+                if seed >> 63 == 1 { 0.5 + 0.5 * unit } else { -0.5 - 0.5 * unit }
+            })
+            .collect();
         let mut b = SparseBuffers::<f64>::new(self);
         let mut q_lanes = vec![Lanes::from_re(0.0); n];
         let mut phi_lanes = vec![Lanes::from_re(0.0); m];
@@ -264,42 +278,40 @@ impl SparseStructure {
         let mut residual = vec![0.0; m];
         self.pose_jacobian(mechanism, &mut q_lanes, &mut poses_lanes, &mut b, t, &q);
         self.constraint_jacobian(mechanism, &mut q_lanes, &mut phi_lanes, &mut b.g, &mut residual, t, &q);
-        let dense = dense_constraint_jacobian(mechanism, m, t, &q);
-        let mut compressed = vec![0.0; m * n];
+        let q_dual: Vec<Dual64> = q.iter().zip(&v).map(|(&x, &d)| Dual64::new(x, d)).collect();
+        // Each product with the sum of its terms' sizes.
+        let (mut exact, mut compressed) = (Vec::new(), Vec::new());
+        let mut phi = vec![Dual64::from_re(0.0); m];
+        mechanism.constraints(Dual64::from_re(t), &q_dual, &mut phi);
         for r in 0..m {
-            for e in self.g_start[r]..self.g_start[r + 1] {
-                compressed[r * n + self.g_column[e]] = b.g[e];
-            }
+            exact.push(phi[r].eps);
+            let terms = (self.g_start[r]..self.g_start[r + 1]).map(|e| b.g[e] * v[self.g_column[e]]);
+            compressed.push((terms.clone().sum::<f64>(), terms.map(f64::abs).sum::<f64>()));
         }
-        if !close(&dense, &compressed) {
-            return false;
-        }
-        // Pose Jacobian, dense by columns.
+        // Pose Jacobian: only the components that carry mass enter M.
         let bodies = mechanism.bodies();
-        let mut q_dual = vec![Dual64::from_re(0.0); n];
         let mut poses = vec![Pose::<Dual64>::default(); n];
-        let (mut dense, mut compressed) = (vec![0.0; 3 * n * n], vec![0.0; 3 * n * n]);
-        crate::probe::jacobian_columns(mechanism, &mut q_dual, &mut poses, t, &q, |j, _, poses, _| {
-            for (body, pose) in poses.iter().enumerate() {
-                // Only the components that carry mass enter M.
-                let (mass, inertia) = (bodies[body].mass != 0.0, bodies[body].inertia != 0.0);
-                dense[3 * body * n + j] = if mass { pose.x.eps } else { 0.0 };
-                dense[(3 * body + 1) * n + j] = if mass { pose.y.eps } else { 0.0 };
-                dense[(3 * body + 2) * n + j] = if inertia { pose.angle.eps } else { 0.0 };
-            }
-        });
+        mechanism.poses(Dual64::from_re(t), &q_dual, &mut poses);
         for body in 0..n {
             let (mass, inertia) = (bodies[body].mass != 0.0, bodies[body].inertia != 0.0);
-            let mut a = body;
-            for d in 0..=self.depth[body] {
-                let e = self.offset[body] + d;
-                compressed[3 * body * n + a] = if mass { b.jx[e] } else { 0.0 };
-                compressed[(3 * body + 1) * n + a] = if mass { b.jy[e] } else { 0.0 };
-                compressed[(3 * body + 2) * n + a] = if inertia { b.ja[e] } else { 0.0 };
-                a = self.parent[a];
+            let parts = [(mass, &b.jx, poses[body].x.eps), (mass, &b.jy, poses[body].y.eps), (inertia, &b.ja, poses[body].angle.eps)];
+            for (carried, entries, along) in parts {
+                if !carried {
+                    continue;
+                }
+                let (mut a, mut sum, mut size) = (body, 0.0, 0.0);
+                for d in 0..=self.depth[body] {
+                    let term = entries[self.offset[body] + d] * v[a];
+                    sum += term;
+                    size += term.abs();
+                    a = self.parent[a];
+                }
+                exact.push(along);
+                compressed.push((sum, size));
             }
         }
-        close(&dense, &compressed)
+        let scale = compressed.iter().fold(0.0_f64, |s, &(_, size)| s.max(size));
+        exact.iter().zip(&compressed).all(|(x, (y, _))| (x - y).abs() <= 1e-12 * scale)
     }
 
     /// The compressed pose Jacobian into `b.jx`, `b.jy`, `b.ja`: pass `p` seeds, in lane
@@ -377,28 +389,6 @@ impl SparseStructure {
             *out = phi.re;
         }
     }
-}
-
-/// `Φ_q` (m × n, row-major) at `(t, q)` in `f64`, one dual pass per column.
-fn dense_constraint_jacobian<M: Mechanism>(mechanism: &M, m: usize, t: f64, q: &[f64]) -> Vec<f64> {
-    let n = q.len();
-    let mut q_dual: Vec<Dual64> = q.iter().map(|&x| Dual64::from_re(x)).collect();
-    let mut phi = vec![Dual64::from_re(0.0); m];
-    let mut g = vec![0.0; m * n];
-    for j in 0..n {
-        q_dual[j].eps = 1.0;
-        mechanism.constraints(Dual64::from_re(t), &q_dual, &mut phi);
-        q_dual[j].eps = 0.0;
-        for (r, v) in phi.iter().enumerate() {
-            g[r * n + j] = v.eps;
-        }
-    }
-    g
-}
-
-fn close(a: &[f64], b: &[f64]) -> bool {
-    let scale = a.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
-    a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * scale)
 }
 
 /// The constrained `q̈` and `λ` of a tree model with a [`SparseStructure`], from the
