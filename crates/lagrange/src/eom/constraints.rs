@@ -643,11 +643,12 @@ pub(crate) fn project_holding<M: Mechanism>(
             b.velocity_before.copy_from_slice(qdot);
         }
         // Φ and G at q; the smallest step that removes the first-order residual `rhs`.
-        let mut evaluate_at = |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, q: &[f64]| {
-            match (sparse, sb.as_mut()) {
-                (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, &mut ws.q_lanes, b, sb, t, q),
-                _ => evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, b, t, q, qdot),
-            }
+        let mut evaluate_at = |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, q: &[f64]| match (
+            sparse,
+            sb.as_mut(),
+        ) {
+            (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, &mut ws.q_lanes, b, sb, t, q),
+            _ => evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, b, t, q, qdot),
         };
         let step = |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, rows: usize, rhs: Rhs| match (
             sparse,
@@ -712,7 +713,9 @@ pub(crate) fn project_holding<M: Mechanism>(
         // rows (G and Φ̇) are those of the last Gauss–Newton evaluation, at the final q.
         match (sparse, sb.as_mut()) {
             (Some(st), Some(_)) => st.holonomic_rates(&model.mechanism, &mut ws.q_dual, &mut b, t, q, qdot),
-            _ => evaluate(&model.mechanism, (m, k), Rows::Velocity, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot),
+            _ => {
+                evaluate(&model.mechanism, (m, k), Rows::Velocity, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot)
+            }
         }
         step(&mut b, &mut sb, m + k, Rhs::Rate);
         for (v, d) in qdot.iter_mut().zip(&b.step) {

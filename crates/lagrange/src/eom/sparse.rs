@@ -150,7 +150,15 @@ impl SparseStructure {
         let (mut dense, mut residual) = (vec![0.0; m * n], vec![0.0; m]);
         for k in 0..probes.len() {
             let (q, _, t) = probes.state(k);
-            crate::eom::constraints::holonomic_chunks(mechanism, &mut q_lanes, &mut phi_lanes, &mut dense, &mut residual, t, q);
+            crate::eom::constraints::holonomic_chunks(
+                mechanism,
+                &mut q_lanes,
+                &mut phi_lanes,
+                &mut dense,
+                &mut residual,
+                t,
+                q,
+            );
             for (p, g) in pattern.iter_mut().zip(&dense) {
                 *p |= *g != 0.0;
             }
@@ -294,7 +302,11 @@ impl SparseStructure {
         mechanism.poses(Dual64::from_re(t), &q_dual, &mut poses);
         for body in 0..n {
             let (mass, inertia) = (bodies[body].mass != 0.0, bodies[body].inertia != 0.0);
-            let parts = [(mass, &b.jx, poses[body].x.eps), (mass, &b.jy, poses[body].y.eps), (inertia, &b.ja, poses[body].angle.eps)];
+            let parts = [
+                (mass, &b.jx, poses[body].x.eps),
+                (mass, &b.jy, poses[body].y.eps),
+                (inertia, &b.ja, poses[body].angle.eps),
+            ];
             for (carried, entries, along) in parts {
                 if !carried {
                     continue;
