@@ -134,11 +134,11 @@ fn conditioning() {
         let error = |a: &[f64]| {
             a.iter().enumerate().map(|(i, x)| (x - if i % 2 == 0 { exact } else { -exact }).abs()).fold(0.0, f64::max)
         };
-        let on = lagrange::accelerations(&model, &mut ws, 0.0, &state.q, &state.qdot).map(|a| error(a));
+        let on = lagrange::accelerations(&model, &mut ws, 0.0, &state.q, &state.qdot).map(&error);
         let mut q: Vec<f64> = state.q.iter().map(|x| x + 1e-12 * next()).collect();
         let mut qdot: Vec<f64> = state.qdot.iter().map(|x| x + 1e-12 * next()).collect();
         let off = lagrange::project(&model, &mut ws, 0.0, &mut q, &mut qdot)
-            .and_then(|()| lagrange::accelerations(&model, &mut ws, 0.0, &q, &qdot).map(|a| error(a)));
+            .and_then(|()| lagrange::accelerations(&model, &mut ws, 0.0, &q, &qdot).map(&error));
         let show = |r: Result<f64, lagrange::Error>| r.map_or_else(|e| e.to_string(), |v| format!("{v:.1e}"));
         println!("| {delta:.0e} | {} | {} |", show(on), show(off));
     }
