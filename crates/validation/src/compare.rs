@@ -1,12 +1,14 @@
 //! The reduced solver and a maximal engine side by side on one scene: trajectory error,
 //! energy and momentum drift, constraint violation, constraint-force error, cost — measured by
-//! the report's own loop ([`measure::track`]) against a reduced reference at
+//! the report's own loop ([`measure::track`]) against the report's reference: the scene's
+//! closed form where it has one, otherwise the reduced solution at
 //! [`REFERENCE_TOLERANCE`](crate::plan::REFERENCE_TOLERANCE).
 
 use crate::Error;
 use crate::fixtures::{max_abs, max_abs_diff, nan_max, relative_energy_error};
 use crate::measure::{self, Sample};
 use crate::plan::reference_method;
+use crate::reference::{ReferenceKind, closed_form};
 use lagrange::{Output, State};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::{Params, Scene};
@@ -20,9 +22,12 @@ pub struct Comparison {
     pub settings: Settings,
     /// Deviations of the simulated scene from the requested one (carried by the reference too).
     pub deviations: Vec<String>,
+    /// What [`errors`](Self::errors) are measured against.
+    pub reference: ReferenceKind,
     /// Sample times.
     pub times: Vec<f64>,
-    /// `‖q − q_ref‖∞` at each sample (positions in m, angles in rad).
+    /// `‖q − q_ref‖∞` at each sample (positions in m, angles in rad), `q_ref` the scene's
+    /// closed form where it has one, otherwise the reduced solution.
     pub errors: Vec<f64>,
     /// Largest of [`errors`](Self::errors).
     pub max_error: f64,
@@ -30,7 +35,8 @@ pub struct Comparison {
     pub final_error: f64,
     /// `max |E − E₀| / |E₀|` of the engine's bodies, where the scene conserves energy.
     pub energy_drift: Option<f64>,
-    /// The same for the reduced reference (the solver's own conservation, for scale).
+    /// The same for the reduced solution at the reference tolerance (the solver's own
+    /// conservation, for scale), run whether or not the errors use a closed form.
     pub reference_energy_drift: Option<f64>,
     /// `max |p_j − p_j(0)|` over the cyclic coordinates, from the engine's read-back state.
     pub momentum_drift: Option<f64>,
@@ -49,7 +55,9 @@ pub struct Comparison {
 }
 
 /// Run `scene` from `initial` to `t_end` in `engine` and in the reduced solver, sampling every
-/// `every` seconds (rounded to whole rapier steps), and compare.
+/// `every` seconds (rounded to whole rapier steps), and compare: the errors against the scene's
+/// closed form where it has one for this state (as the report measures them), otherwise
+/// against the reduced solution.
 ///
 /// # Errors
 /// [`Error::Build`] with `BuildError::Unbuildable` when the engine cannot build the scene;
@@ -85,7 +93,11 @@ pub fn compare(
     let masses: Vec<f64> = maps::bodies(id, params)?.iter().map(|b| b.mass).collect();
     let g = maps::gravity(params);
     let comparable = !reduced.has_generalized_force();
-    let error = |k: usize, q: &[f64]| max_abs_diff(q, reference.q(k));
+    // The closed form where the scene has one: near a singular configuration the reduced
+    // solution itself is only as exact as its solve there.
+    let exact = closed_form(scene, params, initial, &times)?;
+    let kind = if exact.is_some() { ReferenceKind::ClosedForm } else { ReferenceKind::Reduced };
+    let error = |k: usize, q: &[f64]| max_abs_diff(q, exact.as_ref().map_or_else(|| reference.q(k), |e| &e[k]));
     let problem = measure::Problem { scene: id, params, initial, times: &times, conserves_energy: conserves };
     let pass = measure::track(simulation.as_mut(), &problem, error, |sample| {
         let Sample { t, q, qdot, bodies, simulation } = sample;
@@ -117,6 +129,7 @@ pub fn compare(
         engine,
         settings: *settings,
         deviations: built.deviations,
+        reference: kind,
         max_error: errors.iter().copied().fold(0.0, nan_max),
         final_error: errors.last().copied().unwrap_or(0.0),
         times,

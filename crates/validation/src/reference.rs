@@ -54,14 +54,7 @@ impl Reference {
     /// Invalid parameters, or a failing reference run.
     pub fn new(scene: &dyn Scene, params: &Params, initial: &State, times: &[f64]) -> Result<Reference, Error> {
         let context = |source| Error::Reference { scene: scene.id().to_string(), source };
-        let mut exact = Vec::with_capacity(times.len());
-        for &t in times {
-            match scene.exact_solution(params, initial, t).map_err(context)? {
-                Some(state) => exact.push(state.q),
-                None => break,
-            }
-        }
-        if exact.len() == times.len() {
+        if let Some(exact) = closed_form(scene, params, initial, times)? {
             return Ok(Reference { params: params.clone(), kind: ReferenceKind::ClosedForm, q: exact });
         }
         let system = scene.build(params).map_err(context)?;
@@ -76,6 +69,30 @@ impl Reference {
     pub fn error(&self, k: usize, q: &[f64]) -> f64 {
         max_abs_diff(q, &self.q[k])
     }
+}
+
+/// `q` of the scene's exact solution (`Scene::exact_solution`) from `initial` at every time of
+/// `times`, or `None` when the scene has none for this state at one of them.
+///
+/// # Errors
+/// [`Error::Reference`] for invalid parameters.
+pub fn closed_form(
+    scene: &dyn Scene,
+    params: &Params,
+    initial: &State,
+    times: &[f64],
+) -> Result<Option<Vec<Vec<f64>>>, Error> {
+    let mut exact = Vec::with_capacity(times.len());
+    for &t in times {
+        match scene
+            .exact_solution(params, initial, t)
+            .map_err(|source| Error::Reference { scene: scene.id().to_string(), source })?
+        {
+            Some(state) => exact.push(state.q),
+            None => return Ok(None),
+        }
+    }
+    Ok(Some(exact))
 }
 
 /// References by parameter set: the scene's own, and one per deviation an engine needs.
