@@ -195,8 +195,8 @@ pub enum CliError {
     /// constraints) to the error its method and setting allow.
     #[error(
         "the run of {scene} with {method} did not keep what the scene declares: {findings}; the result is \
-         not to be trusted (expected relative error {}): use a smaller {flag}, or --allow-drift to keep it anyway",
-        compact(*.expected)
+         not to be trusted (expected relative error {expected:.2e}): use a smaller {flag}, or --allow-drift to keep \
+         it anyway"
     )]
     Unhealthy {
         /// The scene's id.
