@@ -13,6 +13,7 @@ use lagrange_scenes::{Params, Scene};
 use lagrange_validation::Error;
 use lagrange_validation::compare::{Comparison, compare};
 use lagrange_validation::plan::REFERENCE_TOLERANCE;
+use lagrange_validation::reference::ReferenceKind;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -291,7 +292,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         why: format!("left out: {}", left_out.join(", ")),
     });
     // Rows measured against a computed reference (no closed form, or not for every row).
-    let computed = rows.iter().any(|r| r.reference == Some("reduced_dop853"));
+    let computed = rows.iter().any(|r| r.reference == Some(ReferenceKind::Reduced.name()));
     if args.json {
         let document = Document {
             scene: scene.id(),

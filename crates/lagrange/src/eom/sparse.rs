@@ -259,8 +259,8 @@ impl SparseStructure {
     }
 
     /// Whether the compressed Jacobians equal the exact ones at a state between the probes:
-    /// `G v` and `J v` along a direction `v` mixing every coordinate (every `|v_j|` in
-    /// `[½, 1]`, random signs), each by one dual pass, against the same products of the
+    /// `G v` and `J v` along a direction `v` mixing every coordinate
+    /// ([`ProbeStates::direction`]), each by one dual pass, against the same products of the
     /// compressed entries — a column missing from the pattern changes its row's product by
     /// `G_rj v_j` — to `1e-12` of the largest product's terms (the same derivatives by the same
     /// arithmetic, summed in another order, where a missed dependence is off by its whole size).
@@ -271,14 +271,7 @@ impl SparseStructure {
         let q: Vec<f64> =
             q0.iter().zip(q1).enumerate().map(|(j, (a, b))| 0.6 * a + 0.4 * b + 0.01 * j as f64).collect();
         let t = 0.5 * (t0 + t1);
-        let mut seed: u64 = 0x5BA2_5E00_0000_0001;
-        let v: Vec<f64> = (0..n)
-            .map(|_| {
-                seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-                let unit = (seed >> 11) as f64 / (1u64 << 53) as f64;
-                if seed >> 63 == 1 { 0.5 + 0.5 * unit } else { -0.5 - 0.5 * unit }
-            })
-            .collect();
+        let v = probes.direction(0);
         let mut b = SparseBuffers::<f64>::new(self);
         let mut q_lanes = vec![Lanes::from_re(0.0); n];
         let mut phi_lanes = vec![Lanes::from_re(0.0); m];
@@ -286,7 +279,7 @@ impl SparseStructure {
         let mut residual = vec![0.0; m];
         self.pose_jacobian(mechanism, &mut q_lanes, &mut poses_lanes, &mut b, t, &q);
         self.constraint_jacobian(mechanism, &mut q_lanes, &mut phi_lanes, &mut b.g, &mut residual, t, &q);
-        let q_dual: Vec<Dual64> = q.iter().zip(&v).map(|(&x, &d)| Dual64::new(x, d)).collect();
+        let q_dual: Vec<Dual64> = q.iter().zip(v).map(|(&x, &d)| Dual64::new(x, d)).collect();
         // Each product with the sum of its terms' sizes.
         let (mut exact, mut compressed) = (Vec::new(), Vec::new());
         let mut phi = vec![Dual64::from_re(0.0); m];
@@ -829,6 +822,14 @@ mod tests {
         (dense, sparse)
     }
 
+    /// A fixed sequence of numbers uniform in `[0, 1)` (a 64-bit LCG).
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     /// `max |a − b| / max(1, max |a|)`.
     fn relative(a: &[f64], b: &[f64]) -> f64 {
         let scale = a.iter().fold(1.0_f64, |s, v| s.max(v.abs()));
@@ -848,11 +849,7 @@ mod tests {
     /// still orders of magnitude below what a missed entry of `G` or `M` would change.
     #[test]
     fn the_sparse_solve_is_the_dense_one() {
-        let mut seed: u64 = 0x0123_4567_89AB_CDEF;
-        let mut next = move || {
-            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x0123_4567_89AB_CDEF);
         let graphs = [
             ("chain of 1", chain(1)),
             ("chain of 3", chain(3)),
@@ -897,11 +894,7 @@ mod tests {
     /// that either path removes.
     #[test]
     fn the_sparse_projection_is_the_dense_one() {
-        let mut seed: u64 = 0x0FED_CBA9_8765_4321;
-        let mut next = move || {
-            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x0FED_CBA9_8765_4321);
         // Near a parallelogram (cranks at 0.3, couplers at −0.3 relative) and a four-bar's
         // open branch.
         let near = |windows: usize| (0..=2 * windows).map(move |j| if j <= windows { 0.3 } else { -0.3 }).collect();

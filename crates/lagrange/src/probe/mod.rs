@@ -18,6 +18,8 @@ pub(crate) struct ProbeStates {
     q: Vec<f64>,
     qdot: Vec<f64>,
     t: Vec<f64>,
+    /// One direction in `q` per probe, every `|v_j|` in `[½, 1]` with a random sign.
+    direction: Vec<f64>,
 }
 
 const PROBES: usize = 3;
@@ -36,7 +38,13 @@ impl ProbeStates {
         let q = (0..PROBES * n).map(|_| 0.35 + 0.5 * next()).collect();
         let qdot = (0..PROBES * n).map(|_| 0.8 * next() - 0.4).collect();
         let t = (0..PROBES).map(|_| 0.1 + next()).collect();
-        Self { n, q, qdot, t }
+        let direction = (0..PROBES * n)
+            .map(|_| {
+                let u = next();
+                if u < 0.5 { -0.5 - u } else { u }
+            })
+            .collect();
+        Self { n, q, qdot, t, direction }
     }
 
     pub(crate) fn len(&self) -> usize {
@@ -47,6 +55,13 @@ impl ProbeStates {
     pub(crate) fn state(&self, k: usize) -> (&[f64], &[f64], f64) {
         let r = k * self.n..(k + 1) * self.n;
         (&self.q[r.clone()], &self.qdot[r], self.t[k])
+    }
+
+    /// Direction `k` in `q`, for a test of all coordinates at once by one directional
+    /// derivative: every `|v_j|` in `[½, 1]` and a random sign, so that a derivative the test
+    /// should see, `v_j ∂f/∂q_j`, is never scaled away and generic sums of them do not cancel.
+    pub(crate) fn direction(&self, k: usize) -> &[f64] {
+        &self.direction[k * self.n..(k + 1) * self.n]
     }
 
     /// Which coordinates are cyclic (`∂L/∂q_j` exactly zero at every probe), and whether the
@@ -343,8 +358,8 @@ fn central_difference(exact: f64, [plus, minus, plus2, minus2]: [f64; 4], h: f64
 /// reads the real part of `t` or of a coordinate (`t.re()`), which silently drops that
 /// derivative.
 ///
-/// The coordinates are tested together, along one direction `v` per probe with every
-/// `|v_j|` in `[½, 1]` and a random sign: a dropped `∂p/∂q_j` changes the derivative along
+/// The coordinates are tested together, along one direction `v` per probe
+/// ([`ProbeStates::direction`]): a dropped `∂p/∂q_j` changes the derivative along
 /// `v` by `v_j ∂p/∂q_j`, never zero for a dropped derivative that is not, so a single
 /// dual pass and four `f64` passes test all `n` coordinates (the cost grows with one
 /// evaluation of the poses, not with `n` of them). Only a failing probe sweeps the
@@ -356,8 +371,6 @@ pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> 
     let mut poses = vec![Pose::default(); bodies.len()];
     let mut q_dual = vec![Dual64::from_re(0.0); n];
     let mut exact = vec![Pose::<Dual64>::default(); bodies.len()];
-    let mut direction = vec![0.0; n];
-    let mut seed: u64 = 0xD1EC_7104_0000_0001;
     for k in 0..probes.len() {
         let (q, _, t) = probes.state(k);
         poses_f64(mechanism, t, q, &mut poses);
@@ -371,16 +384,12 @@ pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> 
                 });
             }
         }
-        for v in direction.iter_mut() {
-            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            let unit = (seed >> 11) as f64 / (1u64 << 53) as f64;
-            *v = if seed >> 63 == 1 { 0.5 + 0.5 * unit } else { -0.5 - 0.5 * unit };
-        }
+        let direction = probes.direction(k);
         // Along v: the exact derivative by one pass with q seeded by v, the differences along q + s v.
-        seed::along(&mut q_dual, q, &direction);
+        seed::along(&mut q_dual, q, direction);
         mechanism.poses(Dual64::from_re(t), &q_dual, &mut exact);
         let along_q = |s: f64, out: &mut [Pose<f64>]| {
-            let moved: Vec<f64> = q.iter().zip(&direction).map(|(x, v)| x + s * v).collect();
+            let moved: Vec<f64> = q.iter().zip(direction).map(|(x, v)| x + s * v).collect();
             poses_f64(mechanism, t, &moved, out);
         };
         if lost_derivative(bodies, &exact, 0.0, along_q).is_some()
