@@ -179,7 +179,7 @@ fn no_heap_allocation_per_step_with_applied_forces() {
 #[test]
 fn no_heap_allocation_per_step_for_joint_graphs() {
     use lagrange::graph::{ForceElement, GraphMechanism, Point, Profile};
-    use lagrange_validation::fixtures::rng;
+    use lagrange_testing::rng;
     use lagrange_validation::graphs::{random_loop, random_tree};
     let mut checked = 0;
     for scene in all() {

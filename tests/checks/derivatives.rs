@@ -3,8 +3,8 @@
 
 use lagrange::{Mechanism, Model, Pose, State};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
+use lagrange_testing as fixtures;
 use lagrange_tests::{max_abs, rng, sampling, tolerance};
-use lagrange_validation::fixtures;
 
 fn poses<M: Mechanism>(model: &Model<M>, t: f64, q: &[f64]) -> Vec<f64> {
     let mut out = vec![Pose::<f64>::default(); model.bodies()];

@@ -5,7 +5,7 @@
 use lagrange::graph::{GROUND, GraphBody, GraphJoint, GraphMechanism, JointGraph};
 use lagrange::{Model, Output, State, simulate};
 use lagrange_maximal::{BuildError, Engine, Settings, build_graph, maps};
-use lagrange_validation::fixtures::{max_abs_diff, nan_max, rng};
+use lagrange_testing::{max_abs_diff, nan_max, rng};
 use lagrange_validation::graphs::{random_loop, random_tree, with_closing};
 use lagrange_validation::plan::reference_method;
 

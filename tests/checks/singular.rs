@@ -5,7 +5,7 @@
 use lagrange::graph::{ForceElement, GROUND, GraphMechanism, JointGraph, Point};
 use lagrange::{Method, Model, Output, State, simulate};
 use lagrange_scenes::{ParallelogramChain, SceneType};
-use lagrange_validation::fixtures::max_abs_diff;
+use lagrange_testing::max_abs_diff;
 
 /// How far every scene is moved.
 const SHIFT: f64 = 1e3;

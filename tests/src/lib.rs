@@ -1,10 +1,11 @@
 //! Support for the integration tests: sampling of scene parameters and states. The shared
-//! helpers (seeded generator, maxima, closeness, condition number) and the tolerances with their
-//! reasons are the validation library's, re-exported here.
+//! numeric helpers (seeded generator, maxima, closeness, condition number) are
+//! `lagrange-testing`'s and the tolerances with their reasons the validation library's, both
+//! re-exported here.
 
 pub mod sampling;
 
-pub use lagrange_validation::fixtures::{condition_number, max_abs, max_abs_diff, rng};
+pub use lagrange_testing::{condition_number, max_abs, max_abs_diff, rng};
 pub use lagrange_validation::tolerance;
 
 use lagrange_scenes::Scene;

@@ -133,7 +133,7 @@ pub(crate) fn assert_relative(got: f64, expected: f64, rtol: f64) {
 
 /// The seeded generator of every check (the validation library's), with `range(a, b)` uniform
 /// in `[a, b)`.
-pub(crate) use lagrange_validation::fixtures::{Rng, rng};
+pub(crate) use lagrange_testing::{Rng, rng};
 
 /// Uniform samples in `[a, b)`.
 pub(crate) trait Range {

@@ -227,7 +227,7 @@ mod tests {
     use crate::scene_of;
     use crate::testing::{assert_close, assert_exact_solution_consistent, max_abs};
     use lagrange::{Mechanism, Method, Model, Output, Tolerances, accelerations};
-    use lagrange_validation::fixtures::max_abs_diff;
+    use lagrange_testing::max_abs_diff;
     use std::f64::consts::PI;
 
     fn chain(windows: usize) -> ParallelogramChain {

@@ -174,7 +174,7 @@ mod tests {
     use crate::scene_of;
     use crate::testing::{ENGINE_VS_CLOSED_FORM, assert_close, assert_exact_solution_consistent, max_abs};
     use lagrange::{Mechanism, Method, Model, Output, Tolerances, accelerations};
-    use lagrange_validation::fixtures::max_abs_diff;
+    use lagrange_testing::max_abs_diff;
 
     fn scene(speed: f64) -> RedundantParallelogram {
         RedundantParallelogram::new(9.81, speed).unwrap()

@@ -3,8 +3,8 @@
 
 use crate::{Params, Scene, SceneType, scene_of};
 use lagrange::{Mechanism, Model, State};
-use lagrange_validation::fixtures::max_abs_diff;
-pub(crate) use lagrange_validation::fixtures::{assert_close, max_abs};
+use lagrange_testing::max_abs_diff;
+pub(crate) use lagrange_testing::{assert_close, max_abs};
 
 /// Engine `q̈` against the hand-coded closed form, relative to the largest `|q̈_i|`.
 ///

@@ -5,13 +5,14 @@
 //! [`REFERENCE_TOLERANCE`](crate::plan::REFERENCE_TOLERANCE).
 
 use crate::Error;
-use crate::fixtures::{max_abs, max_abs_diff, nan_max, relative_energy_error};
+use crate::measure::relative_energy_error;
 use crate::measure::{self, Sample};
 use crate::plan::reference_method;
 use crate::reference::{ReferenceKind, closed_form};
 use lagrange::{Output, State};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::{Params, Scene};
+use lagrange_testing::{max_abs, max_abs_diff, nan_max};
 
 /// The outcome of one comparison.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,10 +1,10 @@
 //! Random joint graphs for the checks: trees and single loops of bodies on revolute and
 //! prismatic joints with random masses, inertias, anchors and springs, each with a consistent
-//! initial state — reproducible from the caller's seeded generator ([`crate::fixtures::rng`]).
+//! initial state — reproducible from the caller's seeded generator (`lagrange_testing::rng`).
 
-use crate::fixtures::Rng;
 use lagrange::graph::{ForceElement, GROUND, GraphBody, GraphJoint, GraphMechanism, JointGraph, Point, Role};
 use lagrange::{Mechanism, State};
+use lagrange_testing::Rng;
 use rand::Rng as _;
 
 /// A random point of the square `[−h, h]²`.

@@ -5,15 +5,15 @@
 //! ([`reference`](mod@reference)), the measurement of one run ([`measure`], whose loop also serves [`compare`]), the sweeps of a scene
 //! ([`runs`]), the work-precision fronts and their comparison ([`pareto`]), the assembly of a
 //! scene's report ([`assemble`]) into the serialized [`schema`], and the stability suite with
-//! its theory ([`stability`]); random joint graphs ([`graphs`]); the helpers every check shares ([`fixtures`]) and the tolerances
-//! with their reasons ([`tolerance`]). Rendering (Markdown, SVG plots, the terminal summary) and file
+//! its theory ([`stability`]); random joint graphs ([`graphs`]) and the tolerances with their
+//! reasons ([`tolerance`]). The numeric helpers every check shares (seeded generator, NaN-aware
+//! maxima, closeness, condition number) are the leaf crate `lagrange-testing`'s. Rendering (Markdown, SVG plots, the terminal summary) and file
 //! writing stay in the command line.
 
 pub mod andrews;
 pub mod assemble;
 pub mod compare;
 mod error;
-pub mod fixtures;
 pub mod graphs;
 pub mod health;
 pub mod measure;

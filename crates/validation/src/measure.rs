@@ -6,14 +6,28 @@
 //! [`maximal`] and by [`crate::compare`].
 
 use crate::Error;
-use crate::fixtures::{energy_drift, nan_max, relative_energy_error};
 use crate::plan::Timing;
 use crate::reference::Reference;
 use lagrange::{Method, Output, State, System};
 use lagrange_maximal::{BodyState, Built, Engine, MaximalSimulation, Settings, build, maps};
 use lagrange_scenes::Params;
+use lagrange_testing::nan_max;
 use std::hint::black_box;
 use std::time::Instant;
+
+/// `|E − E₀| / |E₀|`, or `|E − E₀|` (J) when `E₀ = 0` exactly: a mechanism whose energy is zero
+/// at its start (a disc released at rest at the zero of its potential) has no scale of its own
+/// to divide by.
+pub fn energy_drift(energy: f64, initial: f64) -> f64 {
+    let drift = (energy - initial).abs();
+    if initial != 0.0 { drift / initial.abs() } else { drift }
+}
+
+/// `max_k` [`energy_drift`]`(E_k, E_0)` (NaN-aware).
+pub fn relative_energy_error(energy: &[f64]) -> f64 {
+    let e0 = energy[0];
+    energy.iter().fold(0.0, |m, &e| nan_max(m, energy_drift(e, e0)))
+}
 
 /// What one run measured.
 #[derive(Clone, Debug, PartialEq)]

@@ -2,10 +2,10 @@
 //! where it has one, otherwise a tight-tolerance reduced solution.
 
 use crate::Error;
-use crate::fixtures::max_abs_diff;
 use crate::plan::{REFERENCE_TOLERANCE, reference_method};
 use lagrange::{Output, State};
 use lagrange_scenes::{Params, Scene};
+use lagrange_testing::max_abs_diff;
 
 /// Where a reference comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -18,7 +18,7 @@
 use crate::args;
 use crate::error::CliError;
 use crate::output::{compact_all, outln, warn};
-use lagrange_validation::fixtures::{condition_number, max_abs, max_abs_diff};
+use lagrange_testing::{condition_number, max_abs, max_abs_diff};
 use lagrange_validation::tolerance;
 use serde::Serialize;
 

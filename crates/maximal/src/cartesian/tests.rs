@@ -27,7 +27,7 @@ use lagrange::num_dual::Dual2_64;
 use lagrange::{Dynamics, Error, Mechanism, Method, Output, Pose, State};
 use lagrange_scenes::SceneType;
 use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, SINGULAR_DEFAULT_MOTION, Scene, visit_mechanism};
-use lagrange_validation::fixtures::{assert_close, max_abs, max_abs_diff};
+use lagrange_testing::{assert_close, max_abs, max_abs_diff};
 
 /// `z̈` against the reduced body accelerations, relative to the largest (floored at 1 m/s²).
 const ACCELERATION_RTOL: f64 = 1e-10;

@@ -7,7 +7,7 @@ use super::build;
 use crate::{BuildError, Built, Engine, Settings, maps};
 use lagrange::{Error, Method, Output, State, Tolerances};
 use lagrange_scenes::{Params, SINGULAR_DEFAULT_MOTION, Scene};
-use lagrange_validation::fixtures::{assert_close, max_abs_diff, nan_max};
+use lagrange_testing::{assert_close, max_abs_diff, nan_max};
 
 /// Tolerances, each with the reason for its size.
 mod tolerance {

@@ -2,10 +2,10 @@
 //! returned as values, and invalid parameters or settings not rejected by name.
 
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, ErrorKind, Measurement, timed_simulate};
-use crate::fixtures::{Rng, rng};
 use lagrange::{Error, Method, Output, State, System, Tolerances};
 use lagrange_maximal::{BuildError, Engine, Settings};
 use lagrange_scenes::{Domain, Params, Scene};
+use lagrange_testing::{Rng, rng};
 use rand::Rng as _;
 use std::collections::BTreeSet;
 use std::panic::{AssertUnwindSafe, catch_unwind};

@@ -5,13 +5,13 @@ use super::{
     timed_simulate,
 };
 use crate::Error;
-use crate::fixtures::{condition_number, max_abs, max_abs_diff, phase};
 use crate::tolerance::conditioned;
 use lagrange::{Buffered, Method, Model, Output, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build, maps};
 use lagrange_scenes::Params;
 use lagrange_scenes::SceneType;
 use lagrange_scenes::chain::hanging_rods;
+use lagrange_testing::{condition_number, max_abs, max_abs_diff};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::time::Instant;
 
@@ -486,4 +486,9 @@ fn gauss_chain(case: &mut CaseBuilder) -> Result<(), Error> {
     };
     case.push(m.check(Check::AbsoluteToTheory, Some(0.125), Some(0.045)));
     Ok(())
+}
+
+/// `(q, q̇)` of a state, concatenated.
+fn phase(state: &State) -> Vec<f64> {
+    [state.q.as_slice(), state.qdot.as_slice()].concat()
 }

@@ -24,7 +24,7 @@ mod orbit;
 mod singular;
 mod stiff;
 
-use crate::fixtures::relative_energy_error;
+use crate::measure::relative_energy_error;
 use lagrange::integrate::Stats;
 use lagrange::{Method, Output, State, System, Trajectory};
 use lagrange_scenes::{Params, Scene};

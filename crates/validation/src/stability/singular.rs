@@ -5,11 +5,11 @@ use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, ErrorKind, Measurement, find, relative_energy_error, scene_params,
     timed_simulate,
 };
-use crate::fixtures::{condition_number, max_abs};
 use crate::tolerance::conditioned;
 use lagrange::{Error, Method, Output, State, Tolerances};
 use lagrange_scenes::SceneType;
 use lagrange_scenes::kepler::Kepler;
+use lagrange_testing::{condition_number, max_abs};
 
 pub const SINGULAR: CaseSpec = CaseSpec {
     id: "near_singular",

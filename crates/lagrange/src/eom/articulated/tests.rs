@@ -3,7 +3,7 @@
 use crate::test_support::{Range, Rng, RodChain, rng};
 use crate::tree::{Joint, Parent};
 use crate::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Tree, accelerations, mass_matrix};
-use lagrange_validation::fixtures::{condition_number, max_abs};
+use lagrange_testing::{condition_number, max_abs};
 use num_dual::Dual64;
 
 /// Condition number of the symmetric positive definite `M` (n × n, row-major).

@@ -6,7 +6,7 @@ use crate::dynamics::tests::WithoutJacobian;
 use crate::integrate::*;
 use crate::test_support::{Spring, cart};
 use crate::{Dynamics, Error, Model, State};
-use lagrange_validation::fixtures::max_abs_diff;
+use lagrange_testing::max_abs_diff;
 
 #[test]
 fn gauss4_is_fourth_order_on_the_cart_pendulum() {

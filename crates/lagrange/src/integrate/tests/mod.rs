@@ -6,7 +6,7 @@ mod newton;
 use super::*;
 use crate::test_support::{Charge, Spring, assert_relative, cart};
 use crate::{Dynamics, Model, RawModel, State};
-use lagrange_validation::fixtures::max_abs_diff;
+use lagrange_testing::max_abs_diff;
 
 pub(super) fn final_state<D: Dynamics>(system: &D, initial: &State, t_end: f64, method: Method) -> Vec<f64> {
     let traj = simulate(system, initial, t_end, method, &Output::Ends).unwrap();

@@ -1,9 +1,19 @@
-//! The helpers every check shares — the report's stability cases, the integration tests and the
-//! unit tests: one seeded random generator, the NaN-aware maxima of vectors, the closeness
-//! assertion, the condition number of a mass matrix, and `(q, q̇)` of a state. The tolerances
-//! with their reasons are in [`crate::tolerance`].
-
-use lagrange::State;
+//! # lagrange-testing — the numeric helpers every check shares
+//!
+//! The engine's and the scenes' unit tests, the maximal builds' tests, the integration tests
+//! and the validation library all measure with the same few functions: one seeded random
+//! generator, the NaN-aware maxima of vectors, a closeness assertion and the condition number
+//! of a symmetric matrix. They take plain `f64` slices and depend on no crate of the
+//! workspace, so any crate's unit tests can use them without building a second copy of the
+//! crate under test (or rapier).
+//!
+//! ```
+//! use lagrange_testing::{assert_close, max_abs, max_abs_diff};
+//!
+//! assert_eq!(max_abs(&[1.0, -3.0, 2.0]), 3.0);
+//! assert!(max_abs_diff(&[1.0, f64::NAN], &[1.0, 2.0]).is_nan());
+//! assert_close("sum", &[0.3], &[0.1 + 0.2], 1e-15);
+//! ```
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -61,25 +71,6 @@ pub fn condition_number(n: usize, m: &[f64]) -> f64 {
     high / low
 }
 
-/// `(q, q̇)` of a state, concatenated.
-pub fn phase(state: &State) -> Vec<f64> {
-    [state.q.as_slice(), state.qdot.as_slice()].concat()
-}
-
-/// `|E − E₀| / |E₀|`, or `|E − E₀|` (J) when `E₀ = 0` exactly: a mechanism whose energy is zero
-/// at its start (a disc released at rest at the zero of its potential) has no scale of its own
-/// to divide by.
-pub fn energy_drift(energy: f64, initial: f64) -> f64 {
-    let drift = (energy - initial).abs();
-    if initial != 0.0 { drift / initial.abs() } else { drift }
-}
-
-/// `max_k` [`energy_drift`]`(E_k, E_0)` (NaN-aware).
-pub fn relative_energy_error(energy: &[f64]) -> f64 {
-    let e0 = energy[0];
-    energy.iter().fold(0.0, |m, &e| nan_max(m, energy_drift(e, e0)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -91,7 +82,6 @@ mod tests {
         assert!(max_abs(&[1.0, f64::NAN, 2.0]).is_nan());
         assert!(max_abs_diff(&[f64::NAN, 2.0], &[1.0, 2.0]).is_nan());
         assert!(max_abs_diff(&[1.0, 2.0], &[1.0, f64::NAN]).is_nan());
-        assert!(relative_energy_error(&[1.0, f64::NAN, 1.0]).is_nan());
     }
 
     #[test]
