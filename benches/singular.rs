@@ -58,7 +58,7 @@ fn main() {
         group.bench_function("model_new", |b| {
             b.iter(|| black_box(Model::new(black_box(scene.clone())).map(|m| m.dof())))
         });
-        let method = Method::Adaptive { tol: Tolerances::uniform(TOLERANCE) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(TOLERANCE) };
         group.bench_function("one_simulated_second", |b| {
             b.iter(|| black_box(lagrange::simulate(&model, &start, 1.0, method, &Output::Ends).map(|r| r.len())))
         });

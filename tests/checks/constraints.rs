@@ -104,15 +104,15 @@ fn every_integrator_keeps_the_cartesian_pendulum_on_its_circle() {
         &reference,
         &State::new(0.0, [0.5], [0.0]),
         t_end,
-        Method::Adaptive { tol: Tolerances::uniform(1e-13) },
+        Method::Dopri5 { tol: Tolerances::uniform(1e-13) },
         &output,
     )
     .expect("runs");
     let methods = [
         (Method::Rk4 { dt: 1e-3 }, 1e-10),
-        (Method::Adaptive { tol: Tolerances::uniform(1e-10) }, 1e-8),
-        (Method::Implicit { tol: Tolerances::uniform(1e-10) }, 1e-8),
-        (Method::Gauss { dt: 1e-2 }, 1e-8),
+        (Method::Dopri5 { tol: Tolerances::uniform(1e-10) }, 1e-8),
+        (Method::Sdirk4 { tol: Tolerances::uniform(1e-10) }, 1e-8),
+        (Method::Gauss4 { dt: 1e-2 }, 1e-8),
         (Method::Variational { dt: 1e-3 }, 1e-5),
     ];
     let mut ws = model.workspace();
@@ -474,7 +474,7 @@ fn a_velocity_constraint_holds_and_does_no_work() {
         &model,
         &initial,
         3.0,
-        Method::Adaptive { tol: Tolerances::uniform(1e-12) },
+        Method::Dopri5 { tol: Tolerances::uniform(1e-12) },
         &Output::Every(0.1),
     )
     .expect("runs");

@@ -33,9 +33,9 @@ fn methods(plan: &Plan) -> Vec<Method> {
             })
         })
         .collect();
-    methods.push(MethodKind::Implicit.default_method());
-    methods.push(MethodKind::Gauss.default_method());
-    methods.push(Method::Implicit { tol: Tolerances::uniform(1e-4) });
+    methods.push(MethodKind::Sdirk4.default_method());
+    methods.push(MethodKind::Gauss4.default_method());
+    methods.push(Method::Sdirk4 { tol: Tolerances::uniform(1e-4) });
     methods
 }
 

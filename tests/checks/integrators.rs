@@ -24,7 +24,7 @@ fn assert_order(ids: &[&str], steps: [f64; 3], method: fn(f64) -> Method, ratios
     for id in ids {
         let s = scene(id);
         let initial = s.default_state(&s.default_params()).expect("valid");
-        let reference = final_state(id, &initial, 3.0, Method::Adaptive { tol: Tolerances::uniform(1e-14) });
+        let reference = final_state(id, &initial, 3.0, Method::Dopri5 { tol: Tolerances::uniform(1e-14) });
         let errors: Vec<f64> =
             steps.iter().map(|&dt| max_abs_diff(&final_state(id, &initial, 3.0, method(dt)), &reference)).collect();
         let observed: Vec<f64> = errors.windows(2).map(|w| w[0] / w[1]).collect();
@@ -57,7 +57,7 @@ fn adaptive_error_tracks_its_tolerance() {
     let tolerances = [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13];
     let mut ratios = Vec::new();
     for tol in tolerances {
-        let method = Method::Adaptive { tol: Tolerances::uniform(tol) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(tol) };
         let trajectory = system.simulate(&initial, 30.0, method, &Output::Times(times.clone())).expect("integrates");
         let mut error: f64 = 0.0;
         for k in 0..trajectory.len() {
@@ -125,7 +125,7 @@ fn kepler_orbit_closes_after_its_period() {
     // after exactly one period it is back at the same point with θ advanced by 2π.
     let system = s.build(&params).expect("valid");
     let trajectory = system
-        .simulate(&initial, period, Method::Adaptive { tol: Tolerances::uniform(1e-13) }, &Output::Ends)
+        .simulate(&initial, period, Method::Dopri5 { tol: Tolerances::uniform(1e-13) }, &Output::Ends)
         .expect("integrates");
     let last = trajectory.last_state().expect("recorded");
     let expected = [initial.q[0], initial.q[1] + 2.0 * PI, initial.qdot[0], initial.qdot[1]];
@@ -148,7 +148,7 @@ fn cart_pendulum_oscillates_at_the_small_oscillation_frequency() {
     let system = s.build(&params).expect("valid");
     let dt = period / 2000.0;
     let trajectory = system
-        .simulate(&initial, 10.5 * period, Method::Adaptive { tol: Tolerances::uniform(1e-13) }, &Output::Every(dt))
+        .simulate(&initial, 10.5 * period, Method::Dopri5 { tol: Tolerances::uniform(1e-13) }, &Output::Every(dt))
         .expect("integrates");
     // Downward zero crossings of θ, located by linear interpolation between samples (θ is
     // linear there to O(dt³)).

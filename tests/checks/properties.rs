@@ -117,10 +117,10 @@ fn simulate_every_method(what: &str, system: &dyn System, state: &State, rng: &m
     let horizon = state.t + 20.0 * dt;
     let good = [
         Method::Rk4 { dt },
-        Method::Adaptive { tol: Tolerances::uniform(tol) },
+        Method::Dopri5 { tol: Tolerances::uniform(tol) },
         Method::Variational { dt },
-        Method::Implicit { tol: Tolerances::uniform(tol) },
-        Method::Gauss { dt },
+        Method::Sdirk4 { tol: Tolerances::uniform(tol) },
+        Method::Gauss4 { dt },
     ];
     for method in good {
         let what = format!("{what}: {method:?}");
@@ -132,7 +132,7 @@ fn simulate_every_method(what: &str, system: &dyn System, state: &State, rng: &m
         }
     }
     for bad in [0.0, -dt, f64::NAN, f64::INFINITY] {
-        for method in [Method::Rk4 { dt: bad }, Method::Variational { dt: bad }, Method::Gauss { dt: bad }] {
+        for method in [Method::Rk4 { dt: bad }, Method::Variational { dt: bad }, Method::Gauss4 { dt: bad }] {
             let result = no_panic(what, || system.simulate(state, horizon, method, &Output::Ends));
             assert!(
                 matches!(result, Err(Error::InvalidSetting { what: "step", .. })),
@@ -142,7 +142,7 @@ fn simulate_every_method(what: &str, system: &dyn System, state: &State, rng: &m
     }
     for bad in [0.0, -tol, f64::NAN, f64::INFINITY, 1e-18] {
         for method in
-            [Method::Adaptive { tol: Tolerances::uniform(bad) }, Method::Implicit { tol: Tolerances::uniform(bad) }]
+            [Method::Dopri5 { tol: Tolerances::uniform(bad) }, Method::Sdirk4 { tol: Tolerances::uniform(bad) }]
         {
             let result = no_panic(what, || system.simulate(state, horizon, method, &Output::Ends));
             assert!(

@@ -28,10 +28,10 @@ fn every_method() -> [Method; 5] {
     let (dt, tol) = (0.3, Tolerances::uniform(1e-8));
     [
         Method::Rk4 { dt },
-        Method::Adaptive { tol },
+        Method::Dopri5 { tol },
         Method::Variational { dt },
-        Method::Implicit { tol },
-        Method::Gauss { dt },
+        Method::Sdirk4 { tol },
+        Method::Gauss4 { dt },
     ]
 }
 
@@ -55,7 +55,7 @@ fn every_integrator_stops_at_the_first_step_outside_the_region() {
         assert!(t >= 1.0 && value <= 0.0 && (value - (1.0 - t)).abs() <= 1e-9, "{method:?}: t = {t}, r = {value}");
         assert!(inside < 1.0, "{method:?}: inside until {inside}");
         match method {
-            Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
+            Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => {
                 assert!((t - 4.0 * dt).abs() <= 1e-12 && (inside - 3.0 * dt).abs() <= 1e-12, "{method:?}: t = {t}")
             }
             _ => assert!(t < 3.0, "{method:?}: t = {t}"),
@@ -164,7 +164,7 @@ fn kepler_stepped_through_r_0_by_rk4_ends_in_inadmissible() {
 /// and the error brackets the exact crossing time.
 #[test]
 fn scenes_leave_their_regions_with_a_typed_error() {
-    let adaptive = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
+    let adaptive = Method::Dopri5 { tol: Tolerances::uniform(1e-10) };
     // Atwood: x = 6 − 2t + ẍ t²/2 with ẍ = 0.1 g/2.5 = 0.3924 m/s² reaches l − πa = 8.4292 m at
     // t = (2 + √(4 + 2ẍ · 2.4292))/ẍ = 11.2903 s.
     let run = scene_run("atwood", &[], None, adaptive, 100.0);
@@ -218,7 +218,7 @@ fn default_states_stay_inside_over_the_full_horizon() {
         let params = scene.default_params();
         let initial = scene.default_state(&params).expect("valid");
         let system = scene.build(&params).expect("valid");
-        let method = Method::Adaptive { tol: Tolerances::uniform(1e-8) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(1e-8) };
         let run = system.simulate(&initial, horizon, method, &Output::Every(horizon / 1000.0));
         assert!(run.is_ok(), "{}: {:?}", scene.id(), run.err());
     }
@@ -236,7 +236,7 @@ fn tolerances_outside_ten_epsilon_to_one_are_refused() {
     let run = |method| system.simulate(&initial, 1.0, method, &Output::Ends);
     for tol in [10.0, 1.0, 2e-15, 1e-20] {
         for method in
-            [Method::Adaptive { tol: Tolerances::uniform(tol) }, Method::Implicit { tol: Tolerances::uniform(tol) }]
+            [Method::Dopri5 { tol: Tolerances::uniform(tol) }, Method::Sdirk4 { tol: Tolerances::uniform(tol) }]
         {
             match run(method) {
                 Err(Error::InvalidSetting { what: "tolerance", value, why }) => {
@@ -249,7 +249,7 @@ fn tolerances_outside_ten_epsilon_to_one_are_refused() {
     }
     for tol in [0.5, 1e-14] {
         for method in
-            [Method::Adaptive { tol: Tolerances::uniform(tol) }, Method::Implicit { tol: Tolerances::uniform(tol) }]
+            [Method::Dopri5 { tol: Tolerances::uniform(tol) }, Method::Sdirk4 { tol: Tolerances::uniform(tol) }]
         {
             assert!(run(method).is_ok(), "{method:?} refused");
         }

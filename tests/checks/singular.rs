@@ -121,7 +121,7 @@ fn thirty_parallelogram_windows_project_at_the_round_off_of_their_positions() {
     for x0 in [0.0, SHIFT] {
         let model = Model::new(GraphMechanism::new(parallelogram_chain(30, x0)).unwrap()).unwrap();
         let start = hanging(&model, 3.0);
-        let method = Method::Adaptive { tol: lagrange::Tolerances::uniform(1e-8) };
+        let method = Method::Dopri5 { tol: lagrange::Tolerances::uniform(1e-8) };
         let run = simulate(&model, &start, 2.0, method, &Output::Every(0.1)).unwrap();
         let spread = crank_spread(&model, &run);
         println!("x0 = {x0}: crank spread {spread:.1e}");
@@ -157,11 +157,11 @@ fn the_parallelogram_chain_keeps_its_branch_through_fifty_flat_positions_at_ever
         assert!(model.uses_tree_path(), "the chain as written is a tree with loops");
         let mut methods: Vec<Method> = vec![Method::Rk4 { dt: 1e-2 }, Method::Rk4 { dt: 2.5e-3 }];
         for tol in tolerances {
-            methods.push(Method::Adaptive { tol: Tolerances::uniform(tol) });
+            methods.push(Method::Dopri5 { tol: Tolerances::uniform(tol) });
             methods.push(Method::Dop853 { tol: Tolerances::uniform(tol) });
         }
         for tol in [1e-4, 1e-6, 1e-8] {
-            methods.push(Method::Implicit { tol: Tolerances::uniform(tol) });
+            methods.push(Method::Sdirk4 { tol: Tolerances::uniform(tol) });
         }
         for method in methods {
             let run = simulate(&model, &start, 20.0, method, &Output::Every(0.05))

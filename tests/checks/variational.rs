@@ -28,7 +28,7 @@ fn driven_pendulum_runs_at_dt_0_0125_with_second_order_energy_error() {
     let system = s.build(&params).expect("valid");
     let output = Output::Every(0.05);
     let reference = system
-        .simulate(&initial, 10.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) }, &output)
+        .simulate(&initial, 10.0, Method::Dopri5 { tol: Tolerances::uniform(1e-13) }, &output)
         .expect("the reference integrates");
     let errors: Vec<f64> = [0.025, 0.0125, 0.00625]
         .iter()
@@ -69,12 +69,7 @@ fn every_scene_runs_to_the_end_over_a_sweep_of_steps() {
         let system = s.build(&params).expect("valid");
         let span = s.horizon().map_or(5.0, |h| h);
         let reference = system
-            .simulate(
-                &initial,
-                span,
-                Method::Adaptive { tol: Tolerances::uniform(1e-10) },
-                &Output::Every(span / 500.0),
-            )
+            .simulate(&initial, span, Method::Dopri5 { tol: Tolerances::uniform(1e-10) }, &Output::Every(span / 500.0))
             .expect("the reference integrates");
         let angles: Vec<usize> =
             (0..initial.dof()).filter(|&i| system.coordinates()[i].kind == lagrange::CoordinateKind::Angle).collect();

@@ -185,7 +185,7 @@ fn cartesian_and_angle_pendulums_are_second_order_and_on_the_circle() {
         &angle,
         &angle_initial,
         t_end,
-        Method::Adaptive { tol: Tolerances::uniform(1e-13) },
+        Method::Dopri5 { tol: Tolerances::uniform(1e-13) },
         &Output::Every(0.1),
     )
     .expect("runs");
@@ -308,7 +308,7 @@ fn sleigh_by_discrete_lagrange_dalembert_is_second_order() {
         &model,
         &initial,
         t_end,
-        Method::Adaptive { tol: Tolerances::uniform(1e-13) },
+        Method::Dopri5 { tol: Tolerances::uniform(1e-13) },
         &Output::Every(0.1),
     )
     .expect("runs");
@@ -403,7 +403,7 @@ fn redundant_constraints_run_and_contradictory_ones_are_named() {
         &model,
         &initial,
         t_end,
-        Method::Adaptive { tol: Tolerances::uniform(1e-13) },
+        Method::Dopri5 { tol: Tolerances::uniform(1e-13) },
         &Output::Every(0.1),
     )
     .expect("runs");

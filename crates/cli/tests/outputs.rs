@@ -317,7 +317,7 @@ fn a_run_that_drifts_from_what_its_scene_declares_exits_1() {
     for (args, quantity, flag) in [
         (&["simulate", "four_bar", "--param", "tau=1", "--t-end", "8.98", "--tol", "1e-3"][..], "E − τ θ2", "--tol"),
         (&["simulate", "andrews_squeezer", "--t-end", "0.03", "--integrator", "rk4"], "E − mom β", "--dt"),
-        (&["simulate", "andrews_squeezer", "--t-end", "0.03", "--integrator", "gauss"], "E − mom β", "--dt"),
+        (&["simulate", "andrews_squeezer", "--t-end", "0.03", "--integrator", "gauss4"], "E − mom β", "--dt"),
         (&["simulate", "andrews_squeezer", "--t-end", "0.03", "--integrator", "variational"], "E − mom β", "--dt"),
         (&["simulate", "four_bar", "--integrator", "rk4", "--dt", "0.05", "--t-end", "10"], "E drifted", "--dt"),
         (&["simulate", "harmonic_oscillator", "--t-end", "10", "--tol", "1e-1"], "E drifted", "--tol"),
@@ -357,11 +357,11 @@ fn a_run_that_drifts_from_what_its_scene_declares_exits_1() {
         &["simulate", "harmonic_oscillator", "--t-end", "10", "--tol", "1e-6"],
         &["simulate", "kepler", "--t-end", "10", "--integrator", "rk4"],
         &["simulate", "double_pendulum", "--t-end", "10", "--integrator", "variational", "--dt", "0.01"],
-        &["simulate", "double_pendulum", "--t-end", "10", "--integrator", "gauss", "--dt", "0.1"],
+        &["simulate", "double_pendulum", "--t-end", "10", "--integrator", "gauss4", "--dt", "0.1"],
         &["simulate", "four_bar", "--param", "tau=1", "--t-end", "8.98"],
         &["simulate", "andrews_squeezer", "--t-end", "0.03"],
         &["simulate", "andrews_squeezer", "--t-end", "0.03", "--integrator", "rk4", "--dt", "1e-4"],
-        &["simulate", "chaplygin_sleigh", "--t-end", "10", "--integrator", "implicit"],
+        &["simulate", "chaplygin_sleigh", "--t-end", "10", "--integrator", "sdirk4"],
     ] {
         let output = lagrange(args);
         assert!(output.status.success(), "{args:?}: {}", stderr(&output));

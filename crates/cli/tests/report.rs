@@ -32,7 +32,7 @@ fn assert_one_line_error(args: &[&str], needle: &str) {
 
 const METHODS: [&str; 9] = [
     "rk4",
-    "adaptive",
+    "dopri5",
     "dop853",
     "variational",
     "cartesian",
@@ -226,7 +226,7 @@ fn quick_report_covers_the_requested_scenes_and_methods() {
         assert!(pair[1] < pair[0] / 8.0, "RK4 errors do not fall at order 4: {rk4:?}");
     }
     assert!(rk4.last().unwrap() < &(rk4[0] * 1e-4), "{rk4:?}");
-    let adaptive = max_errors(cart, "adaptive");
+    let adaptive = max_errors(cart, "dopri5");
     for pair in adaptive.windows(2).filter(|p| p[0] > 1e-10) {
         assert!(pair[1] < pair[0], "adaptive errors do not fall with the tolerance: {adaptive:?}");
     }
@@ -375,8 +375,8 @@ fn quick_report_measures_stability_limits_against_theory() {
     }
     // The stiff damped oscillator: the explicit adaptive method is pinned to its stability
     // boundary and detects stiffness; the L-stable method takes orders of magnitude fewer steps.
-    let explicit = rows(stability, "stiff_damped", "adaptive", "mean step");
-    let implicit = rows(stability, "stiff_damped", "implicit", "mean step");
+    let explicit = rows(stability, "stiff_damped", "dopri5", "mean step");
+    let implicit = rows(stability, "stiff_damped", "sdirk4", "mean step");
     assert_eq!((explicit.len(), implicit.len()), (3, 3));
     for (e, i) in explicit.iter().zip(&implicit) {
         assert!(e["note"].as_str().unwrap().contains("stiffness detected"), "{e}");

@@ -204,7 +204,7 @@ pub enum Error {
     /// method takes steps the explicit one cannot.
     #[error(
         "the problem looks stiff at t = {} (the explicit step fell to h = {}): use the implicit integrator \
-         (Method::Implicit / --integrator implicit)",
+         (Method::Sdirk4 / --integrator sdirk4)",
         compact(.t),
         compact(.h)
     )]

@@ -601,7 +601,7 @@ mod tests {
     fn adaptive_run_reaches_the_published_solution_at_0_03() {
         let s = AndrewsSqueezer::standard();
         let model = Model::new(s.clone()).unwrap();
-        let method = Method::Adaptive { tol: Tolerances::uniform(1e-13) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(1e-13) };
         let run = lagrange::simulate(&model, &s.default_state(), 0.03, method, &Output::Ends).unwrap();
         let last = run.len() - 1;
         assert_eq!(run.t[last], 0.03);

@@ -338,7 +338,7 @@ mod tests {
         let sleigh = ChaplyginSleigh::from_params(&params).unwrap();
         let initial = sleigh.default_state();
         let mut system = scene.build(&params).unwrap();
-        let method = Method::Adaptive { tol: Tolerances::uniform(1e-13) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(1e-13) };
         let run = system.simulate(&initial, 6.0, method, &Output::Every(0.1)).unwrap();
         let energy = |v: &[f64]| 0.5 * (v[0] * v[0] + v[1] * v[1] + 0.1 * v[2] * v[2]);
         let e0 = energy(&initial.qdot);

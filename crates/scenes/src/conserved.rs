@@ -152,7 +152,7 @@ mod tests {
             (0..n).map(|j| conserved.iter().any(|c| c.invariant == Invariant::CyclicMomentum(j))).collect();
         assert_eq!(cyclic, system.cyclic_coordinates(), "{id}: declared momenta vs the engine's cyclic coordinates");
 
-        let method = Method::Adaptive { tol: Tolerances::uniform(TOL) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(TOL) };
         let run = system.simulate(&initial, 3.0, method, &Output::Every(0.05)).unwrap();
         let samples: Vec<_> = (0..run.len()).map(|k| (run.t[k], run.q(k), run.qdot(k))).collect();
         let largest: Vec<f64> = (0..2 * n)

@@ -178,7 +178,7 @@ mod tests {
     fn trajectory_matches_the_angle_pendulum() {
         let pendulum = NonminimalPendulum::new(1.0, 1.0, 9.81).unwrap();
         let initial = pendulum.default_state();
-        let method = Method::Adaptive { tol: Tolerances::uniform(1e-12) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(1e-12) };
         let output = Output::Every(0.1);
         let mut system = Box::new(lagrange::Buffered::new(Model::new(pendulum.clone()).unwrap()));
         let run = system.simulate(&initial, 5.0, method, &output).unwrap();

@@ -171,7 +171,7 @@ mod tests {
         let params = scene.default_params();
         let initial = scene.default_state(&params).unwrap();
         let mut system = scene.build(&params).unwrap();
-        let method = Method::Adaptive { tol: Tolerances::uniform(1e-12) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(1e-12) };
         let run = system.simulate(&initial, 2.0, method, &Output::Every(0.1)).unwrap();
         for k in 0..run.len() {
             let exact = scene.exact_solution(&params, &initial, run.t[k]).unwrap().unwrap();

@@ -118,19 +118,17 @@ pub fn expected_error(method: Method, steps: usize, rate: Option<f64>) -> f64 {
     let fixed = |power: i32, accumulates: bool| {
         rate.map_or(LARGEST_RELATIVE_DRIFT, |w| {
             let dt = match method {
-                Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => dt,
-                Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. } => 0.0,
+                Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => dt,
+                Method::Dopri5 { .. } | Method::Dop853 { .. } | Method::Sdirk4 { .. } => 0.0,
             };
             10.0 * if accumulates { n } else { 1.0 } * (w * dt).powi(power) + round_off
         })
     };
     let e = match method {
-        Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
-            10.0 * n * tol.rtol.max(tol.atol)
-        }
+        Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } => 10.0 * n * tol.rtol.max(tol.atol),
         Method::Rk4 { .. } => fixed(5, true),
         Method::Variational { .. } => fixed(2, false),
-        Method::Gauss { .. } => fixed(4, false),
+        Method::Gauss4 { .. } => fixed(4, false),
     };
     if e.is_finite() { e.min(LARGEST_RELATIVE_DRIFT) } else { LARGEST_RELATIVE_DRIFT }
 }

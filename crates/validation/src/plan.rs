@@ -76,7 +76,7 @@ impl Family {
     /// Every family, in report order.
     pub const ALL: [Family; 9] = [
         Family::Reduced(MethodKind::Rk4),
-        Family::Reduced(MethodKind::Adaptive),
+        Family::Reduced(MethodKind::Dopri5),
         Family::Reduced(MethodKind::Dop853),
         Family::Reduced(MethodKind::Variational),
         Family::Maximal(Engine::Cartesian),
@@ -292,14 +292,14 @@ impl Plan {
             Family::Reduced(MethodKind::Variational) => {
                 return self.variational_steps.iter().map(|&dt| Setting::Step { dt }).collect();
             }
-            Family::Reduced(MethodKind::Adaptive) => {
+            Family::Reduced(MethodKind::Dopri5) => {
                 return self.tolerances.iter().map(|&tol| Setting::Tolerance { tol }).collect();
             }
             Family::Reduced(MethodKind::Dop853) => {
                 return self.high_order_tolerances.iter().map(|&tol| Setting::Tolerance { tol }).collect();
             }
             // Not swept by the report.
-            Family::Reduced(MethodKind::Implicit | MethodKind::Gauss) => return Vec::new(),
+            Family::Reduced(MethodKind::Sdirk4 | MethodKind::Gauss4) => return Vec::new(),
             Family::Maximal(Engine::Cartesian) => {
                 return self.cartesian_tolerances.iter().map(|&tol| Setting::Tolerance { tol }).collect();
             }

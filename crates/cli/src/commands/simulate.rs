@@ -36,7 +36,8 @@ impl clap::ValueEnum for Integrator {
     }
 
     fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        Some(clap::builder::PossibleValue::new(self.0.name()).help(self.0.summary()))
+        let former = MethodKind::FORMER_NAMES.iter().filter(|(_, kind)| *kind == self.0).map(|(name, _)| *name);
+        Some(clap::builder::PossibleValue::new(self.0.name()).help(self.0.summary()).aliases(former))
     }
 }
 
@@ -67,13 +68,13 @@ pub struct Args {
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     start: Option<f64>,
     /// Integrator.
-    #[arg(long, value_enum, default_value_t = Integrator(MethodKind::Adaptive))]
+    #[arg(long, value_enum, default_value_t = Integrator(MethodKind::Dopri5))]
     integrator: Integrator,
-    /// Step of the fixed-step integrators: rk4, variational, gauss (default 1e-3).
+    /// Step of the fixed-step integrators: rk4, variational, gauss4 (default 1e-3).
     #[arg(long, allow_negative_numbers = true)]
     dt: Option<f64>,
-    /// Tolerance (relative and absolute) of the error-controlled integrators: adaptive, dop853,
-    /// implicit (default 1e-10 for adaptive and dop853, 1e-8 for implicit).
+    /// Tolerance (relative and absolute) of the error-controlled integrators: dopri5, dop853,
+    /// sdirk4 (default 1e-10 for dopri5, 1e-12 for dop853, 1e-8 for sdirk4).
     #[arg(long, allow_negative_numbers = true)]
     tol: Option<f64>,
     /// Output interval (default: 200 samples; a multiple of --dt for fixed steps).
@@ -103,23 +104,23 @@ pub struct Args {
 fn method_and_every(args: &Args, span: f64) -> Result<(Method, f64), CliError> {
     let Integrator(kind) = args.integrator;
     let method = match kind.default_method() {
-        default @ (Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. }) => {
+        default @ (Method::Dopri5 { .. } | Method::Dop853 { .. } | Method::Sdirk4 { .. }) => {
             if args.dt.is_some() {
                 return Err(CliError::NotForIntegrator {
                     flag: "--dt",
                     integrator: kind.name(),
-                    applies_to: "the fixed-step integrators (rk4, variational, gauss)",
+                    applies_to: "the fixed-step integrators (rk4, variational, gauss4)",
                     instead: "--tol",
                 });
             }
             args.tol.map_or(default, |tol| kind.with(tol))
         }
-        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
+        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => {
             if args.tol.is_some() {
                 return Err(CliError::NotForIntegrator {
                     flag: "--tol",
                     integrator: kind.name(),
-                    applies_to: "the error-controlled integrators (adaptive, dop853, implicit)",
+                    applies_to: "the error-controlled integrators (dopri5, dop853, sdirk4)",
                     instead: "--dt",
                 });
             }
@@ -128,10 +129,10 @@ fn method_and_every(args: &Args, span: f64) -> Result<(Method, f64), CliError> {
     };
     let every = match (args.every, method) {
         (Some(every), _) => every,
-        (None, Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt }) => {
+        (None, Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt }) => {
             dt * (span / 200.0 / dt).round().max(1.0)
         }
-        (None, Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. }) => span / 200.0,
+        (None, Method::Dopri5 { .. } | Method::Dop853 { .. } | Method::Sdirk4 { .. }) => span / 200.0,
     };
     if !(every > 0.0 && every.is_finite()) {
         return Err(CliError::NotPositive { flag: "--every", value: every });
@@ -142,10 +143,10 @@ fn method_and_every(args: &Args, span: f64) -> Result<(Method, f64), CliError> {
 /// `rk4 at dt = 1e-3`, `adaptive at tol = 1e-10`.
 fn describe(method: Method) -> String {
     match method {
-        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
+        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => {
             format!("{} at dt = {dt:e}", method.name())
         }
-        Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
+        Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } => {
             format!("{} at tol = {:e}", method.name(), tol.rtol)
         }
     }
@@ -366,8 +367,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let violation_columns = if system.constraint_counts() == (0, 0) { 0 } else { 2 };
     long_work::check_output(rows, 2 * coordinates.len() + 2 + violation_columns, args.force, "--every")?;
     let (first, flag) = match method {
-        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => (dt, "--t-end or --dt"),
-        Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. } => (0.0, "--t-end or --tol"),
+        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => (dt, "--t-end or --dt"),
+        Method::Dopri5 { .. } | Method::Dop853 { .. } | Method::Sdirk4 { .. } => (0.0, "--t-end or --tol"),
     };
     if !args.force && args.max_seconds.is_none() {
         // The reduced solver's steps are short: its calibration runs to its end.
@@ -415,7 +416,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         flag: accuracy_flag(method),
     });
     if let (Some(t), None) = (trajectory.stats.stiffness, &unhealthy) {
-        crate::output::warn(&format!("warning: the problem looks stiff from t = {t}; try --integrator implicit"));
+        crate::output::warn(&format!("warning: the problem looks stiff from t = {t}; try --integrator sdirk4"));
     }
     write_output(args, scene.id(), &coordinates, &trajectory)?;
     match unhealthy {

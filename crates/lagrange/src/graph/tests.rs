@@ -264,7 +264,7 @@ fn a_rigid_loop_has_no_degree_of_freedom() {
         &model,
         &State::new(0.0, [0.0], [0.0]),
         1.0,
-        crate::Method::Adaptive { tol: crate::Tolerances::uniform(1e-10) },
+        crate::Method::Dopri5 { tol: crate::Tolerances::uniform(1e-10) },
         &crate::Output::Ends,
     )
     .unwrap();

@@ -162,7 +162,7 @@ const MAX_STEPS: usize = 500_000_000;
 /// step or of steps after its stiffness test fired; any error of the equations of motion or
 /// of the integrator ([`Error::NewtonFailed`], [`Error::StepSizeUnderflow`], …).
 ///
-/// [`Method::Implicit`] lands its steps on the output times; [`Method::Adaptive`] interpolates
+/// [`Method::Sdirk4`] lands its steps on the output times; [`Method::Dopri5`] interpolates
 /// (dense output) and records in [`Stats::stiffness`] when its stiffness test fired.
 pub fn simulate<D: Dynamics>(
     system: &D,
@@ -193,13 +193,13 @@ pub fn simulate_into<D: Dynamics, S: Sink + ?Sized>(
     let n = system.dof();
     match method {
         Method::Rk4 { dt } => run(system, &mut Rk4::new(n).with_step(dt)?, initial, t_end, output, sink),
-        Method::Adaptive { tol } => run(system, &mut Dopri5::new(n, tol)?, initial, t_end, output, sink),
+        Method::Dopri5 { tol } => run(system, &mut Dopri5::new(n, tol)?, initial, t_end, output, sink),
         Method::Dop853 { tol } => run(system, &mut Dop853::new(n, tol)?, initial, t_end, output, sink),
         Method::Variational { dt } => {
             run(system, &mut Variational::new(system).with_step(dt)?, initial, t_end, output, sink)
         }
-        Method::Implicit { tol } => run(system, &mut Sdirk4::new(n, tol)?, initial, t_end, output, sink),
-        Method::Gauss { dt } => run(system, &mut Gauss4::new(n).with_step(dt)?, initial, t_end, output, sink),
+        Method::Sdirk4 { tol } => run(system, &mut Sdirk4::new(n, tol)?, initial, t_end, output, sink),
+        Method::Gauss4 { dt } => run(system, &mut Gauss4::new(n).with_step(dt)?, initial, t_end, output, sink),
     }
 }
 

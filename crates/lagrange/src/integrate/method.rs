@@ -8,9 +8,10 @@ use std::str::FromStr;
 /// Which integrator, with its step or tolerances.
 ///
 /// Its text form is the kind's name with the setting after a colon: `rk4:0.001` (the step),
-/// `adaptive:1e-10` (one tolerance, relative and absolute) or `adaptive:1e-10,1e-12` (relative,
-/// absolute). [`FromStr`] reads it back exactly, and also reads a name alone with the
-/// [default setting](MethodKind::default_method).
+/// `dopri5:1e-10` (one tolerance, relative and absolute) or `dopri5:1e-10,1e-12` (relative,
+/// absolute). [`FromStr`] reads it back exactly, also reads a name alone with the
+/// [default setting](MethodKind::default_method), and reads the former names
+/// ([`MethodKind::FORMER_NAMES`]) too.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
     /// Classical RK4 with fixed step `dt`.
@@ -19,7 +20,7 @@ pub enum Method {
         dt: f64,
     },
     /// Dormand–Prince 5(4) with error control.
-    Adaptive {
+    Dopri5 {
         /// Tolerances.
         tol: Tolerances,
     },
@@ -35,12 +36,12 @@ pub enum Method {
         dt: f64,
     },
     /// L-stable SDIRK4 ([`Sdirk4`](super::Sdirk4)) with error control, for stiff problems.
-    Implicit {
+    Sdirk4 {
         /// Tolerances.
         tol: Tolerances,
     },
     /// Gauss–Legendre of order 4 ([`Gauss4`](super::Gauss4)), symplectic, with fixed step `dt`.
-    Gauss {
+    Gauss4 {
         /// Step.
         dt: f64,
     },
@@ -51,59 +52,64 @@ pub enum Method {
 pub enum MethodKind {
     /// [`Method::Rk4`].
     Rk4,
-    /// [`Method::Adaptive`].
-    Adaptive,
+    /// [`Method::Dopri5`].
+    Dopri5,
     /// [`Method::Dop853`].
     Dop853,
     /// [`Method::Variational`].
     Variational,
-    /// [`Method::Implicit`].
-    Implicit,
-    /// [`Method::Gauss`].
-    Gauss,
+    /// [`Method::Sdirk4`].
+    Sdirk4,
+    /// [`Method::Gauss4`].
+    Gauss4,
 }
 
 impl MethodKind {
     /// Every kind, in the order the CLI lists them.
     pub const ALL: [MethodKind; 6] = [
         MethodKind::Rk4,
-        MethodKind::Adaptive,
+        MethodKind::Dopri5,
         MethodKind::Dop853,
         MethodKind::Variational,
-        MethodKind::Implicit,
-        MethodKind::Gauss,
+        MethodKind::Sdirk4,
+        MethodKind::Gauss4,
     ];
 
-    /// Short name, as the CLI spells it and the reports print it: `rk4`, `adaptive`, `dop853`,
-    /// `variational`, `implicit`, `gauss`.
+    /// Short name, as the CLI spells it and the reports print it: the algorithm's, `rk4`,
+    /// `dopri5`, `dop853`, `variational`, `sdirk4`, `gauss4`.
     pub const fn name(self) -> &'static str {
         match self {
             MethodKind::Rk4 => "rk4",
-            MethodKind::Adaptive => "adaptive",
+            MethodKind::Dopri5 => "dopri5",
             MethodKind::Dop853 => "dop853",
             MethodKind::Variational => "variational",
-            MethodKind::Implicit => "implicit",
-            MethodKind::Gauss => "gauss",
+            MethodKind::Sdirk4 => "sdirk4",
+            MethodKind::Gauss4 => "gauss4",
         }
     }
+
+    /// The names three methods had before they were named by their algorithm (`adaptive`,
+    /// `implicit`, `gauss`), which [`FromStr`] and the CLI still read.
+    pub const FORMER_NAMES: [(&'static str, MethodKind); 3] =
+        [("adaptive", MethodKind::Dopri5), ("implicit", MethodKind::Sdirk4), ("gauss", MethodKind::Gauss4)];
 
     /// One line on the method and its setting (help texts).
     pub const fn summary(self) -> &'static str {
         match self {
             MethodKind::Rk4 => "Classical RK4, fixed step `--dt`",
-            MethodKind::Adaptive => "Dormand–Prince 5(4) with error control `--tol` and dense output",
+            MethodKind::Dopri5 => "Dormand–Prince 5(4) with error control `--tol` and dense output",
             MethodKind::Dop853 => {
                 "Dormand–Prince 8(5,3) (DOP853) with error control `--tol` and dense output, for tolerances of 1e-10 and below"
             }
             MethodKind::Variational => "Variational midpoint (discrete Euler–Lagrange), fixed step `--dt`",
-            MethodKind::Implicit => "L-stable implicit SDIRK4 with error control `--tol`, for stiff problems",
-            MethodKind::Gauss => "Gauss–Legendre of order 4 (implicit, symplectic), fixed step `--dt`",
+            MethodKind::Sdirk4 => "L-stable implicit SDIRK4 with error control `--tol`, for stiff problems",
+            MethodKind::Gauss4 => "Gauss–Legendre of order 4 (implicit, symplectic), fixed step `--dt`",
         }
     }
 
     /// Whether the method takes a fixed step (otherwise tolerances).
     pub const fn is_fixed_step(self) -> bool {
-        matches!(self, MethodKind::Rk4 | MethodKind::Variational | MethodKind::Gauss)
+        matches!(self, MethodKind::Rk4 | MethodKind::Variational | MethodKind::Gauss4)
     }
 
     /// The method of this kind with `setting`: the step of a fixed-step method, or else the
@@ -112,22 +118,22 @@ impl MethodKind {
         let tol = Tolerances::uniform(setting);
         match self {
             MethodKind::Rk4 => Method::Rk4 { dt: setting },
-            MethodKind::Adaptive => Method::Adaptive { tol },
+            MethodKind::Dopri5 => Method::Dopri5 { tol },
             MethodKind::Dop853 => Method::Dop853 { tol },
             MethodKind::Variational => Method::Variational { dt: setting },
-            MethodKind::Implicit => Method::Implicit { tol },
-            MethodKind::Gauss => Method::Gauss { dt: setting },
+            MethodKind::Sdirk4 => Method::Sdirk4 { tol },
+            MethodKind::Gauss4 => Method::Gauss4 { dt: setting },
         }
     }
 
     /// The method with its default setting: a step of `1e-3`; a tolerance of `1e-10` for
-    /// [`Adaptive`](MethodKind::Adaptive), `1e-12` for [`Dop853`](MethodKind::Dop853) and `1e-8`
-    /// for [`Implicit`](MethodKind::Implicit).
+    /// [`Adaptive`](MethodKind::Dopri5), `1e-12` for [`Dop853`](MethodKind::Dop853) and `1e-8`
+    /// for [`Implicit`](MethodKind::Sdirk4).
     pub fn default_method(self) -> Method {
         match self {
-            MethodKind::Adaptive => self.with(1e-10),
+            MethodKind::Dopri5 => self.with(1e-10),
             MethodKind::Dop853 => self.with(1e-12),
-            MethodKind::Implicit => self.with(1e-8),
+            MethodKind::Sdirk4 => self.with(1e-8),
             _ => self.with(1e-3),
         }
     }
@@ -138,15 +144,15 @@ impl Method {
     pub fn kind(&self) -> MethodKind {
         match self {
             Method::Rk4 { .. } => MethodKind::Rk4,
-            Method::Adaptive { .. } => MethodKind::Adaptive,
+            Method::Dopri5 { .. } => MethodKind::Dopri5,
             Method::Dop853 { .. } => MethodKind::Dop853,
             Method::Variational { .. } => MethodKind::Variational,
-            Method::Implicit { .. } => MethodKind::Implicit,
-            Method::Gauss { .. } => MethodKind::Gauss,
+            Method::Sdirk4 { .. } => MethodKind::Sdirk4,
+            Method::Gauss4 { .. } => MethodKind::Gauss4,
         }
     }
 
-    /// Short name: `rk4`, `adaptive`, `dop853`, `variational`, `implicit`, `gauss`.
+    /// Short name: `rk4`, `dopri5`, `dop853`, `variational`, `sdirk4`, `gauss4`.
     pub fn name(&self) -> &'static str {
         self.kind().name()
     }
@@ -179,7 +185,8 @@ impl FromStr for MethodKind {
     type Err = ParseMethodError;
 
     fn from_str(text: &str) -> Result<Self, Self::Err> {
-        MethodKind::ALL.into_iter().find(|kind| kind.name() == text).ok_or_else(|| {
+        let former = MethodKind::FORMER_NAMES.into_iter().find(|(name, _)| *name == text).map(|(_, kind)| kind);
+        MethodKind::ALL.into_iter().find(|kind| kind.name() == text).or(former).ok_or_else(|| {
             let names: Vec<&str> = MethodKind::ALL.iter().map(|kind| kind.name()).collect();
             ParseMethodError { text: text.to_string(), why: format!("known methods: {}", names.join(", ")) }
         })
@@ -189,11 +196,13 @@ impl FromStr for MethodKind {
 impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => write!(f, "{}:{dt}", self.name()),
-            Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } if tol.rtol == tol.atol => {
+            Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => {
+                write!(f, "{}:{dt}", self.name())
+            }
+            Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } if tol.rtol == tol.atol => {
                 write!(f, "{}:{}", self.name(), tol.rtol)
             }
-            Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
+            Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } => {
                 write!(f, "{}:{},{}", self.name(), tol.rtol, tol.atol)
             }
         }
@@ -219,9 +228,9 @@ impl FromStr for Method {
             (false, Some((rtol, atol))) => {
                 let tol = Tolerances { rtol: number(rtol)?, atol: number(atol)? };
                 Ok(match kind {
-                    MethodKind::Adaptive => Method::Adaptive { tol },
+                    MethodKind::Dopri5 => Method::Dopri5 { tol },
                     MethodKind::Dop853 => Method::Dop853 { tol },
-                    _ => Method::Implicit { tol },
+                    _ => Method::Sdirk4 { tol },
                 })
             }
             (true, Some(_)) => Err(error("a fixed-step method takes one step")),
@@ -238,7 +247,7 @@ mod tests {
     #[test]
     fn methods_parse_and_print() {
         let names: Vec<String> = MethodKind::ALL.iter().map(ToString::to_string).collect();
-        assert_eq!(names, ["rk4", "adaptive", "dop853", "variational", "implicit", "gauss"]);
+        assert_eq!(names, ["rk4", "dopri5", "dop853", "variational", "sdirk4", "gauss4"]);
         for kind in MethodKind::ALL {
             assert_eq!(kind.name().parse::<MethodKind>(), Ok(kind));
             assert_eq!(kind.name().parse::<Method>().map(|m| m.kind()), Ok(kind));
@@ -249,9 +258,13 @@ mod tests {
         }
         assert_eq!("rk4:0.001".parse::<Method>(), Ok(Method::Rk4 { dt: 1e-3 }));
         let tol = Tolerances { rtol: 1e-10, atol: 1e-12 };
-        assert_eq!(Method::Implicit { tol }.to_string(), "implicit:0.0000000001,0.000000000001");
-        assert_eq!("implicit:1e-10,1e-12".parse::<Method>(), Ok(Method::Implicit { tol }));
-        for bad in ["", "rk5", "rk4:", "rk4:x", "gauss:1,2", "adaptive:1,", "RK4"] {
+        assert_eq!(Method::Sdirk4 { tol }.to_string(), "sdirk4:0.0000000001,0.000000000001");
+        assert_eq!("sdirk4:1e-10,1e-12".parse::<Method>(), Ok(Method::Sdirk4 { tol }));
+        // The former names still read, as the same methods.
+        assert_eq!("implicit:1e-10,1e-12".parse::<Method>(), Ok(Method::Sdirk4 { tol }));
+        assert_eq!("adaptive".parse::<Method>(), Ok(MethodKind::Dopri5.default_method()));
+        assert_eq!("gauss:0.01".parse::<Method>(), Ok(Method::Gauss4 { dt: 0.01 }));
+        for bad in ["", "rk5", "rk4:", "rk4:x", "gauss4:1,2", "gauss:1,2", "dopri5:1,", "RK4"] {
             assert!(bad.parse::<Method>().is_err(), "{bad}");
         }
     }

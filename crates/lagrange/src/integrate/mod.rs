@@ -10,7 +10,7 @@
 //! for callers that drive it themselves.
 //!
 //! [`Method`] names an integrator with its step or tolerance and parses and prints itself
-//! (`rk4:0.001`, `adaptive:1e-10`); [`MethodKind::ALL`] is the one list of the methods, which
+//! (`rk4:0.001`, `dopri5:1e-10`); [`MethodKind::ALL`] is the one list of the methods, which
 //! the command line and the validation report reuse.
 //!
 //! | integrator | order | for | guarantee |

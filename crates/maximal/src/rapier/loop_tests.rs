@@ -358,7 +358,7 @@ fn scene_errors(scene: &str, engine: Engine, t_end: f64, dt: f64, substeps: usiz
             system.simulate(
                 &initial,
                 t_end,
-                Method::Adaptive { tol: Tolerances::uniform(1e-12) },
+                Method::Dopri5 { tol: Tolerances::uniform(1e-12) },
                 &Output::Times(times.clone()),
             )
         })

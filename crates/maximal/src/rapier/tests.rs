@@ -165,7 +165,7 @@ fn trajectory_error(scene: &str, changes: &[(&str, f64)], engine: Engine, dt: f6
     let reference = found
         .build(&built.params)
         .and_then(|system| {
-            let method = Method::Adaptive { tol: Tolerances::uniform(1e-12) };
+            let method = Method::Dopri5 { tol: Tolerances::uniform(1e-12) };
             system.simulate(&initial, 1.0, method, &Output::Times(times.clone()))
         })
         .unwrap_or_else(|e| panic!("{scene}: reference: {e}"));

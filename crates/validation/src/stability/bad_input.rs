@@ -142,10 +142,10 @@ fn simulate(tally: &mut Tally, system: &dyn System, state: &State) {
     let horizon = state.t + 0.1;
     let methods = [
         Method::Rk4 { dt },
-        Method::Adaptive { tol: Tolerances::uniform(tol) },
+        Method::Dopri5 { tol: Tolerances::uniform(tol) },
         Method::Variational { dt },
-        Method::Implicit { tol: Tolerances::uniform(tol) },
-        Method::Gauss { dt },
+        Method::Sdirk4 { tol: Tolerances::uniform(tol) },
+        Method::Gauss4 { dt },
     ];
     for method in methods {
         let what = format!("simulate {}", method.name());
@@ -154,7 +154,7 @@ fn simulate(tally: &mut Tally, system: &dyn System, state: &State) {
         }
     }
     for bad in [0.0, -dt, f64::NAN, f64::INFINITY] {
-        for method in [Method::Rk4 { dt: bad }, Method::Variational { dt: bad }, Method::Gauss { dt: bad }] {
+        for method in [Method::Rk4 { dt: bad }, Method::Variational { dt: bad }, Method::Gauss4 { dt: bad }] {
             let what = format!("simulate {} with dt = {bad}", method.name());
             let result = tally.call(&what, || system.simulate(state, horizon, method, &Output::Ends));
             if !matches!(result, Some(Err(Error::InvalidSetting { what: "step", .. })) | None) {
@@ -164,7 +164,7 @@ fn simulate(tally: &mut Tally, system: &dyn System, state: &State) {
     }
     for bad in [0.0, -tol, f64::NAN, 1e-18, 1e-20, 1.0, 10.0] {
         for method in
-            [Method::Adaptive { tol: Tolerances::uniform(bad) }, Method::Implicit { tol: Tolerances::uniform(bad) }]
+            [Method::Dopri5 { tol: Tolerances::uniform(bad) }, Method::Sdirk4 { tol: Tolerances::uniform(bad) }]
         {
             let what = format!("simulate {} with tol = {bad}", method.name());
             let result = tally.call(&what, || system.simulate(state, horizon, method, &Output::Ends));
@@ -266,15 +266,9 @@ type Drifting<'a> = (&'a str, &'a str, &'a [(&'a str, f64)], Method, f64);
 /// motion over its bound is above 1.
 fn runs_that_fail_their_check(case: &mut CaseBuilder) -> Result<(), crate::Error> {
     let runs: [Drifting<'_>; 4] = [
-        (
-            "τ = 1 at tol 1e-3",
-            "four_bar",
-            &[("torque", 1.0)],
-            Method::Adaptive { tol: Tolerances::uniform(1e-3) },
-            8.98,
-        ),
+        ("τ = 1 at tol 1e-3", "four_bar", &[("torque", 1.0)], Method::Dopri5 { tol: Tolerances::uniform(1e-3) }, 8.98),
         ("RK4 at the default step", "andrews_squeezer", &[], Method::Rk4 { dt: 1e-3 }, 0.03),
-        ("Gauss at the default step", "andrews_squeezer", &[], Method::Gauss { dt: 1e-3 }, 0.03),
+        ("Gauss at the default step", "andrews_squeezer", &[], Method::Gauss4 { dt: 1e-3 }, 0.03),
         ("RK4 at dt = 0.05", "four_bar", &[], Method::Rk4 { dt: 0.05 }, 10.0),
     ];
     for (label, id, changes, method, horizon) in runs {
@@ -285,10 +279,10 @@ fn runs_that_fail_their_check(case: &mut CaseBuilder) -> Result<(), crate::Error
         // A hundred samples, on the step grid for the fixed-step methods.
         let every = horizon / 100.0;
         let output = Output::Every(match method {
-            Method::Rk4 { dt } | Method::Gauss { dt } | Method::Variational { dt } => {
+            Method::Rk4 { dt } | Method::Gauss4 { dt } | Method::Variational { dt } => {
                 dt * (every / dt).round().max(1.0)
             }
-            Method::Adaptive { .. } | Method::Dop853 { .. } | Method::Implicit { .. } => every,
+            Method::Dopri5 { .. } | Method::Dop853 { .. } | Method::Sdirk4 { .. } => every,
         });
         let (run, wall) = timed_simulate(system.as_ref(), &initial, horizon, method, &output);
         let m = Measurement::new(label, id, method.name(), "largest drift of a declared constant over its bound")
@@ -315,7 +309,7 @@ fn inconsistent_starts(case: &mut CaseBuilder) -> Result<(), crate::Error> {
         ("loop open by 0.2 m", "four_bar", State::new(0.0, [0.0, 0.0, 0.0], [0.0; 3])),
         ("sliding sideways", "chaplygin_sleigh", State::new(0.0, [0.0, 0.0, 0.0], [1.0, 1.0, 0.0])),
     ];
-    let method = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
+    let method = Method::Dopri5 { tol: Tolerances::uniform(1e-10) };
     for (label, id, initial) in starts {
         let scene = crate::error::scene(id)?;
         let system = scene.build(&scene.default_params())?;
@@ -335,7 +329,7 @@ type Leaving<'a> = (&'a str, &'a str, &'a [(&'a str, f64)], Option<State>, Metho
 /// Runs that leave their scene's admissible region end in [`Error::Inadmissible`], checked for
 /// the exact variant.
 fn leaving_the_region(case: &mut CaseBuilder) -> Result<(), crate::Error> {
-    let adaptive = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
+    let adaptive = Method::Dopri5 { tol: Tolerances::uniform(1e-10) };
     let runs: [Leaving<'_>; 4] = [
         (
             "radial infall through r = 0",
@@ -376,7 +370,7 @@ fn refused_tolerances(case: &mut CaseBuilder) -> Result<(), crate::Error> {
     let initial = scene.default_state(&params)?;
     for tol in [10.0, 1.0, 1e-20] {
         for method in
-            [Method::Adaptive { tol: Tolerances::uniform(tol) }, Method::Implicit { tol: Tolerances::uniform(tol) }]
+            [Method::Dopri5 { tol: Tolerances::uniform(tol) }, Method::Sdirk4 { tol: Tolerances::uniform(tol) }]
         {
             let (run, wall) = timed_simulate(system.as_ref(), &initial, 10.0, method, &Output::Ends);
             let m = Measurement::new(format!("tol = {tol:e}"), scene.id(), method.name(), "the tolerance is refused")

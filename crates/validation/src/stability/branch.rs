@@ -43,13 +43,13 @@ fn branch(case: &mut CaseBuilder, effort: Effort) -> Result<(), crate::Error> {
     let scene = find("parallelogram_chain")?;
     let mut methods: Vec<Method> = plan.rk4_steps.iter().map(|&dt| Method::Rk4 { dt }).collect();
     for &tol in &plan.tolerances {
-        methods.push(Method::Adaptive { tol: Tolerances::uniform(tol) });
+        methods.push(Method::Dopri5 { tol: Tolerances::uniform(tol) });
     }
     for &tol in &plan.high_order_tolerances {
         methods.push(Method::Dop853 { tol: Tolerances::uniform(tol) });
     }
     for tol in [1e-4, 1e-6, 1e-8] {
-        methods.push(Method::Implicit { tol: Tolerances::uniform(tol) });
+        methods.push(Method::Sdirk4 { tol: Tolerances::uniform(tol) });
     }
     for windows in [2.0, 10.0] {
         let params = scene_params(scene, &[("N", windows)])?;
@@ -60,8 +60,8 @@ fn branch(case: &mut CaseBuilder, effort: Effort) -> Result<(), crate::Error> {
         let exact_turns = (exact.q[0] - initial.q[0]) / std::f64::consts::TAU;
         for &method in &methods {
             let setting = match method {
-                Method::Rk4 { dt } | Method::Gauss { dt } | Method::Variational { dt } => format!("dt = {dt:.2e}"),
-                Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
+                Method::Rk4 { dt } | Method::Gauss4 { dt } | Method::Variational { dt } => format!("dt = {dt:.2e}"),
+                Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } => {
                     format!("tol = {:.0e}", tol.rtol)
                 }
             };

@@ -29,7 +29,7 @@ fn agreement_time(a: &Trajectory, b: &Trajectory, horizon: f64) -> f64 {
 
 /// Benettin's largest Lyapunov exponent: separation 1e-8 renormalized every `segment`.
 fn lyapunov(system: &dyn System, initial: &State, segment: f64, segments: usize) -> Result<f64, Error> {
-    let method = Method::Adaptive { tol: Tolerances::uniform(1e-13) };
+    let method = Method::Dopri5 { tol: Tolerances::uniform(1e-13) };
     let d0 = 1e-8;
     let (mut a, mut b) = (initial.clone(), initial.clone());
     b.q[0] += d0;
@@ -72,7 +72,7 @@ fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     for &d in &decades {
         let tol = 10f64.powi(-d);
         let start = Instant::now();
-        let method = Method::Adaptive { tol: Tolerances::uniform(tol) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(tol) };
         let run = system.simulate(&initial, horizon, method, &Output::Every(0.01))?;
         runs.push((tol, run, start.elapsed().as_secs_f64()));
     }
@@ -85,10 +85,10 @@ fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
             Measurement::new(
                 format!("tol = {tol:.0e} vs {:.0e}", tol / 10.0),
                 "double_pendulum",
-                "adaptive",
+                "dopri5",
                 "agreement time to 1e-2 rad (s)",
             )
-            .method_settings(Method::Adaptive { tol: Tolerances::uniform(*tol) }, horizon)
+            .method_settings(Method::Dopri5 { tol: Tolerances::uniform(*tol) }, horizon)
             .value(time)
             .cost(Cost::of(&a.stats, *wall)),
         );
@@ -108,7 +108,7 @@ fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     // r = 0.99; 0.95 allows the scatter of a chaotic system's error direction), and the
     // tightest tolerance pair agrees longest.
     case.push(
-        Measurement::new("all tolerances", "double_pendulum", "adaptive", "correlation of T with log₁₀(1/tol)")
+        Measurement::new("all tolerances", "double_pendulum", "dopri5", "correlation of T with log₁₀(1/tol)")
             .value(correlation)
             .check(Check::AtLeast, None, Some(0.95)),
     );
@@ -117,7 +117,7 @@ fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         Measurement::new(
             "all tolerances",
             "double_pendulum",
-            "adaptive",
+            "dopri5",
             "agreement time, tightest pair − loosest pair (s)",
         )
         .value(last - first)
@@ -125,19 +125,19 @@ fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         .check(Check::AtLeast, None, Some(f64::MIN_POSITIVE)),
     );
     case.push(
-        Measurement::new("all tolerances", "double_pendulum", "adaptive", "agreement time per decade of tolerance (s)")
+        Measurement::new("all tolerances", "double_pendulum", "dopri5", "agreement time per decade of tolerance (s)")
             .value(slope)
             .check(Check::WithinFactor, Some(10f64.ln() / lambda), Some(2.0)),
     );
     case.push(
-        Measurement::new("all tolerances", "double_pendulum", "adaptive", "Lyapunov-like exponent ln 10 / slope (1/s)")
+        Measurement::new("all tolerances", "double_pendulum", "dopri5", "Lyapunov-like exponent ln 10 / slope (1/s)")
             .value(10f64.ln() / slope)
             .check(Check::WithinFactor, Some(lambda), Some(2.0))
             .note(format!("theory: Benettin's λ = {lambda:.3}/s")),
     );
     case.push(
-        Measurement::new("Benettin", "double_pendulum", "adaptive", "largest Lyapunov exponent (1/s)")
-            .method_settings(Method::Adaptive { tol: Tolerances::uniform(1e-13) }, 0.5 * effort.pick(200.0, 100.0))
+        Measurement::new("Benettin", "double_pendulum", "dopri5", "largest Lyapunov exponent (1/s)")
+            .method_settings(Method::Dopri5 { tol: Tolerances::uniform(1e-13) }, 0.5 * effort.pick(200.0, 100.0))
             .value(lambda)
             .cost(Cost { wall_time_s: benettin_wall, ..Cost::default() }),
     );

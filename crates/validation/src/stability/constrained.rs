@@ -75,7 +75,7 @@ fn toggles(case: &mut CaseBuilder, horizon: f64) -> Result<(), crate::Error> {
     let system = scene.build(&params)?;
     let initial = scene.default_state(&params)?;
     let output = Output::Every(1e-3);
-    for method in [Method::Adaptive { tol: Tolerances::uniform(1e-10) }, Method::Rk4 { dt: 1e-3 }] {
+    for method in [Method::Dopri5 { tol: Tolerances::uniform(1e-10) }, Method::Rk4 { dt: 1e-3 }] {
         let (run, wall) = timed_simulate(system.as_ref(), &initial, horizon, method, &output);
         let m = Measurement::new("defaults", "four_bar", method.name(), "max constraint violation over the samples")
             .method_settings(method, horizon);
@@ -211,16 +211,16 @@ fn redundant(case: &mut CaseBuilder) -> Result<(), crate::Error> {
         bodies: [Body::point("a", 1.0), Body::point("b", 2.0), Body::point("c", 0.5)],
     })?;
     let initial = State::new(0.0, [-0.8; 3], [1.5; 3]);
-    let method = Method::Adaptive { tol: Tolerances::uniform(1e-10) };
+    let method = Method::Dopri5 { tol: Tolerances::uniform(1e-10) };
     let start = std::time::Instant::now();
     let run = lagrange::simulate(&model, &initial, 2.0, method, &Output::Every(0.01));
     let wall = start.elapsed().as_secs_f64();
     let label = "three parallel cranks";
-    let m = Measurement::new(label, "local:parallelogram", "adaptive", "max constraint violation over the samples")
+    let m = Measurement::new(label, "local:parallelogram", "dopri5", "max constraint violation over the samples")
         .method_settings(method, 2.0);
     case.push(run_measurement(m, &run, wall, largest_violation).check(Check::AtMost, Some(0.0), Some(VIOLATION_BOUND)));
     // The three cranks swing as one pendulum: every angle equal, to the tolerance.
-    let m = Measurement::new(label, "local:parallelogram", "adaptive", "max |q2 − q0| over the samples (rad)")
+    let m = Measurement::new(label, "local:parallelogram", "dopri5", "max |q2 − q0| over the samples (rad)")
         .method_settings(method, 2.0);
     let spread = |t: &lagrange::Trajectory| (0..t.len()).map(|k| (t.q(k)[2] - t.q(k)[0]).abs()).fold(0.0, f64::max);
     case.push(run_measurement(m, &run, wall, spread).check(Check::AtMost, Some(0.0), Some(VIOLATION_BOUND)));
@@ -282,12 +282,12 @@ fn squeezer(case: &mut CaseBuilder) -> Result<(), crate::Error> {
         .note("relative to the largest published |q̈| = 1.42e4 rad/s²");
     case.push(m.value(worst).check(Check::AtMost, Some(0.0), Some(1e-10)));
     for tol in [1e-8, 1e-10, 1e-12] {
-        let method = Method::Adaptive { tol: Tolerances::uniform(tol) };
+        let method = Method::Dopri5 { tol: Tolerances::uniform(tol) };
         let (run, wall) = timed_simulate(system.as_ref(), &initial, andrews::T_END, method, &Output::Ends);
         let m = Measurement::new(
             format!("tol {tol:e}"),
             "andrews_squeezer",
-            "adaptive",
+            "dopri5",
             "max relative angle error at t = 0.03 vs the published solution",
         )
         .method_settings(method, andrews::T_END);
@@ -298,13 +298,9 @@ fn squeezer(case: &mut CaseBuilder) -> Result<(), crate::Error> {
         // 1e-8 relative is asked at the tightest tolerance; the others are reported.
         let bound = if tol <= 1e-12 { Check::AtMost } else { Check::None };
         case.push(run_measurement(m, &run, wall, error).check(bound, Some(0.0), (tol <= 1e-12).then_some(1e-8)));
-        let m = Measurement::new(
-            format!("tol {tol:e}"),
-            "andrews_squeezer",
-            "adaptive",
-            "constraint violation at t = 0.03",
-        )
-        .method_settings(method, andrews::T_END);
+        let m =
+            Measurement::new(format!("tol {tol:e}"), "andrews_squeezer", "dopri5", "constraint violation at t = 0.03")
+                .method_settings(method, andrews::T_END);
         case.push(run_measurement(m, &run, wall, largest_violation).check(
             Check::AtMost,
             Some(0.0),

@@ -77,7 +77,7 @@ fn rapier_error(
     let steps = built.simulation.steps();
     let read = maps::generalized(id, &built.params, initial.t + horizon, &built.simulation.bodies(), &initial.q);
     let reference = scene.build(&built.params).and_then(|s| {
-        s.simulate(initial, initial.t + horizon, Method::Adaptive { tol: Tolerances::uniform(1e-12) }, &Output::Ends)
+        s.simulate(initial, initial.t + horizon, Method::Dopri5 { tol: Tolerances::uniform(1e-12) }, &Output::Ends)
     });
     let m = m.cost(Cost { steps: Some(steps), wall_time_s: wall, ..Cost::default() });
     let m = if built.deviations.is_empty() { m } else { m.note(built.deviations.join("; ")) };
@@ -122,8 +122,8 @@ fn wedge(case: &mut CaseBuilder) -> Result<(), Error> {
         for method in [
             Method::Rk4 { dt: 0.01 },
             Method::Variational { dt: 0.01 },
-            Method::Gauss { dt: 0.01 },
-            Method::Implicit { tol: Tolerances::uniform(1e-10) },
+            Method::Gauss4 { dt: 0.01 },
+            Method::Sdirk4 { tol: Tolerances::uniform(1e-10) },
         ] {
             let (run, wall) = timed_simulate(system.as_ref(), &initial, 1.0, method, &Output::Ends);
             let m = Measurement::new(
@@ -177,10 +177,10 @@ fn atwood(case: &mut CaseBuilder) -> Result<(), Error> {
         let label = format!("m1 = m2, I = {inertia:.1e}");
         let methods = [
             Method::Rk4 { dt: 0.01 },
-            Method::Adaptive { tol: Tolerances::uniform(1e-10) },
+            Method::Dopri5 { tol: Tolerances::uniform(1e-10) },
             Method::Variational { dt: 0.01 },
-            Method::Implicit { tol: Tolerances::uniform(1e-10) },
-            Method::Gauss { dt: 0.01 },
+            Method::Sdirk4 { tol: Tolerances::uniform(1e-10) },
+            Method::Gauss4 { dt: 0.01 },
         ];
         for method in methods {
             let (run, wall) = timed_simulate(system.as_ref(), &initial, 100.0, method, &Output::Every(1.0));
@@ -253,7 +253,7 @@ fn atwood(case: &mut CaseBuilder) -> Result<(), Error> {
         let (params, system) = setup("atwood", &changes)?;
         let exact = phase(&scene.exact_solution(&params, &initial, 1.0)?.ok_or(Error::Missing("no closed form"))?);
         let label = format!("m1 = {m1:.0e}, m2 = {m2:.0e}, I = {inertia:.1e}");
-        for method in [Method::Rk4 { dt: 0.01 }, Method::Gauss { dt: 0.01 }, Method::Variational { dt: 0.01 }] {
+        for method in [Method::Rk4 { dt: 0.01 }, Method::Gauss4 { dt: 0.01 }, Method::Variational { dt: 0.01 }] {
             let (run, wall) = timed_simulate(system.as_ref(), &initial, 1.0, method, &Output::Ends);
             let m = Measurement::new(
                 label.clone(),
@@ -290,9 +290,9 @@ fn cart_pendulum(case: &mut CaseBuilder) -> Result<(), Error> {
         let theta0 = 1e-9;
         let initial = State::new(0.0, [0.0, theta0], [0.0, 0.0]);
         let dt = period / 2000.0;
-        let method = Method::Adaptive { tol: Tolerances { rtol: 1e-12, atol: 1e-12 * theta0 } };
+        let method = Method::Dopri5 { tol: Tolerances { rtol: 1e-12, atol: 1e-12 * theta0 } };
         let (run, wall) = timed_simulate(system.as_ref(), &initial, 10.5 * period, method, &Output::Every(dt));
-        let m = Measurement::new(label.clone(), "cart_pendulum", "adaptive", "period from the zero crossings of θ (s)")
+        let m = Measurement::new(label.clone(), "cart_pendulum", "dopri5", "period from the zero crossings of θ (s)")
             .params(&changes)
             .method_settings(method, 10.5 * period);
         let m = match run {
@@ -384,9 +384,9 @@ fn chains(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         );
         let initial = State::new(0.0, q, qdot);
         for (method, bound) in [
-            (Method::Adaptive { tol: Tolerances::uniform(1e-12) }, Some(1e-9)),
-            (Method::Implicit { tol: Tolerances::uniform(1e-8) }, None),
-            (Method::Gauss { dt: 1e-3 }, None),
+            (Method::Dopri5 { tol: Tolerances::uniform(1e-12) }, Some(1e-9)),
+            (Method::Sdirk4 { tol: Tolerances::uniform(1e-8) }, None),
+            (Method::Gauss4 { dt: 1e-3 }, None),
             (Method::Variational { dt: 1e-3 }, None),
         ] {
             let (run, wall) = timed_simulate(&fast, &initial, horizon, method, &Output::Every(0.1));
@@ -424,13 +424,13 @@ fn gauss_chain(case: &mut CaseBuilder) -> Result<(), Error> {
     };
     let system = Buffered::new(Model::new(hanging_rods(&heavy_root, 1.0, 9.81)?)?);
     let reference =
-        system.simulate(&initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) }, &Output::Ends)?;
+        system.simulate(&initial, 2.0, Method::Dopri5 { tol: Tolerances::uniform(1e-13) }, &Output::Ends)?;
     let reference = reference.last_state().ok_or(Error::Missing("empty run"))?;
     let dts = [1e-2, 5e-3, 2.5e-3];
     let (mut errors, mut energy) = (Vec::new(), Vec::new());
     let label = format!("masses {heavy_root:?}");
     for dt in dts {
-        let method = Method::Gauss { dt };
+        let method = Method::Gauss4 { dt };
         let (run, wall) = timed_simulate(&system, &initial, 2.0, method, &Output::Every(0.01));
         match run {
             Ok(t) => {
@@ -438,7 +438,7 @@ fn gauss_chain(case: &mut CaseBuilder) -> Result<(), Error> {
                 energy.push(relative_energy_error(&t.energy));
             }
             Err(e) => {
-                let m = Measurement::new(label.clone(), "local:chain", "gauss", "run").method_settings(method, 2.0);
+                let m = Measurement::new(label.clone(), "local:chain", "gauss4", "run").method_settings(method, 2.0);
                 case.push(
                     with_masses(m, &heavy_root).failed(e).cost(Cost { wall_time_s: wall, ..Cost::default() }).check(
                         Check::Finite,
@@ -455,7 +455,7 @@ fn gauss_chain(case: &mut CaseBuilder) -> Result<(), Error> {
             let m = Measurement::new(
                 label.clone(),
                 "local:chain",
-                "gauss",
+                "gauss4",
                 &format!("{what}: ratio at dt = {dt} vs dt/2 (order 4: 16)"),
             )
             .value(w[0] / w[1])
@@ -465,13 +465,13 @@ fn gauss_chain(case: &mut CaseBuilder) -> Result<(), Error> {
     }
     let light_root = [1.0, 1e2, 1e4, 1e6];
     let system = Buffered::new(Model::new(hanging_rods(&light_root, 1.0, 9.81)?)?);
-    let method = Method::Gauss { dt: 1e-3 };
+    let method = Method::Gauss4 { dt: 1e-3 };
     let (run, wall) = timed_simulate(&system, &initial, 2.0, method, &Output::Ends);
     let m = with_masses(
         Measurement::new(
             format!("masses {light_root:?}"),
             "local:chain",
-            "gauss",
+            "gauss4",
             "time of NewtonFailed in the whip (s)",
         ),
         &light_root,

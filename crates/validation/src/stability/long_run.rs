@@ -71,11 +71,11 @@ fn gauss_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         let scene = find(id)?;
         let params = scene_params(scene, changes)?;
         let system = scene.build(&params)?;
-        let method = Method::Gauss { dt };
+        let method = Method::Gauss4 { dt };
         let t_end = steps as f64 * dt;
         let every = (steps / 1000) as f64 * dt;
         let (run, wall) = timed_simulate(system.as_ref(), &initial, t_end, method, &Output::Every(every));
-        let base = Measurement::new(format!("{steps} steps"), id, "gauss", "").method_settings(method, t_end);
+        let base = Measurement::new(format!("{steps} steps"), id, "gauss4", "").method_settings(method, t_end);
         let base = base.params(changes);
         match run {
             Ok(t) if id == "chain" => {

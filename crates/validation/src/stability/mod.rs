@@ -287,10 +287,10 @@ impl Measurement {
 
     fn method_settings(mut self, method: Method, horizon: f64) -> Self {
         self.settings = match method {
-            Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss { dt } => {
+            Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => {
                 RunSettings { dt: Some(dt), horizon_s: Some(horizon), ..RunSettings::default() }
             }
-            Method::Adaptive { tol } | Method::Dop853 { tol } | Method::Implicit { tol } => {
+            Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } => {
                 RunSettings { tolerance: Some(tol.rtol), horizon_s: Some(horizon), ..RunSettings::default() }
             }
         };

@@ -47,10 +47,10 @@ fn kepler(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     );
     let t_end = orbits * period;
     let times: Vec<f64> = (0..=(2.0 * orbits) as usize).map(|k| k as f64 * period / 2.0).collect();
-    let method = Method::Adaptive { tol: Tolerances::uniform(tol) };
+    let method = Method::Dopri5 { tol: Tolerances::uniform(tol) };
     let (run, wall) = timed_simulate(system.as_ref(), &initial, t_end, method, &Output::Times(times));
     let base = |quantity: &str| {
-        Measurement::new(format!("{orbits} orbits"), "kepler", "adaptive", quantity)
+        Measurement::new(format!("{orbits} orbits"), "kepler", "dopri5", quantity)
             .params(&[("eccentricity", e), ("semi_major_axis", a)])
             .method_settings(method, t_end)
     };
@@ -88,10 +88,10 @@ fn kepler(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let rk4_dt = t_end / (run.stats.evaluations / 4) as f64;
     let same_steps_dt = t_end / run.stats.steps as f64;
     for method in
-        [Method::Rk4 { dt: rk4_dt }, Method::Gauss { dt: same_steps_dt }, Method::Variational { dt: same_steps_dt }]
+        [Method::Rk4 { dt: rk4_dt }, Method::Gauss4 { dt: same_steps_dt }, Method::Variational { dt: same_steps_dt }]
     {
         let dt = match method {
-            Method::Rk4 { dt } | Method::Gauss { dt } | Method::Variational { dt } => dt,
+            Method::Rk4 { dt } | Method::Gauss4 { dt } | Method::Variational { dt } => dt,
             _ => unreachable!("fixed-step methods"),
         };
         let every = (0.45 * period / dt).round() * dt;

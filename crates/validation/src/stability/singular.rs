@@ -204,10 +204,10 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
     ));
     let methods = [
         Method::Rk4 { dt: 0.01 },
-        Method::Adaptive { tol: Tolerances::uniform(1e-8) },
+        Method::Dopri5 { tol: Tolerances::uniform(1e-8) },
         Method::Variational { dt: 0.01 },
-        Method::Implicit { tol: Tolerances::uniform(1e-8) },
-        Method::Gauss { dt: 0.01 },
+        Method::Sdirk4 { tol: Tolerances::uniform(1e-8) },
+        Method::Gauss4 { dt: 0.01 },
     ];
     for method in methods {
         let (run, wall) = timed_simulate(system.as_ref(), &initial, 2.0, method, &Output::Every(0.01));
@@ -243,7 +243,7 @@ fn singular(case: &mut CaseBuilder, _effort: Effort) -> Result<(), crate::Error>
                 // The fixed-step ones at the step that reaches it: no earlier than 2 steps before
                 // t_c and no later than one step after, t ∈ [t_c − 0.02, t_c + 0.01], written as
                 // |t − (t_c − 0.005)| ≤ 0.015.
-                let adaptive = matches!(method, Method::Adaptive { .. } | Method::Implicit { .. });
+                let adaptive = matches!(method, Method::Dopri5 { .. } | Method::Sdirk4 { .. });
                 let (centre, bound) = if adaptive { (collision, 1e-6) } else { (collision - 0.005, 0.015) };
                 let mut m = m.check(Check::AbsoluteToTheory, Some(centre), Some(bound));
                 m.status = "failed";

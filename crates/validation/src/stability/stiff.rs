@@ -118,7 +118,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     );
     // The rigid pendulum (length 1) released at θ = 1: what a very stiff spring pendulum swings like.
     let (_, rigid) = system("driven_pendulum", &[("amplitude", 0.0)])?;
-    let rigid_method = Method::Adaptive { tol: Tolerances::uniform(1e-12) };
+    let rigid_method = Method::Dopri5 { tol: Tolerances::uniform(1e-12) };
     let rigid = rigid.simulate(&State::new(0.0, [1.0], [0.0]), horizon, rigid_method, &Output::Ends)?;
     let rigid_theta = rigid.last_state().ok_or(Error::Missing("empty run"))?.q[0];
     let mut sdirk_steps_soft = None;
@@ -181,9 +181,9 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
 
         // Gauss on the oscillator at dt = 0.01 (ω dt from 0.1 to 1e4).
         let (dt, steps) = (0.01, 1000);
-        let method = Method::Gauss { dt };
+        let method = Method::Gauss4 { dt };
         let (run, wall) = timed_simulate(oscillator.as_ref(), &initial, steps as f64 * dt, method, &Output::Every(dt));
-        let m = Measurement::new(label.clone(), "harmonic_oscillator", "gauss", "relative energy error")
+        let m = Measurement::new(label.clone(), "harmonic_oscillator", "gauss4", "relative energy error")
             .params(&[("stiffness", k)])
             .method_settings(method, steps as f64 * dt);
         // `crate::tolerance::gauss_energy_per_step`: 4ε per step, times (ω dt)² once ω dt ≫ 1.
@@ -205,7 +205,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         let tol = 1e-6;
         let e_release = pendulum.energy_function(0.0, &released.q, &released.qdot)? - e_eq;
         for method in
-            [Method::Implicit { tol: Tolerances::uniform(tol) }, Method::Adaptive { tol: Tolerances::uniform(tol) }]
+            [Method::Sdirk4 { tol: Tolerances::uniform(tol) }, Method::Dopri5 { tol: Tolerances::uniform(tol) }]
         {
             let name = method.name();
             let m = Measurement::new(
@@ -217,7 +217,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
             .params(&[("stiffness", k)])
             .method_settings(method, horizon);
             // The explicit method needs ~ω/3 steps per second: skip it where that is too many.
-            if name == "adaptive" && omega * horizon > effort.pick(3e6, 3e4) {
+            if name == "dopri5" && omega * horizon > effort.pick(3e6, 3e4) {
                 case.push(m.note(format!(
                     "not run in {} mode: ≈ {:.0e} steps",
                     effort.pick("full", "quick"),
@@ -239,7 +239,7 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
                     ));
                     // L-stability: the unresolved mode is damped, the energy never grows beyond
                     // the error control's tolerance. The explicit method is reported.
-                    if name == "implicit" {
+                    if name == "sdirk4" {
                         sdirk_rows(case, &m, &t, k, &mut sdirk_steps_soft, rigid_theta, tol);
                         m.check(Check::AtMost, Some(0.0), Some(10.0 * tol))
                     } else {
@@ -252,12 +252,16 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         }
 
         // Gauss at dt = 0.01 on the same release: A-stable, so bounded, not damped.
-        let method = Method::Gauss { dt: 0.01 };
+        let method = Method::Gauss4 { dt: 0.01 };
         let (run, wall) = timed_simulate(pendulum.as_ref(), &released, horizon, method, &Output::Every(0.1));
-        let m =
-            Measurement::new(label.clone(), "spring_pendulum", "gauss", "largest energy increase (E − E₀)/(E₀ − E_eq)")
-                .params(&[("stiffness", k)])
-                .method_settings(method, horizon);
+        let m = Measurement::new(
+            label.clone(),
+            "spring_pendulum",
+            "gauss4",
+            "largest energy increase (E − E₀)/(E₀ − E_eq)",
+        )
+        .params(&[("stiffness", k)])
+        .method_settings(method, horizon);
         let row = match run {
             Ok(t) => {
                 let e0 = t.energy[0];
@@ -325,7 +329,7 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), Error> {
     let (x, v) = oscillator.motion(0.1, 0.0, horizon);
     for tol in [1e-3, 1e-6, 1e-9] {
         for method in
-            [Method::Adaptive { tol: Tolerances::uniform(tol) }, Method::Implicit { tol: Tolerances::uniform(tol) }]
+            [Method::Dopri5 { tol: Tolerances::uniform(tol) }, Method::Sdirk4 { tol: Tolerances::uniform(tol) }]
         {
             let (run, wall) = timed_simulate(system.as_ref(), &initial, horizon, method, &Output::Ends);
             let base = Measurement::new(format!("tol = {tol:.0e}"), "harmonic_oscillator", method.name(), "")
@@ -343,7 +347,7 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), Error> {
             let mean_step = -fast * horizon / t.stats.steps as f64;
             let mut step_row = base.clone().cost(cost).value(mean_step);
             step_row.quantity = "mean step |λ_fast| h".into();
-            if method.name() == "adaptive" {
+            if method.name() == "dopri5" {
                 let detected =
                     t.stats.stiffness.map_or("not detected".to_string(), |s| format!("detected at t = {s:.2e} s"));
                 // The explicit method says the problem is stiff, within the first millisecond.
@@ -367,9 +371,9 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), Error> {
         }
     }
     for dt in [1e-3, 1e-2] {
-        let method = Method::Gauss { dt };
+        let method = Method::Gauss4 { dt };
         let (run, wall) = timed_simulate(system.as_ref(), &initial, horizon, method, &Output::Ends);
-        let m = Measurement::new(format!("|λ| dt = {:.0e}", -fast * dt), "harmonic_oscillator", "gauss", "")
+        let m = Measurement::new(format!("|λ| dt = {:.0e}", -fast * dt), "harmonic_oscillator", "gauss4", "")
             .params(&changes)
             .method_settings(method, horizon);
         let mut m = match run {
@@ -465,7 +469,7 @@ fn gauss_slow_swing_rows(
     let mut m = base.clone().value(relative_energy_error(&run.energy));
     m.quantity = "relative energy error".into();
     case.push(m.check(Check::AtMost, Some(0.0), Some(1e-8)));
-    let method = Method::Implicit { tol: Tolerances::uniform(1e-10) };
+    let method = Method::Sdirk4 { tol: Tolerances::uniform(1e-10) };
     let reference = pendulum.simulate(released, horizon, method, &Output::Ends)?;
     let reference = reference.last_state().ok_or(Error::Missing("empty run"))?;
     let theta = run.last_state().ok_or(Error::Missing("empty run"))?.q[1];
@@ -497,20 +501,20 @@ fn gauss_order_from_static_stretch(case: &mut CaseBuilder) -> Result<(), Error> 
     let initial = State::new(0.0, [1.0 + 9.81 * 1f64.cos() / 100.0, 1.0], [0.0, 0.0]);
     let horizon = 1.0;
     let reference =
-        pendulum.simulate(&initial, horizon, Method::Adaptive { tol: Tolerances::uniform(1e-13) }, &Output::Ends)?;
+        pendulum.simulate(&initial, horizon, Method::Dopri5 { tol: Tolerances::uniform(1e-13) }, &Output::Ends)?;
     let reference = reference.last_state().ok_or(Error::Missing("empty run"))?;
     let dts = [0.02, 0.01, 0.005];
     let mut errors = Vec::new();
     let start = Instant::now();
     for dt in dts {
-        let run = pendulum.simulate(&initial, horizon, Method::Gauss { dt }, &Output::Ends);
+        let run = pendulum.simulate(&initial, horizon, Method::Gauss4 { dt }, &Output::Ends);
         let base = Measurement::new(
             "k/m = 1e2, from the static stretch",
             "spring_pendulum",
-            "gauss",
+            "gauss4",
             "max |q − q_ref| at the horizon",
         )
-        .method_settings(Method::Gauss { dt }, horizon);
+        .method_settings(Method::Gauss4 { dt }, horizon);
         match run.map(|t| t.last_state()) {
             Ok(Some(last)) => {
                 errors.push(last.q.iter().zip(&reference.q).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max))
@@ -522,7 +526,7 @@ fn gauss_order_from_static_stretch(case: &mut CaseBuilder) -> Result<(), Error> 
             }
         }
     }
-    let base = Measurement::new("k/m = 1e2, from the static stretch", "spring_pendulum", "gauss", "")
+    let base = Measurement::new("k/m = 1e2, from the static stretch", "spring_pendulum", "gauss4", "")
         .cost(Cost { wall_time_s: start.elapsed().as_secs_f64(), ..Cost::default() });
     ratio_rows(case, &base, &dts, &errors, 4);
     Ok(())

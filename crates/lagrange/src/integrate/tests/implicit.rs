@@ -11,7 +11,7 @@ use lagrange_testing::max_abs_diff;
 #[test]
 fn gauss4_is_fourth_order_on_the_cart_pendulum() {
     // Order 4: ratio 2⁴ = 16 per halving, ±25 % for the asymptotic regime (measured 16.0).
-    assert_order(&State::new(0.0, [0.0, 0.5], [0.0, 0.0]), [0.04, 0.02, 0.01], |dt| Method::Gauss { dt }, 12.0..20.0);
+    assert_order(&State::new(0.0, [0.0, 0.5], [0.0, 0.0]), [0.04, 0.02, 0.01], |dt| Method::Gauss4 { dt }, 12.0..20.0);
 }
 
 /// Gauss methods conserve quadratic invariants exactly; with Newton solved to round-off, the
@@ -26,7 +26,7 @@ fn gauss4_conserves_the_linear_oscillator_energy_to_round_off() {
         let traj = simulate(&model, &initial, t_end, method, &Output::Every(100.0 * dt)).unwrap();
         traj.energy.iter().map(|e| (e - traj.energy[0]).abs() / traj.energy[0]).fold(0.0, f64::max)
     };
-    let gauss = relative_drift(Method::Gauss { dt });
+    let gauss = relative_drift(Method::Gauss4 { dt });
     // Each step changes h by O(ε) with a random sign: after N = 1e5 steps ~ε√N ≈ 7e-14
     // (measured 3.1e-14); 1e-12 leaves a factor 14.
     assert!(gauss <= 1e-12, "Gauss4 energy error {gauss:e} over {steps} steps");
@@ -40,11 +40,11 @@ fn sdirk4_error_tracks_tolerance_on_a_smooth_problem() {
     // Cart pendulum over 2 s against a 1e-13 reference.
     let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let initial = State::new(0.0, [0.0, 0.5], [0.0, 0.0]);
-    let reference = final_state(&model, &initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
+    let reference = final_state(&model, &initial, 2.0, Method::Dopri5 { tol: Tolerances::uniform(1e-13) });
     let mut previous = f64::INFINITY;
     for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
         let err = max_abs_diff(
-            &final_state(&model, &initial, 2.0, Method::Implicit { tol: Tolerances::uniform(tol) }),
+            &final_state(&model, &initial, 2.0, Method::Sdirk4 { tol: Tolerances::uniform(tol) }),
             &reference,
         );
         // Proportional to the tolerance: within [tol/100, 10 tol] (measured 1.0–1.3 tol), and
@@ -58,7 +58,7 @@ fn sdirk4_error_tracks_tolerance_on_a_smooth_problem() {
     let omega = 10.0_f64.sqrt();
     let times: Vec<f64> = (0..=50).map(|k| k as f64 * 0.2).collect();
     for tol in [1e-4, 1e-7, 1e-10] {
-        let method = Method::Implicit { tol: Tolerances::uniform(tol) };
+        let method = Method::Sdirk4 { tol: Tolerances::uniform(tol) };
         let traj =
             simulate(&spring, &State::new(0.0, [0.1], [0.0]), 10.0, method, &Output::Times(times.clone())).unwrap();
         assert_eq!(traj.t, times);
@@ -78,7 +78,7 @@ fn sdirk4_is_stable_and_accurate_on_a_stiff_oscillator() {
     let model = Model::new(spring).unwrap();
     let initial = State::new(0.0, [0.0], [amplitude]);
     let tol = 1e-4;
-    let method = Method::Implicit { tol: Tolerances::uniform(tol) };
+    let method = Method::Sdirk4 { tol: Tolerances::uniform(tol) };
     let traj = simulate(&model, &initial, 10.0, method, &Output::Every(0.5)).unwrap();
     let mean_step = 10.0 / traj.stats.steps as f64;
     assert!(omega * mean_step >= 10.0, "ω h = {} ({:?})", omega * mean_step, traj.stats);
@@ -110,7 +110,7 @@ fn sdirk4_damps_a_strongly_damped_oscillator() {
         (x, v)
     };
     let tol = 1e-6;
-    let method = Method::Implicit { tol: Tolerances::uniform(tol) };
+    let method = Method::Sdirk4 { tol: Tolerances::uniform(tol) };
     let traj = simulate(&model, &State::new(0.0, [1.0], [0.0]), 10.0, method, &Output::Every(0.5)).unwrap();
     for i in 0..traj.len() {
         let (x, v) = exact(traj.t[i]);
@@ -127,7 +127,7 @@ fn sdirk4_damps_a_strongly_damped_oscillator() {
 #[test]
 fn dopri5_flags_stiffness_on_a_stiff_damped_problem() {
     let damped = Model::new(Spring::new(1.0, 1.0, 1e4)).unwrap();
-    let method = Method::Adaptive { tol: Tolerances::uniform(1e-6) };
+    let method = Method::Dopri5 { tol: Tolerances::uniform(1e-6) };
     let traj = simulate(&damped, &State::new(0.0, [1.0], [0.0]), 1.0, method, &Output::Ends).unwrap();
     // The stability limit h |λ| ≈ 3.3 binds from the first steps on (λ ≈ −1e4).
     let flagged = traj.stats.stiffness.expect("stiffness detected");
@@ -147,7 +147,7 @@ fn dopri5_flags_stiffness_on_a_stiff_damped_problem() {
     let error = dopri.step(&damped, &mut ws, t * (1.0 + f64::EPSILON)).unwrap_err();
     assert!(matches!(error, Error::Stiff { .. }), "{error:?}");
     let message = error.to_string();
-    assert!(message.contains("looks stiff") && message.contains("--integrator implicit"), "{message}");
+    assert!(message.contains("looks stiff") && message.contains("--integrator sdirk4"), "{message}");
 }
 
 /// `ẍ = 1e4 x` grows like `cosh(100 t)` and overflows near `t = 7.1`: every integrator reports a
@@ -158,10 +158,10 @@ fn divergence_messages_name_the_quantity() {
     let initial = State::new(0.0, [1.0], [0.0]);
     for method in [
         Method::Rk4 { dt: 1e-3 },
-        Method::Gauss { dt: 1e-3 },
+        Method::Gauss4 { dt: 1e-3 },
         Method::Variational { dt: 1e-3 },
-        Method::Adaptive { tol: Tolerances::uniform(1e-6) },
-        Method::Implicit { tol: Tolerances::uniform(1e-6) },
+        Method::Dopri5 { tol: Tolerances::uniform(1e-6) },
+        Method::Sdirk4 { tol: Tolerances::uniform(1e-6) },
     ] {
         match simulate(&inverted, &initial, 10.0, method, &Output::Ends) {
             Err(Error::Diverged { t, quantity, .. }) => {
@@ -169,7 +169,7 @@ fn divergence_messages_name_the_quantity() {
                 // `q[x] = inf`, `q̇[x] = NaN`, or the stage that overflowed, with the state.
                 let named = quantity.contains("[x] = ") || quantity.contains("q = [") || quantity.contains("q̇");
                 assert!(named, "{}: `{quantity}` names no quantity", method.name());
-                if matches!(method, Method::Gauss { .. } | Method::Implicit { .. }) {
+                if matches!(method, Method::Gauss4 { .. } | Method::Sdirk4 { .. }) {
                     assert!(quantity.starts_with("Newton did not converge"), "{}: {quantity}", method.name());
                 }
             }
@@ -179,7 +179,7 @@ fn divergence_messages_name_the_quantity() {
     // A Gauss step far too large for the motion: Newton fails, and says so.
     let cart = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let result =
-        simulate(&cart, &State::new(0.0, [0.0, 3.0], [0.0, 5.0]), 20.0, Method::Gauss { dt: 2.0 }, &Output::Ends);
+        simulate(&cart, &State::new(0.0, [0.0, 3.0], [0.0, 5.0]), 20.0, Method::Gauss4 { dt: 2.0 }, &Output::Ends);
     assert!(matches!(result, Err(Error::NewtonFailed { t: 0.0, .. })), "{result:?}");
 }
 
@@ -188,19 +188,19 @@ fn implicit_methods_report_their_work_and_run_on_finite_difference_jacobians() {
     let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let initial = State::new(0.0, [0.0, 0.5], [0.3, 0.0]);
     let tol = Tolerances::uniform(1e-8);
-    let exact = simulate(&model, &initial, 2.0, Method::Implicit { tol }, &Output::Ends).unwrap();
+    let exact = simulate(&model, &initial, 2.0, Method::Sdirk4 { tol }, &Output::Ends).unwrap();
     let stats = exact.stats;
     assert!(stats.steps > 0 && stats.jacobians > 0 && stats.factorizations > 0 && stats.newton_iterations > 0);
     assert!(stats.evaluations >= stats.newton_iterations && stats.stiffness.is_none(), "{stats:?}");
-    let gauss = simulate(&model, &initial, 2.0, Method::Gauss { dt: 0.01 }, &Output::Ends).unwrap();
+    let gauss = simulate(&model, &initial, 2.0, Method::Gauss4 { dt: 0.01 }, &Output::Ends).unwrap();
     assert_eq!(gauss.stats.steps, 200);
     assert!(gauss.stats.jacobians > 0 && gauss.stats.newton_iterations >= 200, "{:?}", gauss.stats);
     // A system without AD derivatives gets the default finite-difference Jacobian: Newton
     // converges as well, to the same results (simplified Newton tolerates an inexact matrix).
     let fallback = WithoutJacobian(Model::new(cart(2.0, 1.0, 1.0)).unwrap());
-    let approximate = simulate(&fallback, &initial, 2.0, Method::Implicit { tol }, &Output::Ends).unwrap();
+    let approximate = simulate(&fallback, &initial, 2.0, Method::Sdirk4 { tol }, &Output::Ends).unwrap();
     assert!(max_abs_diff(exact.q(1), approximate.q(1)) <= 1e-8, "{:?} vs {:?}", exact.q(1), approximate.q(1));
-    let approximate = simulate(&fallback, &initial, 2.0, Method::Gauss { dt: 0.01 }, &Output::Ends).unwrap();
+    let approximate = simulate(&fallback, &initial, 2.0, Method::Gauss4 { dt: 0.01 }, &Output::Ends).unwrap();
     assert!(max_abs_diff(gauss.q(1), approximate.q(1)) <= 1e-13, "{:?} vs {:?}", gauss.q(1), approximate.q(1));
-    assert_eq!([Method::Implicit { tol }.name(), Method::Gauss { dt: 0.1 }.name()], ["implicit", "gauss"]);
+    assert_eq!([Method::Sdirk4 { tol }.name(), Method::Gauss4 { dt: 0.1 }.name()], ["sdirk4", "gauss4"]);
 }

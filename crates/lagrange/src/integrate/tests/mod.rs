@@ -18,7 +18,7 @@ pub(super) fn final_state<D: Dynamics>(system: &D, initial: &State, t_end: f64, 
 /// reference, at three halving steps `dts`: each halving divides the error by a ratio in `ratios`.
 pub(super) fn assert_order(initial: &State, dts: [f64; 3], method: fn(f64) -> Method, ratios: std::ops::Range<f64>) {
     let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
-    let reference = final_state(&model, initial, 2.0, Method::Adaptive { tol: Tolerances::uniform(1e-13) });
+    let reference = final_state(&model, initial, 2.0, Method::Dopri5 { tol: Tolerances::uniform(1e-13) });
     let errors: Vec<f64> =
         dts.iter().map(|&dt| max_abs_diff(&final_state(&model, initial, 2.0, method(dt)), &reference)).collect();
     for w in errors.windows(2) {
@@ -64,7 +64,7 @@ fn adaptive_error_tracks_tolerance_and_dense_output_is_accurate() {
             &model,
             &initial,
             10.0,
-            Method::Adaptive { tol: Tolerances::uniform(tol) },
+            Method::Dopri5 { tol: Tolerances::uniform(tol) },
             &Output::Times(times.clone()),
         )
         .unwrap();
@@ -137,7 +137,7 @@ fn dop853_error_tracks_tolerance_with_fewer_evaluations_than_dopri5() {
         assert!(err < previous, "tol {tol}: error {err} not below {previous}");
         previous = err;
         if tol <= 1e-8 {
-            let dopri = run(Method::Adaptive { tol: Tolerances::uniform(tol) });
+            let dopri = run(Method::Dopri5 { tol: Tolerances::uniform(tol) });
             assert!(
                 traj.stats.evaluations < dopri.stats.evaluations,
                 "tol {tol}: {:?} vs {:?}",
@@ -242,7 +242,7 @@ fn run_writes_the_samples_of_simulate_into_any_sink() {
     let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
     let initial = State::new(0.0, [0.0, 0.5], [0.3, 0.0]);
     let output = Output::Every(0.25);
-    for method in [Method::Rk4 { dt: 0.01 }, Method::Adaptive { tol: Tolerances::uniform(1e-9) }] {
+    for method in [Method::Rk4 { dt: 0.01 }, Method::Dopri5 { tol: Tolerances::uniform(1e-9) }] {
         let expected = simulate(&model, &initial, 1.0, method, &output).unwrap();
         let mut sink = Samples::default();
         let stats = match method {
