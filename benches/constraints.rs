@@ -30,7 +30,7 @@ struct Register<'a> {
 impl MechanismVisitor for Register<'_> {
     type Output = bool;
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> bool {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> bool {
         let model = Model::new(mechanism).expect("valid");
         if !model.is_constrained() {
             return false;

@@ -22,7 +22,7 @@ struct Register<'a> {
 impl MechanismVisitor for Register<'_> {
     type Output = ();
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism.clone()).expect("valid");
         // The raw path takes no constraints among the coordinates (`RawModel::new` refuses them).
         let raw = (!model.is_constrained())

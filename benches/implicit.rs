@@ -26,7 +26,7 @@ struct Register<'a> {
 impl MechanismVisitor for Register<'_> {
     type Output = ();
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
         let n = model.dof();
         let s = self.state;

@@ -24,7 +24,7 @@ struct ReducedStep<'a> {
 impl MechanismVisitor for ReducedStep<'_> {
     type Output = ();
 
-    fn visit<M: lagrange::Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: lagrange::Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
         let mut ws = model.new_workspace();
         let mut rk4 = Rk4::new(model.dof());

@@ -101,7 +101,7 @@ struct NoAllocation<'a> {
 impl MechanismVisitor for NoAllocation<'_> {
     type Output = ();
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism.clone()).expect("valid");
         assert_no_allocation_per_step(self.id, &model, self.initial);
         if model.mechanism().tree().is_some() {

@@ -38,7 +38,7 @@ struct Check<'a> {
 impl MechanismVisitor for Check<'_> {
     type Output = bool;
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> bool {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> bool {
         if !mechanism.constant_mass_matrix() {
             return false;
         }

@@ -43,7 +43,7 @@ struct FiniteDifferences<'a> {
 impl MechanismVisitor for FiniteDifferences<'_> {
     type Output = ();
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
         let rows = 3 * model.bodies();
         let mut ws = model.workspace();

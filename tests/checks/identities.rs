@@ -14,7 +14,7 @@ struct Identities<'a> {
 impl MechanismVisitor for Identities<'_> {
     type Output = ();
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
         let n = model.dof();
         let mut ws = model.workspace();

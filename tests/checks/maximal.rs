@@ -3,7 +3,7 @@
 //! rapier (an independent engine, first order in its substep, so tested by convergence).
 
 use lagrange::State;
-use lagrange_maximal::{BuildError, Engine, Settings, build, maps};
+use lagrange_maximal::{BuildError, Engine, Settings, build};
 use lagrange_scenes::{Params, SINGULAR_DEFAULT_MOTION, Scene, all};
 use lagrange_validation::Error;
 use lagrange_validation::compare::{Comparison, compare};
@@ -222,8 +222,7 @@ fn multibody_accelerations_match_the_closed_forms_of_constant_acceleration_scene
         let mut built =
             build(Engine::RapierMultibody, id, &params, &state, &settings).unwrap_or_else(|e| panic!("{id}: {e}"));
         built.simulation.advance_to(dt).expect("one step");
-        let (_, qdot) =
-            maps::generalized(id, &built.params, dt, &built.simulation.bodies(), &state.q).expect("read-back");
+        let (_, qdot) = built.read_back.generalized(dt, &built.simulation.bodies(), &state.q);
         let expected = s
             .closed_form_accelerations(&built.params, 0.0, &state.q, &state.qdot)
             .expect("valid")
@@ -253,8 +252,7 @@ fn impulse_joint_accelerations_converge_to_the_closed_form() {
         let settings = Settings { dt, substeps: 4, ..Settings::default() };
         let mut built = build(Engine::RapierImpulse, id, &params, &state, &settings).expect("the wedge is buildable");
         built.simulation.advance_to(t).expect("runs");
-        let (_, qdot) =
-            maps::generalized(id, &built.params, t, &built.simulation.bodies(), &state.q).expect("read-back");
+        let (_, qdot) = built.read_back.generalized(t, &built.simulation.bodies(), &state.q);
         let estimate = qdot.iter().zip(&state.qdot).map(|(v, v0)| (v - v0) / t);
         errors.push(estimate.zip(&expected).map(|(got, a)| (got - a).abs() / a.abs()).fold(0.0, f64::max));
     }
@@ -281,10 +279,8 @@ fn single_precision_rapier_agrees_with_double_precision_at_coarse_steps() {
             };
             a.simulation.advance_to(t_end).expect("runs");
             b.simulation.advance_to(t_end).expect("runs");
-            let (qa, _) =
-                maps::generalized(s.id(), &a.params, t_end, &a.simulation.bodies(), &state.q).expect("read-back");
-            let (qb, _) =
-                maps::generalized(s.id(), &b.params, t_end, &b.simulation.bodies(), &state.q).expect("read-back");
+            let (qa, _) = a.read_back.generalized(t_end, &a.simulation.bodies(), &state.q);
+            let (qb, _) = b.read_back.generalized(t_end, &b.simulation.bodies(), &state.q);
             let diff = qa.iter().zip(&qb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
             let scale = qa.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
             // f32 rounding (ε = 1.2e-7) in each of 240 substeps, accumulated: ≲ 240 × 1.2e-7 ×

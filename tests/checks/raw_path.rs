@@ -13,7 +13,7 @@ struct RawVsBody<'a> {
 impl MechanismVisitor for RawVsBody<'_> {
     type Output = usize;
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> usize {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> usize {
         let body = Model::new(mechanism.clone()).expect("valid");
         if body.constraint_counts() != (0, 0) {
             // The raw path takes no constraints among the coordinates: it refuses them, by name,
@@ -81,7 +81,7 @@ struct IsBody;
 impl MechanismVisitor for IsBody {
     type Output = ();
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, _mechanism: M) {}
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, _mechanism: M) {}
 }
 
 /// `RawModel::new` checks a raw Lagrangian at probe states (finite, no derivative lost to

@@ -263,16 +263,15 @@ fn tolerances_outside_ten_epsilon_to_one_are_refused() {
 #[test]
 fn maximal_engines_read_back_outside_the_region_end_in_inadmissible() {
     use lagrange_maximal::{Engine, Settings, build};
-    use lagrange_validation::measure::{Problem, track};
+    use lagrange_validation::measure::track;
     let scene = find("wedge").expect("registered");
     let params = scene.default_params();
     let initial = State::new(0.0, [0.0, 9.0], [0.0, 1.0]);
     let times: Vec<f64> = (0..=40).map(|k| k as f64 * 0.05).collect();
     for engine in [Engine::Cartesian, Engine::RapierMultibody] {
         let mut built = build(engine, "wedge", &params, &initial, &Settings::default()).expect("buildable");
-        let problem =
-            Problem { scene: "wedge", params: &built.params, initial: &initial, times: &times, conserves_energy: true };
-        let result = track(built.simulation.as_mut(), &problem, |_, _| 0.0, |_| Ok(()));
+        let mut reduced = scene.build(&built.params).expect("the wedge builds");
+        let result = track(&mut built, reduced.as_mut(), &initial, &times, |_, _| 0.0, |_| Ok(()));
         match result {
             Err(lagrange_validation::Error::Engine(Error::Inadmissible {
                 quantity, t, inside_until, value, ..

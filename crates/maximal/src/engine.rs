@@ -157,4 +157,7 @@ pub struct Built {
     /// For a joint graph built by [`build_graph`](crate::build_graph): the graph the engine
     /// simulates (the requested one with the deviations), whose reduced model is the reference.
     pub graph: Option<lagrange::graph::JointGraph>,
+    /// What reads the simulation's bodies back into the reduced model's coordinates, and their
+    /// energy (resolved once, with the parameters simulated).
+    pub read_back: crate::maps::ReadBack,
 }

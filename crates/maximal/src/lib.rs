@@ -10,8 +10,8 @@
 //! * [`rapier`]: the rapier physics engine (rapier2d-f64 and rapier2d), with impulse joints
 //!   and with multibody joints.
 //!
-//! Both start from the reduced model's body states ([`maps::body_states`]) and are read back
-//! into generalized coordinates ([`maps::generalized`]). A scene that is a joint graph
+//! Both start from the reduced model's body states ([`maps::ReadBack::body_states`]) and are read back
+//! into generalized coordinates ([`maps::ReadBack`], carried by every [`Built`]). A scene that is a joint graph
 //! (`lagrange::graph`, docs/graphs.md) needs nothing more: its Cartesian constraints, rapier
 //! construction and read-back follow from the graph. The others keep a hand-written maximal
 //! description (inverse map, Cartesian constraints, rapier construction), one file in
@@ -53,14 +53,14 @@ pub fn build(
 /// `initial` state: the Cartesian model (every joint as constraints between body poses, the force
 /// elements as body wrenches) or a rapier build (impulse joints, or multibody joints along the
 /// spanning tree with the loop-closing joints as impulse joints; docs/graphs.md). Bodies are the
-/// graph's, in its order; [`maps::graph_generalized`] reads them back into the graph's
-/// coordinates. `Built::graph` is the graph simulated (with the deviations rapier needs, each
+/// graph's, in its order; `Built::read_back` reads them back into the graph's coordinates
+/// ([`maps::graph_generalized`]). `Built::graph` is the graph simulated (with the deviations rapier needs, each
 /// explained in `Built::deviations`): compare with its reduced model.
 ///
 /// ```
-/// use lagrange::graph::{GROUND, GraphBody, GraphJoint, GraphMechanism, JointGraph};
+/// use lagrange::graph::{GROUND, GraphBody, GraphJoint, JointGraph};
 /// use lagrange::State;
-/// use lagrange_maximal::{Engine, Settings, build_graph, maps};
+/// use lagrange_maximal::{Engine, Settings, build_graph};
 ///
 /// let graph = JointGraph::new("pendulum", 9.81)
 ///     .with_body(GraphBody::rigid("rod", 1.0, 1.0 / 12.0))
@@ -68,8 +68,7 @@ pub fn build(
 /// let initial = State::new(0.0, [0.5], [0.0]);
 /// let mut built = build_graph(Engine::RapierMultibody, &graph, &initial, &Settings::default())?;
 /// built.simulation.advance_to(0.25)?;
-/// let mechanism = GraphMechanism::new(graph)?;
-/// let (q, _) = maps::graph_generalized(&mechanism, &built.simulation.bodies());
+/// let (q, _) = built.read_back.generalized(0.25, &built.simulation.bodies(), &initial.q);
 /// assert!((q[0] - 0.5).abs() > 0.05, "it swings: θ = {}", q[0]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -98,11 +97,13 @@ pub fn build_graph(
     let params = Params::defaults(&[]);
     match engine {
         Engine::Cartesian => {
-            let states = maps::graph_body_states(&mechanism, initial)?;
-            let system =
-                cartesian::system::CartesianSystem::from_graph(&graph.name, &params, std::sync::Arc::new(mechanism));
+            let mechanism = std::sync::Arc::new(mechanism);
+            let read_back = maps::ReadBack::graph(std::sync::Arc::clone(&mechanism));
+            let states = read_back.body_states(initial)?;
+            let system = cartesian::system::CartesianSystem::from_graph(&graph.name, mechanism);
             let simulation = cartesian::CartesianSimulation::new(system, &states, initial.t, settings.tolerance)?;
-            Ok(Built { simulation: Box::new(simulation), params, deviations: Vec::new(), graph: Some(graph.clone()) })
+            let graph = Some(graph.clone());
+            Ok(Built { simulation: Box::new(simulation), params, deviations: Vec::new(), graph, read_back })
         }
         rapier_engine => rapier::build_graph(rapier_engine, mechanism, initial, settings),
     }

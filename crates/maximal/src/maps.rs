@@ -1,170 +1,234 @@
-//! Between generalized and maximal coordinates: the initial body states of a scene (from its
-//! reduced model's poses), the scene-specific inverse maps `q = g(z)` used to read any maximal
-//! engine back into generalized coordinates, the bodies' energy, and the forces of the scene's
-//! potential on its bodies.
+//! Between generalized and maximal coordinates, resolved once per scene ([`ReadBack`]): the
+//! initial body states of a scene (from its reduced model's poses), the scene-specific inverse
+//! maps `q = g(z)` used to read any maximal engine back into generalized coordinates, the
+//! bodies' energy, and the forces of the scene's potential on its bodies.
 
 use crate::BodyState;
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use lagrange::graph::GraphMechanism;
 use lagrange::num_dual::Dual64;
-use lagrange::{Body, Error, Mechanism, Pose, State};
+use lagrange::{Body, CoordinateKind, Error, Mechanism, Pose, State};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, visit_mechanism};
 use std::f64::consts::PI;
+use std::sync::Arc;
 
-/// The bodies of a scene (masses and inertias, in the reduced model's order).
-///
-/// # Errors
-/// Invalid parameters or an unknown scene.
-pub fn bodies(scene: &str, params: &Params) -> Result<Vec<Body>, Error> {
-    if let Some(mechanism) = crate::scenes::graph(scene, params)? {
-        return Ok(mechanism.bodies().to_vec());
+/// What reads one scene's bodies back, resolved once from the scene and its parameters: the
+/// bodies (masses and inertias, in the reduced model's order), gravity, which coordinates are
+/// angles, and the scene's map between body states and generalized coordinates — its joint
+/// graph, or its hand-written inverse map `q = g(z)` with its reduced model's poses and
+/// potential. Every build carries one ([`Built::read_back`](crate::Built::read_back)); reading a
+/// run back costs no lookup.
+#[derive(Clone)]
+pub struct ReadBack(Arc<Resolved>);
+
+struct Resolved {
+    bodies: Vec<Body>,
+    gravity: f64,
+    angles: Vec<bool>,
+    map: Map,
+}
+
+enum Map {
+    /// A joint graph: forward kinematics, the joints' values, its springs' potential.
+    Graph(Arc<GraphMechanism>),
+    /// A hand-written maximal description, with the reduced model's poses and potential
+    /// (`None` for a scene that is no body mechanism, the charged particle: its coordinates
+    /// are its one body's position).
+    Scene { inverse: Box<dyn InverseMap>, reduced: Option<Box<dyn ReducedPoses>> },
+}
+
+/// A scene's hand-written inverse map over dual numbers (object-safe).
+trait InverseMap: Send + Sync {
+    fn generalized(&self, t: Dual64, z: &[[Dual64; 3]]) -> Vec<Dual64>;
+}
+
+impl<T: MaximalScene> InverseMap for T {
+    fn generalized(&self, t: Dual64, z: &[[Dual64; 3]]) -> Vec<Dual64> {
+        MaximalScene::generalized(self, t, z)
     }
-    struct Bodies;
-    impl MechanismVisitor for Bodies {
-        type Output = Vec<Body>;
-        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, m: M) -> Vec<Body> {
-            m.bodies().to_vec()
+}
+
+/// A reduced model's poses and potential, at body states (object-safe).
+trait ReducedPoses: Send + Sync {
+    fn bodies(&self) -> Vec<Body>;
+    fn body_states(&self, state: &State) -> Result<Vec<BodyState>, Error>;
+    fn potential(&self, t: f64, q: &[f64], states: &[BodyState], gradient: Option<&mut [f64]>) -> (f64, bool);
+}
+
+impl<M: Mechanism + Send + Sync> ReducedPoses for M {
+    fn bodies(&self) -> Vec<Body> {
+        Mechanism::bodies(self).to_vec()
+    }
+
+    fn body_states(&self, state: &State) -> Result<Vec<BodyState>, Error> {
+        states_of(self, state)
+    }
+
+    fn potential(&self, t: f64, q: &[f64], states: &[BodyState], gradient: Option<&mut [f64]>) -> (f64, bool) {
+        let q: Vec<Dual64> = q.iter().map(|v| Dual64::from(*v)).collect();
+        let mut poses: Vec<Pose<Dual64>> = states
+            .iter()
+            .map(|s| Pose::new(Dual64::from(s.pose[0]), Dual64::from(s.pose[1]), Dual64::from(s.pose[2])))
+            .collect();
+        let t = Dual64::from(t);
+        let Some(value) = Mechanism::potential(self, t, &q, &poses) else { return (0.0, false) };
+        if let Some(gradient) = gradient {
+            for (r, g) in gradient.iter_mut().enumerate() {
+                let (b, c) = (r / 3, r % 3);
+                set_eps(&mut poses[b], c, 1.0);
+                *g = Mechanism::potential(self, t, &q, &poses).map_or(0.0, |v| v.eps);
+                set_eps(&mut poses[b], c, 0.0);
+            }
+        }
+        (value.re, true)
+    }
+}
+
+impl ReadBack {
+    /// Resolve the registered scene `scene` with `params`: its joint graph if it is one,
+    /// otherwise its hand-written maximal description.
+    ///
+    /// # Errors
+    /// An unknown scene, invalid parameters, a graph that is not a mechanism, or a scene with
+    /// neither a joint graph nor a hand-written description.
+    pub fn new(scene: &str, params: &Params) -> Result<Self, Error> {
+        if let Some(mechanism) = crate::scenes::graph(scene, params)? {
+            return Ok(Self::graph(Arc::new(mechanism)));
+        }
+        let found = lagrange_scenes::find(scene).ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
+        struct Inverse;
+        impl MaximalVisitor for Inverse {
+            type Output = Box<dyn InverseMap>;
+            fn visit<T: MaximalScene>(self, scene: T) -> Box<dyn InverseMap> {
+                Box::new(scene)
+            }
+        }
+        struct Reduced;
+        impl MechanismVisitor for Reduced {
+            type Output = Box<dyn ReducedPoses>;
+            fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, m: M) -> Box<dyn ReducedPoses> {
+                Box::new(m)
+            }
+        }
+        let reduced = visit_mechanism(scene, params, Reduced)?;
+        let inverse = crate::scenes::visit(scene, params, Inverse)?;
+        let bodies = match &reduced {
+            Some(reduced) => reduced.bodies(),
+            None => vec![Body::point("particle", params.get("mass"))],
+        };
+        let angles = found.coordinates(params)?.iter().map(|c| c.kind == CoordinateKind::Angle).collect();
+        Ok(Self(Arc::new(Resolved { bodies, gravity: gravity(params), angles, map: Map::Scene { inverse, reduced } })))
+    }
+
+    /// The read-back of a resolved joint graph.
+    pub fn graph(mechanism: Arc<GraphMechanism>) -> Self {
+        let bodies = Mechanism::bodies(&*mechanism).to_vec();
+        let gravity = Mechanism::gravity(&*mechanism);
+        let angles = Mechanism::coordinates(&*mechanism).iter().map(|c| c.kind == CoordinateKind::Angle).collect();
+        Self(Arc::new(Resolved { bodies, gravity, angles, map: Map::Graph(mechanism) }))
+    }
+
+    /// The bodies (masses and inertias, in the reduced model's order).
+    pub fn bodies(&self) -> &[Body] {
+        &self.0.bodies
+    }
+
+    /// Gravity `g` (0 where the scene has none).
+    pub fn gravity(&self) -> f64 {
+        self.0.gravity
+    }
+
+    /// The resolved joint graph, for a scene that is one.
+    pub fn mechanism(&self) -> Option<&Arc<GraphMechanism>> {
+        match &self.0.map {
+            Map::Graph(mechanism) => Some(mechanism),
+            Map::Scene { .. } => None,
         }
     }
-    Ok(match visit_mechanism(scene, params, Bodies)? {
-        Some(bodies) => bodies,
-        None => vec![Body::point("particle", params.get("mass"))],
-    })
+
+    /// The body states of the reduced model at `state`: poses `p_b(q, t)` and velocities
+    /// `ṗ_b = J_b q̇ + ∂p_b/∂t` (one dual pass along `(q̇, 1)`) — the initial condition of every
+    /// maximal build.
+    ///
+    /// # Errors
+    /// A state of the wrong size.
+    pub fn body_states(&self, state: &State) -> Result<Vec<BodyState>, Error> {
+        match &self.0.map {
+            Map::Graph(mechanism) => graph_body_states(mechanism, state),
+            Map::Scene { reduced: Some(reduced), .. } => reduced.body_states(state),
+            // The charged particle: its coordinates are already Cartesian.
+            Map::Scene { reduced: None, .. } => Ok(vec![BodyState {
+                pose: [state.q[0], state.q[1], 0.0],
+                velocity: [state.qdot[0], state.qdot[1], 0.0],
+            }]),
+        }
+    }
+
+    /// `(q, q̇)` from body states: `q = g(z)` (a joint graph's joint values, or the scene's
+    /// inverse map, written by hand independently of the reduced model's poses),
+    /// `q̇ = (∂g/∂z) ż + ∂g/∂t` (one dual pass). A joint graph's angles come out on the branch
+    /// of the bodies' angles ([`graph_generalized`]); a hand-written map's angles are unwrapped
+    /// to the branch nearest `reference` (the previous read-back carried forward, or the
+    /// initial state).
+    pub fn generalized(&self, t: f64, bodies: &[BodyState], reference: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let inverse = match &self.0.map {
+            Map::Graph(mechanism) => return graph_generalized(mechanism, bodies),
+            Map::Scene { inverse, .. } => inverse,
+        };
+        let z: Vec<[Dual64; 3]> =
+            bodies.iter().map(|b| std::array::from_fn(|c| Dual64::new(b.pose[c], b.velocity[c]))).collect();
+        let q = inverse.generalized(Dual64::new(t, 1.0), &z);
+        let mut values: Vec<f64> = q.iter().map(|v| v.re).collect();
+        for (i, angle) in self.0.angles.iter().enumerate() {
+            if *angle && i < reference.len() {
+                values[i] += 2.0 * PI * ((reference[i] - values[i]) / (2.0 * PI)).round();
+            }
+        }
+        (values, q.iter().map(|v| v.eps).collect())
+    }
+
+    /// Energy of body states: `Σ ½ m |v|² + ½ I ω² + Σ m g y + V(t, q, poses)`, with `q` from
+    /// the inverse map for the potential's coordinate terms.
+    pub fn energy(&self, t: f64, states: &[BodyState]) -> f64 {
+        let g = self.0.gravity;
+        let mut energy = 0.0;
+        for (b, s) in self.0.bodies.iter().zip(states) {
+            let v = s.velocity;
+            energy +=
+                0.5 * b.mass * (v[0] * v[0] + v[1] * v[1]) + 0.5 * b.inertia * v[2] * v[2] + b.mass * g * s.pose[1];
+        }
+        // A scene without a potential (the charged particle: the magnetic force does no work)
+        // has kinetic and gravitational energy only.
+        let (value, has_potential) = self.potential(t, states, None);
+        if has_potential { energy + value } else { energy }
+    }
+
+    /// The scene's potential `V` at body states and, with `gradient`, `∂V/∂p_b` (3B): minus
+    /// the potential's force and torque on each body, to apply in engines that integrate
+    /// bodies. The flag says whether the scene has a potential.
+    pub fn potential(&self, t: f64, states: &[BodyState], gradient: Option<&mut [f64]>) -> (f64, bool) {
+        match &self.0.map {
+            Map::Graph(mechanism) => graph_potential(mechanism, states, gradient),
+            Map::Scene { reduced: None, .. } => (0.0, false),
+            Map::Scene { reduced: Some(reduced), .. } => {
+                let reference = vec![0.0; states.len() * 3];
+                let (q, _) = self.generalized(t, states, &reference);
+                reduced.potential(t, &q, states, gradient)
+            }
+        }
+    }
+}
+
+impl std::fmt::Debug for ReadBack {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kind = if self.mechanism().is_some() { "joint graph" } else { "hand-written" };
+        f.debug_struct("ReadBack").field("kind", &kind).field("bodies", &self.0.bodies.len()).finish()
+    }
 }
 
 /// Gravity `g` of a scene (0 where it has none).
-pub fn gravity(params: &Params) -> f64 {
+fn gravity(params: &Params) -> f64 {
     if params.specs().iter().any(|s| s.name == "gravity") { params.get("gravity") } else { 0.0 }
-}
-
-/// The body states of the scene's reduced model at `state`: poses `p_b(q, t)` and velocities
-/// `ṗ_b = J_b q̇ + ∂p_b/∂t` (one dual pass along `(q̇, 1)`) — the initial condition of every
-/// maximal build.
-///
-/// # Errors
-/// Invalid parameters, an unknown scene, or a state of the wrong size.
-pub fn body_states(scene: &str, params: &Params, state: &State) -> Result<Vec<BodyState>, Error> {
-    if let Some(mechanism) = crate::scenes::graph(scene, params)? {
-        return graph_body_states(&mechanism, state);
-    }
-    struct States<'a>(&'a State);
-    impl MechanismVisitor for States<'_> {
-        type Output = Result<Vec<BodyState>, Error>;
-        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, m: M) -> Self::Output {
-            states_of(&m, self.0)
-        }
-    }
-    match visit_mechanism(scene, params, States(state))? {
-        Some(states) => states,
-        // The charged particle: its coordinates are already Cartesian.
-        None => {
-            Ok(vec![BodyState { pose: [state.q[0], state.q[1], 0.0], velocity: [state.qdot[0], state.qdot[1], 0.0] }])
-        }
-    }
-}
-
-/// `(q, q̇)` of a scene from body states: `q = g(z)` (the scene's inverse map, written by hand
-/// independently of the reduced model's poses), `q̇ = (∂g/∂z) ż + ∂g/∂t` (one dual pass).
-/// Angles are unwrapped to the branch nearest `reference` (the previous read-back, or the
-/// initial state).
-///
-/// # Errors
-/// Invalid parameters or an unknown scene.
-pub fn generalized(
-    scene: &str,
-    params: &Params,
-    t: f64,
-    bodies: &[BodyState],
-    reference: &[f64],
-) -> Result<(Vec<f64>, Vec<f64>), Error> {
-    if let Some(mechanism) = crate::scenes::graph(scene, params)? {
-        return Ok(graph_generalized(&mechanism, bodies));
-    }
-    let z: Vec<[Dual64; 3]> =
-        bodies.iter().map(|b| std::array::from_fn(|c| Dual64::new(b.pose[c], b.velocity[c]))).collect();
-    struct Inverse<'a>(Dual64, &'a [[Dual64; 3]]);
-    impl MaximalVisitor for Inverse<'_> {
-        type Output = Vec<Dual64>;
-        fn visit<T: MaximalScene>(self, scene: T) -> Vec<Dual64> {
-            scene.generalized(self.0, self.1)
-        }
-    }
-    let q = crate::scenes::visit(scene, params, Inverse(Dual64::new(t, 1.0), &z))?;
-    let coordinates = lagrange_scenes::find(scene).map(|s| s.coordinates(params)).transpose()?.unwrap_or_default();
-    let mut values: Vec<f64> = q.iter().map(|v| v.re).collect();
-    for (i, c) in coordinates.iter().enumerate() {
-        if c.kind == lagrange::CoordinateKind::Angle && i < reference.len() {
-            values[i] += 2.0 * PI * ((reference[i] - values[i]) / (2.0 * PI)).round();
-        }
-    }
-    Ok((values, q.iter().map(|v| v.eps).collect()))
-}
-
-/// Energy of body states: `Σ ½ m |v|² + ½ I ω² + Σ m g y + V(t, q, poses)`, with `q` from the
-/// inverse map for the potential's coordinate terms.
-///
-/// # Errors
-/// Invalid parameters or an unknown scene.
-pub fn energy(scene: &str, params: &Params, t: f64, states: &[BodyState]) -> Result<f64, Error> {
-    let bodies = bodies(scene, params)?;
-    let g = gravity(params);
-    let mut energy = 0.0;
-    for (b, s) in bodies.iter().zip(states) {
-        let v = s.velocity;
-        energy += 0.5 * b.mass * (v[0] * v[0] + v[1] * v[1]) + 0.5 * b.inertia * v[2] * v[2] + b.mass * g * s.pose[1];
-    }
-    // A scene without a potential (the charged particle: the magnetic force does no work) has
-    // kinetic and gravitational energy only.
-    let (value, has_potential) = potential(scene, params, t, states, None)?;
-    Ok(if has_potential { energy + value } else { energy })
-}
-
-/// The scene's potential `V` at body states and, with `gradient`, `∂V/∂p_b` (3B): minus the
-/// potential's force and torque on each body, to apply in engines that integrate bodies.
-///
-/// # Errors
-/// Invalid parameters or an unknown scene.
-pub fn potential(
-    scene: &str,
-    params: &Params,
-    t: f64,
-    states: &[BodyState],
-    gradient: Option<&mut [f64]>,
-) -> Result<(f64, bool), Error> {
-    if let Some(mechanism) = crate::scenes::graph(scene, params)? {
-        return Ok(graph_potential(&mechanism, states, gradient));
-    }
-    struct Potential<'a> {
-        q: Vec<f64>,
-        t: f64,
-        states: &'a [BodyState],
-        gradient: Option<&'a mut [f64]>,
-    }
-    impl MechanismVisitor for Potential<'_> {
-        type Output = (f64, bool);
-        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, m: M) -> (f64, bool) {
-            let q: Vec<Dual64> = self.q.iter().map(|v| Dual64::from(*v)).collect();
-            let mut poses: Vec<Pose<Dual64>> = self
-                .states
-                .iter()
-                .map(|s| Pose::new(Dual64::from(s.pose[0]), Dual64::from(s.pose[1]), Dual64::from(s.pose[2])))
-                .collect();
-            let t = Dual64::from(self.t);
-            let Some(value) = m.potential(t, &q, &poses) else { return (0.0, false) };
-            if let Some(gradient) = self.gradient {
-                for (r, g) in gradient.iter_mut().enumerate() {
-                    let (b, c) = (r / 3, r % 3);
-                    set_eps(&mut poses[b], c, 1.0);
-                    *g = m.potential(t, &q, &poses).map_or(0.0, |v| v.eps);
-                    set_eps(&mut poses[b], c, 0.0);
-                }
-            }
-            (value.re, true)
-        }
-    }
-    let reference = vec![0.0; states.len() * 3];
-    let (q, _) = generalized(scene, params, t, states, &reference)?;
-    Ok(visit_mechanism(scene, params, Potential { q, t, states, gradient })?.unwrap_or((0.0, false)))
 }
 
 fn set_eps(pose: &mut Pose<Dual64>, component: usize, eps: f64) {

@@ -22,7 +22,7 @@ pub trait MechanismVisitor {
     type Output;
 
     /// Run on the mechanism, by value.
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> Self::Output;
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> Self::Output;
 }
 
 /// Build the typed mechanism of the scene `id` from `params` and run `visitor` on it.
@@ -67,7 +67,7 @@ mod tests {
     impl MechanismVisitor for Dof {
         type Output = (usize, bool);
 
-        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> (usize, bool) {
+        fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> (usize, bool) {
             (mechanism.coordinates().len(), Model::new(mechanism).is_ok())
         }
     }
@@ -92,7 +92,7 @@ mod tests {
     impl MechanismVisitor for TreeAgreement<'_> {
         type Output = Option<f64>;
 
-        fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> Option<f64> {
+        fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> Option<f64> {
             crate::testing::tree_versus_generic(mechanism, self.states)
         }
     }

@@ -10,7 +10,7 @@ use crate::measure::{self, Sample};
 use crate::plan::reference_method;
 use crate::reference::{ReferenceKind, closed_form};
 use lagrange::{Output, State};
-use lagrange_maximal::{Engine, Settings, build, maps};
+use lagrange_maximal::{Engine, Settings, build};
 use lagrange_scenes::{Params, Scene};
 use lagrange_testing::{max_abs, max_abs_diff, nan_max};
 
@@ -73,9 +73,8 @@ pub fn compare(
     every: f64,
 ) -> Result<Comparison, Error> {
     let id = scene.id();
-    let built = build(engine, id, params, initial, settings)?;
-    let params = &built.params;
-    let mut simulation = built.simulation;
+    let mut built = build(engine, id, params, initial, settings)?;
+    let params = &built.params.clone();
     // Sample times: on the rapier step grid.
     let grid = if engine.is_rapier() { settings.dt } else { every };
     let stride = (every / grid).round().max(1.0) * grid;
@@ -91,17 +90,17 @@ pub fn compare(
         reduced.cyclic_coordinates().iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| j).collect();
     let p0 = reduced.momenta(initial.t, &initial.q, &initial.qdot)?.to_vec();
     let (mut momentum_drift, mut force_error) = (0.0, None::<f64>);
-    let masses: Vec<f64> = maps::bodies(id, params)?.iter().map(|b| b.mass).collect();
-    let g = maps::gravity(params);
+    let read_back = built.read_back.clone();
+    let masses: Vec<f64> = read_back.bodies().iter().map(|b| b.mass).collect();
+    let g = read_back.gravity();
     let comparable = !reduced.has_generalized_force();
     // The closed form where the scene has one: near a singular configuration the reduced
     // solution itself is only as exact as its solve there.
     let exact = closed_form(scene, params, initial, &times)?;
     let kind = if exact.is_some() { ReferenceKind::ClosedForm } else { ReferenceKind::Reduced };
     let error = |k: usize, q: &[f64]| max_abs_diff(q, exact.as_ref().map_or_else(|| reference.q(k), |e| &e[k]));
-    let problem = measure::Problem { scene: id, params, initial, times: &times, conserves_energy: conserves };
-    let pass = measure::track(simulation.as_mut(), &problem, error, |sample| {
-        let Sample { t, q, qdot, bodies, simulation } = sample;
+    let pass = measure::track(&mut built, reduced.as_mut(), initial, &times, error, |sample| {
+        let Sample { t, q, qdot, bodies, simulation, reduced } = sample;
         if !cyclic.is_empty() {
             let p = reduced.momenta(t, q, qdot)?;
             for &j in &cyclic {
@@ -115,7 +114,7 @@ pub fn compare(
                 // forces): a reaction that vanishes (a free particle) is compared with the
                 // forces that move it, not with its own round-off.
                 let mut potential_force = vec![0.0; forces.len()];
-                maps::potential(id, params, t, bodies, Some(&mut potential_force))?;
+                read_back.potential(t, bodies, Some(&mut potential_force));
                 let weight = masses.iter().fold(0.0_f64, |m, mass| m.max(mass * g));
                 let scale = max_abs(&expected).max(max_abs(&potential_force)).max(weight).max(f64::MIN_POSITIVE);
                 force_error = Some(nan_max(force_error.unwrap_or(0.0), max_abs_diff(&forces, &expected) / scale));

@@ -9,8 +9,8 @@ use crate::Error;
 use crate::plan::Timing;
 use crate::reference::Reference;
 use lagrange::{Method, Output, State, System};
-use lagrange_maximal::{BodyState, Built, Engine, MaximalSimulation, Settings, build, maps};
-use lagrange_scenes::Params;
+use lagrange_maximal::{BodyState, Built, Engine, MaximalSimulation, Settings, build};
+use lagrange_scenes::{Params, Scene};
 use lagrange_testing::nan_max;
 use std::hint::black_box;
 use std::time::Instant;
@@ -138,20 +138,18 @@ fn advance(simulation: &mut dyn MaximalSimulation, times: &[f64]) -> Result<f64,
     Ok(start.elapsed().as_secs_f64())
 }
 
-/// The problem a maximal engine runs: a scene with its parameters, the initial state, the saved
-/// times at which it is measured, and whether its energy is conserved.
-#[derive(Clone, Copy, Debug)]
+/// The problem a maximal engine runs: a scene with its parameters, the initial state and the
+/// saved times at which it is measured.
+#[derive(Clone, Copy)]
 pub struct Problem<'a> {
-    /// The scene's id.
-    pub scene: &'a str,
-    /// Its parameters.
+    /// The scene.
+    pub scene: &'a dyn Scene,
+    /// Its parameters, as the user asked for them.
     pub params: &'a Params,
     /// The initial state of the reduced model.
     pub initial: &'a State,
     /// The saved times.
     pub times: &'a [f64],
-    /// Whether the energy is conserved (and its error measured).
-    pub conserves_energy: bool,
 }
 
 /// A maximal-engine run of `problem` (with the parameters the user asked for): `built`
@@ -170,14 +168,16 @@ pub fn maximal(
     reference: &Reference,
     timing: &Timing,
 ) -> Result<Measured, Error> {
-    let mut simulation = built.simulation;
-    let tracked = Problem { params: &built.params, ..*problem };
+    let mut built = built;
+    // The reduced model of what the engine simulates (with its deviations), for the admissible
+    // region and the first read's acceleration.
+    let mut reduced = problem.scene.build(&built.params).map_err(|e| Error::scene(problem.scene.id(), e))?;
     let error = |k: usize, q: &[f64]| reference.error(k, q);
-    let pass = track(simulation.as_mut(), &tracked, error, |_| Ok(()))?;
+    let pass = track(&mut built, reduced.as_mut(), problem.initial, problem.times, error, |_| Ok(()))?;
     let (errors, energy_error, violation) = (pass.errors, pass.energy_error, pass.constraint_violation);
     let steps = pass.steps;
     let (wall_time, timed_repetitions) = time(timing, pass.advance_time, || {
-        let mut built = build(engine, problem.scene, problem.params, problem.initial, settings)?;
+        let mut built = build(engine, problem.scene.id(), problem.params, problem.initial, settings)?;
         advance(built.simulation.as_mut(), problem.times)
     })?;
     Ok(Measured { errors, energy_error, constraint_violation: violation, steps, wall_time, timed_repetitions })
@@ -253,28 +253,34 @@ pub struct Sample<'a> {
     pub bodies: &'a [BodyState],
     /// The engine, for its constraint forces.
     pub simulation: &'a mut dyn MaximalSimulation,
+    /// The reduced model the pass checks against, for its momenta and reactions.
+    pub reduced: &'a mut dyn System,
 }
 
-/// The measurement loop of a maximal engine: advance `simulation` (built for the problem's scene
-/// with its parameters) to each of the saved times, read the bodies back into generalized
-/// coordinates, check them against the scene's admissible region (as the reduced integrators
-/// do after every step; docs/method.md#admissible-regions), and measure the error `error(k, q)` against the caller's reference, the energy
-/// error (when the energy is conserved), the constraint violation, and the time of the
-/// advances; `each` reads what else the caller needs at every sample.
+/// The measurement loop of a maximal engine: advance `built` from `initial` to each of the saved
+/// `times`, read its bodies back into generalized coordinates (with the read-back it carries),
+/// check them against the admissible region of `reduced` — the scene's reduced model with the
+/// parameters `built` simulates — as the reduced integrators do after every step
+/// (docs/method.md#admissible-regions), and measure the error `error(k, q)` against the
+/// caller's reference, the energy error (when `reduced` conserves energy), the constraint
+/// violation, and the time of the advances; `each` reads what else the caller needs at every
+/// sample.
 ///
 /// # Errors
 /// A failing advance, read-back or energy, a read-back state outside the admissible region
 /// ([`lagrange::Error::Inadmissible`]), or an error of `each`.
 pub fn track(
-    simulation: &mut dyn MaximalSimulation,
-    problem: &Problem<'_>,
+    built: &mut Built,
+    reduced: &mut dyn System,
+    initial: &State,
+    times: &[f64],
     error: impl Fn(usize, &[f64]) -> f64,
     mut each: impl FnMut(Sample<'_>) -> Result<(), Error>,
 ) -> Result<Pass, Error> {
-    let Problem { scene, params, initial, times, conserves_energy } = *problem;
-    let initial_energy = maps::energy(scene, params, initial.t, &simulation.bodies())?;
-    // The reduced model of the same scene, for its admissible region.
-    let mut reduced = crate::error::scene(scene)?.build(params)?;
+    let Built { simulation, read_back, .. } = built;
+    let simulation = simulation.as_mut();
+    let conserves_energy = reduced.conserves_energy();
+    let initial_energy = read_back.energy(initial.t, &simulation.bodies());
     let angles: Vec<bool> = reduced.coordinates().iter().map(|c| c.kind == lagrange::CoordinateKind::Angle).collect();
     // Angles are read back on the branch nearest the previous read carried forward by its rate
     // and acceleration, and read often enough between the saved times that none turns by more
@@ -300,7 +306,7 @@ pub fn track(
             simulation.advance_to(target)?;
             advance_time += start.elapsed().as_secs_f64();
             let bodies = simulation.bodies();
-            let (q, qdot) = maps::generalized(scene, params, target, &bodies, &last.predicted(target))?;
+            let (q, qdot) = read_back.generalized(target, &bodies, &last.predicted(target));
             let span = target - last.t;
             let qddot = if span > 0.0 {
                 qdot.iter().zip(&last.qdot).map(|(v, w)| (v - w) / span).collect()
@@ -322,13 +328,13 @@ pub fn track(
         };
         errors.push(error(k, &q));
         if conserves_energy {
-            let energy = maps::energy(scene, params, t, &bodies)?;
+            let energy = read_back.energy(t, &bodies);
             energy_error = nan_max(energy_error, energy_drift(energy, initial_energy));
         }
         if let Some(v) = simulation.constraint_violation() {
             violation = Some(nan_max(violation.unwrap_or(0.0), v));
         }
-        each(Sample { t, q: &q, qdot: &qdot, bodies: &bodies, simulation: &mut *simulation })?;
+        each(Sample { t, q: &q, qdot: &qdot, bodies: &bodies, simulation, reduced: &mut *reduced })?;
     }
     Ok(Pass {
         errors,

@@ -189,9 +189,7 @@ impl SceneRuns {
                     continue;
                 }
                 let outcome = match *family {
-                    Family::Maximal(engine) => {
-                        run_maximal(engine, scene_plan, setting, conserves_energy, &mut references, &mut result)
-                    }
+                    Family::Maximal(engine) => run_maximal(engine, scene_plan, setting, &mut references, &mut result),
                     family => {
                         result.reference = Some(reference.kind);
                         reduced_method(family, setting).and_then(|method| {
@@ -214,7 +212,6 @@ fn run_maximal(
     engine: Engine,
     scene_plan: &ScenePlan,
     setting: Setting,
-    conserves_energy: bool,
     references: &mut References,
     result: &mut FamilyRuns,
 ) -> Result<Measured, Error> {
@@ -225,7 +222,7 @@ fn run_maximal(
     result.deviations.clone_from(&built.deviations);
     result.reference = Some(reference.kind);
     let (times, timing) = (&plan.times, &plan.timing);
-    let problem = measure::Problem { scene: scene.id(), params, initial, times, conserves_energy };
+    let problem = measure::Problem { scene: *scene, params, initial, times };
     measure::maximal(&problem, engine, &settings, built, reference, timing)
 }
 

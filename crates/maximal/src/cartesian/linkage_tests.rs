@@ -16,7 +16,7 @@ use super::system::CartesianSystem;
 use crate::{BodyState, MaximalSimulation};
 use lagrange::graph::{GROUND, GraphMechanism, JointGraph};
 use lagrange::{Dynamics, Error};
-use lagrange_scenes::{ParallelogramChain, Params, RedundantParallelogram, SceneType};
+use lagrange_scenes::{ParallelogramChain, RedundantParallelogram, SceneType};
 use std::f64::consts::FRAC_PI_2;
 use std::sync::Arc;
 
@@ -28,7 +28,7 @@ const RATE: f64 = 8.0;
 /// The Cartesian system of a joint graph and a simulation of it from `states` at `tolerance`.
 fn simulate(graph: JointGraph, states: &[BodyState], tolerance: f64) -> CartesianSimulation {
     let mechanism = GraphMechanism::new(graph).unwrap();
-    let system = CartesianSystem::from_graph("linkage", &Params::defaults(&[]), Arc::new(mechanism));
+    let system = CartesianSystem::from_graph("linkage", Arc::new(mechanism));
     CartesianSimulation::new(system, states, 0.0, tolerance).unwrap()
 }
 

@@ -13,15 +13,15 @@
 //!
 //! with `M = diag(m_b, m_b, I_b)` (zero entries allowed: massless pulleys and the orientation
 //! of point masses are fixed by constraints), `F` = gravity `(0, −m_b g, 0)` + the scene
-//! potential's forces `−∂V/∂p_b` ([`maps::potential`]) + the scene's
+//! potential's forces `−∂V/∂p_b` ([`maps::ReadBack::potential`]) + the scene's
 //! non-conservative forces in Cartesian form (the oscillator's damping `−c ẋ`, the charged
 //! particle's Lorentz force `e B (ẏ, −ẋ)`). `Φ_z` comes from first-order dual passes over the
 //! coordinates of the bodies each constraint touches, `γ_Φ` from one second-order dual pass
 //! along `(ż, 1)`. Velocity constraints `A(z) ż = 0` (the sleigh's knife edge, the disc's rolling
 //! contact) join `Φ_z` as further rows, with the convective term `(∂(A ż)/∂z) ż` from one
 //! first-order dual pass. Nothing of the reduced solver's equations of motion is used: the
-//! reduced model enters only through the initial body states ([`maps::body_states`]), the masses
-//! and inertias ([`maps::bodies`]) and the scene potential.
+//! reduced model enters only through the initial body states ([`maps::ReadBack::body_states`]), the masses
+//! and inertias ([`maps::ReadBack::bodies`]) and the scene potential.
 //!
 //! The KKT system `[[M, Φ_zᵀ], [Φ_z, 0]] (z̈, λ) = (F, −γ_Φ)` is solved by the Schur complement
 //! on the block-diagonal mass matrix, `S λ = Φ_z M⁻¹ F + γ_Φ` with `S = Φ_z M⁻¹ Φ_zᵀ` sparse
@@ -50,7 +50,7 @@ pub(crate) mod system;
 #[cfg(test)]
 mod tests;
 
-use crate::{BuildError, Built, Settings, maps};
+use crate::{BuildError, Built, Settings};
 use lagrange::State;
 use lagrange_scenes::Params;
 pub(crate) use simulation::CartesianSimulation;
@@ -66,7 +66,14 @@ use system::CartesianSystem;
 /// fixes.
 pub fn build(scene: &str, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
     let system = CartesianSystem::new(scene, params)?;
-    let states = maps::body_states(scene, params, initial)?;
+    let read_back = system.read_back.clone();
+    let states = read_back.body_states(initial)?;
     let simulation = CartesianSimulation::new(system, &states, initial.t, settings.tolerance)?;
-    Ok(Built { simulation: Box::new(simulation), params: params.clone(), deviations: Vec::new(), graph: None })
+    Ok(Built {
+        simulation: Box::new(simulation),
+        params: params.clone(),
+        deviations: Vec::new(),
+        graph: None,
+        read_back,
+    })
 }

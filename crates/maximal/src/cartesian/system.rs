@@ -31,8 +31,9 @@ mod schur;
 mod sparsity;
 
 use super::constraints::{Constraint, Joint, VelocityConstraint, equation_names, evaluate_all, no_turning};
+use crate::maps::ReadBack;
 use crate::scenes::{MaximalScene, MaximalVisitor};
-use crate::{BodyState, BuildError, maps};
+use crate::{BodyState, BuildError};
 use lagrange::graph::{ForceElement, GROUND, GraphMechanism, JointGraph};
 use lagrange::num_dual::{Dual2_64, Dual64};
 use lagrange::{Body, Coordinate, Error, Pose, Stage};
@@ -87,8 +88,9 @@ pub(crate) enum AppliedForce {
 pub(crate) struct CartesianSystem {
     /// Scene id.
     pub(crate) scene: String,
-    /// The scene's parameters (validated).
-    params: Params,
+    /// The scene's read-back: its bodies, and its potential at body states (a joint graph's
+    /// force elements are [`Self::graph`]'s).
+    pub(crate) read_back: ReadBack,
     /// The bodies (B), in the reduced model's order.
     bodies: Vec<Body>,
     /// `x[b]`, `y[b]`, `φ[b]` for every body (3B).
@@ -181,11 +183,11 @@ impl CartesianSystem {
     /// # Errors
     /// [`BuildError::Invalid`] for invalid parameters or an unknown scene.
     pub(crate) fn new(scene: &str, params: &Params) -> Result<Self, BuildError> {
-        // Validates the parameters (and the scene id) before any parameter is read by name.
-        let bodies = maps::bodies(scene, params)?;
-        if let Some(mechanism) = crate::scenes::graph(scene, params)? {
-            return Ok(Self::from_graph(scene, params, mechanism));
+        let read_back = ReadBack::new(scene, params)?;
+        if let Some(mechanism) = read_back.mechanism() {
+            return Ok(Self::from_graph(scene, Arc::clone(mechanism)));
         }
+        let bodies = read_back.bodies().to_vec();
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
         // The scene's constraints and non-conservative forces, from its maximal description.
         struct Description<'a>(&'a [String]);
@@ -200,15 +202,15 @@ impl CartesianSystem {
         let mass: Vec<f64> = bodies.iter().flat_map(|b| [b.mass, b.mass, b.inertia]).collect();
         // Whether the scene has a potential: ask it once, at rest at the origin.
         let probe = vec![BodyState::default(); bodies.len()];
-        let (_, has_potential) = maps::potential(scene, params, 0.0, &probe, None)?;
+        let (_, has_potential) = read_back.potential(0.0, &probe, None);
         let rheonomic = constraints.iter().any(Constraint::is_rheonomic);
         let holonomic = equation_names(&constraints).len();
         let sparsity = Arc::new(Sparsity::new(&constraints, &velocity, &mass, holonomic));
         Ok(Self {
             scene: scene.into(),
-            params: params.clone(),
             cyclic: vec![false; 3 * bodies.len()],
-            gravity: maps::gravity(params),
+            gravity: read_back.gravity(),
+            read_back,
             equation_names: all_names(&constraints, &velocity),
             holonomic,
             velocity,
@@ -230,7 +232,7 @@ impl CartesianSystem {
     /// body wrenches ([`GraphMechanism::body_wrenches`]), and `φ_b = φ_b(0)` for a body without
     /// inertia whose angle no joint involves (its column of `Φ_z` vanishes identically: all
     /// its joints act at its centre).
-    pub(crate) fn from_graph(name: &str, params: &Params, mechanism: Arc<GraphMechanism>) -> Self {
+    pub(crate) fn from_graph(name: &str, mechanism: Arc<GraphMechanism>) -> Self {
         use lagrange::Mechanism;
         let bodies = mechanism.bodies().to_vec();
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
@@ -269,7 +271,7 @@ impl CartesianSystem {
         let sparsity = Arc::new(Sparsity::new(&constraints, &velocity, &mass, holonomic));
         Self {
             scene: name.into(),
-            params: params.clone(),
+            read_back: ReadBack::graph(Arc::clone(&mechanism)),
             cyclic: vec![false; 3 * bodies.len()],
             gravity: mechanism.graph().gravity,
             equation_names: all_names(&constraints, &velocity),
@@ -493,8 +495,13 @@ impl CartesianSystem {
         }
     }
 
+    /// The scene potential `V` at body states (0 without one) and, with `gradient`, `∂V/∂p_b`.
+    fn scene_potential(&self, t: f64, states: &[BodyState], gradient: Option<&mut [f64]>) -> f64 {
+        self.read_back.potential(t, states, gradient).0
+    }
+
     /// The applied forces `F` into `ws.force`: gravity `(0, −m_b g, 0)`, the potential's
-    /// `−∂V/∂p_b` (from [`maps::potential`]), and the scene's non-conservative forces.
+    /// `−∂V/∂p_b` (from [`ReadBack::potential`]), and the scene's non-conservative forces.
     ///
     /// # Errors
     /// A failing or non-finite potential.
@@ -512,7 +519,7 @@ impl CartesianSystem {
         // The scene potential, through the body poses.
         if self.has_potential {
             self.fill_states(&mut ws.states, z, zdot);
-            maps::potential(&self.scene, &self.params, t, &ws.states, Some(&mut ws.potential_gradient))?;
+            self.scene_potential(t, &ws.states, Some(&mut ws.potential_gradient));
             if !ws.potential_gradient.iter().all(|g| g.is_finite()) {
                 return Err(Error::NonFinite { stage: Stage::Potential, t, q: z.to_vec() });
             }
@@ -766,7 +773,7 @@ impl CartesianSystem {
         }
         if self.has_potential {
             self.fill_states(&mut ws.states, z, zdot);
-            energy += maps::potential(&self.scene, &self.params, t, &ws.states, None)?.0;
+            energy += self.scene_potential(t, &ws.states, None);
         }
         if let Some(graph) = &self.graph {
             fill_poses(&mut ws.poses, z);

@@ -21,7 +21,8 @@
 use super::constraints::Constraint;
 use super::simulation::CartesianSimulation;
 use super::system::CartesianSystem;
-use crate::{BodyState, BuildError, Engine, MaximalSimulation, Settings, maps};
+use crate::maps::ReadBack;
+use crate::{BodyState, BuildError, Engine, MaximalSimulation, Settings};
 use lagrange::integrate::Tolerances;
 use lagrange::num_dual::Dual2_64;
 use lagrange::{Dynamics, Error, Mechanism, Method, Output, Pose, State};
@@ -75,7 +76,7 @@ fn scene_and_params(id: &str, overrides: &[(&str, f64)]) -> (&'static dyn Scene,
 /// A Cartesian simulation of `id` started from the reduced `state`.
 fn cartesian(id: &str, params: &Params, state: &State) -> CartesianSimulation {
     let system = CartesianSystem::new(id, params).unwrap();
-    let states = maps::body_states(id, params, state).unwrap();
+    let states = ReadBack::new(id, params).unwrap().body_states(state).unwrap();
     CartesianSimulation::new(system, &states, state.t, TOLERANCE).unwrap()
 }
 
@@ -90,7 +91,7 @@ struct BodyAccelerations<'a> {
 impl MechanismVisitor for BodyAccelerations<'_> {
     type Output = Vec<f64>;
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> Vec<f64> {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> Vec<f64> {
         let s = self.state;
         let q: Vec<Dual2_64> =
             s.q.iter().zip(&s.qdot).zip(self.qddot).map(|((&q, &v), &a)| Dual2_64::new(q, v, a)).collect();
@@ -167,7 +168,7 @@ struct Assembled<'a>(&'a State);
 impl MechanismVisitor for Assembled<'_> {
     type Output = State;
 
-    fn visit<M: Mechanism + ClosedForm + Clone + 'static>(self, mechanism: M) -> State {
+    fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> State {
         let model = lagrange::Model::new(mechanism).unwrap();
         let held: Vec<bool> = (0..self.0.q.len()).map(|i| i == 0).collect();
         lagrange::assemble(&model, self.0, &held).unwrap()
@@ -213,7 +214,7 @@ fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
     let end = trajectory.last_state().unwrap();
     // Angles are read back on the branch nearest the reduced solution (a crank turns many
     // times; its angle is compared modulo 2π).
-    let (q, qdot) = maps::generalized(id, &params, horizon, &bodies, &end.q).unwrap();
+    let (q, qdot) = ReadBack::new(id, &params).unwrap().generalized(horizon, &bodies, &end.q);
     let bound = if SINGULAR_DEFAULT_MOTION.contains(&id) { SINGULAR_TRAJECTORY_TOL } else { TRAJECTORY_TOL };
     report.trajectory_q = assert_close(&format!("{id}: q after {horizon} s"), &end.q, &q, bound);
     report.trajectory_qdot = assert_close(&format!("{id}: q̇ after {horizon} s"), &end.qdot, &qdot, bound);
@@ -237,7 +238,7 @@ fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
     assert_eq!(system.conserves_energy(), reduced.conserves_energy(), "{id}: energy conservation");
     if system.conserves_energy() {
         let mut ws = system.workspace();
-        let start = maps::body_states(id, &params, &initial).unwrap();
+        let start = ReadBack::new(id, &params).unwrap().body_states(&initial).unwrap();
         let (z0, zdot0) = flatten(&start);
         let e0 = system.energy_function(&mut ws, initial.t, &z0, &zdot0).unwrap();
         let (z1, zdot1) = flatten(&bodies);
@@ -282,7 +283,8 @@ fn the_knife_edge_holds_in_cartesian_coordinates() {
     simulation.system.constraint_rate(&mut simulation.ws, 3.0, &z, &zdot);
     assert!(simulation.ws.rate[0].abs() <= 1e-15, "v_P · n = {:e}", simulation.ws.rate[0]);
     simulation.evaluate().unwrap();
-    let (q, qdot) = maps::generalized("chaplygin_sleigh", &params, 3.0, &simulation.bodies(), &initial.q).unwrap();
+    let (q, qdot) =
+        ReadBack::new("chaplygin_sleigh", &params).unwrap().generalized(3.0, &simulation.bodies(), &initial.q);
     let mut reduced = scene.build(&params).unwrap();
     let lambda = reduced.constraint_multipliers(3.0, &q, &qdot).unwrap().unwrap().to_vec();
     // The same row in both: A = (−sinφ, cosφ, a) is v_P · n in body poses.
@@ -314,7 +316,7 @@ fn loop_multipliers_are_the_cartesian_pin_forces() {
         let mut simulation = cartesian(id, &params, &initial);
         simulation.advance_to(t).unwrap();
         simulation.evaluate().unwrap();
-        let (q, qdot) = maps::generalized(id, &params, t, &simulation.bodies(), &initial.q).unwrap();
+        let (q, qdot) = ReadBack::new(id, &params).unwrap().generalized(t, &simulation.bodies(), &initial.q);
         let mut reduced = scene.build(&params).unwrap();
         let lambda = reduced.constraint_multipliers(t, &q, &qdot).unwrap().unwrap().to_vec();
         let pins: Vec<f64> = rows.iter().map(|&r| simulation.ws.multipliers[r]).collect();
@@ -398,7 +400,7 @@ fn cartesian_runs_follow_the_exact_solutions() {
         };
         let mut simulation = super::build(id, &params, &initial, &settings).unwrap().simulation;
         simulation.advance_to(horizon).unwrap();
-        let (q, qdot) = maps::generalized(id, &params, horizon, &simulation.bodies(), &exact.q).unwrap();
+        let (q, qdot) = ReadBack::new(id, &params).unwrap().generalized(horizon, &simulation.bodies(), &exact.q);
         let (error_q, error_qdot) = (max_abs_diff(&exact.q, &q), max_abs_diff(&exact.qdot, &qdot));
         eprintln!(
             "{id}: Cartesian against the exact solution after {horizon} s: {error_q:.1e} in q, {error_qdot:.1e} in q̇"
@@ -497,7 +499,8 @@ fn invalid_inputs_are_errors_not_panics() {
 #[test]
 fn initial_states_off_the_constraints_are_rejected() {
     let (scene, params) = scene_and_params("cart_pendulum", &[]);
-    let mut states = maps::body_states("cart_pendulum", &params, &scene.default_state(&params).unwrap()).unwrap();
+    let mut states =
+        ReadBack::new("cart_pendulum", &params).unwrap().body_states(&scene.default_state(&params).unwrap()).unwrap();
     states[1].pose[0] += 1e-6;
     let system = CartesianSystem::new("cart_pendulum", &params).unwrap();
     let error = CartesianSimulation::new(system, &states, 0.0, TOLERANCE).err().unwrap();
@@ -512,7 +515,7 @@ fn initial_states_off_the_constraints_are_rejected() {
 fn singular_kkt_matrices_are_errors_naming_the_culprit() {
     let (scene, params) = scene_and_params("atwood", &[("pulley_inertia", 0.0)]);
     let initial = scene.default_state(&params).unwrap();
-    let states = maps::body_states("atwood", &params, &initial).unwrap();
+    let states = ReadBack::new("atwood", &params).unwrap().body_states(&initial).unwrap();
     let system = CartesianSystem::new("atwood", &params).unwrap();
     let no_slip = |c: &Constraint| c.name == "pulley turn";
     // Without the pulley's joint.
@@ -537,7 +540,7 @@ fn singular_kkt_matrices_are_errors_naming_the_culprit() {
 fn a_constraint_written_twice_shares_its_force() {
     let (scene, params) = scene_and_params("atwood", &[]);
     let initial = scene.default_state(&params).unwrap();
-    let (z, zdot) = flatten(&maps::body_states("atwood", &params, &initial).unwrap());
+    let (z, zdot) = flatten(&ReadBack::new("atwood", &params).unwrap().body_states(&initial).unwrap());
     let system = CartesianSystem::new("atwood", &params).unwrap();
     let mut ws = system.workspace();
     system.evaluate(&mut ws, 0.0, &z, &zdot).unwrap();
@@ -575,7 +578,7 @@ fn projection_restores_positions_and_velocities() {
         let (scene, params) = scene_and_params(id, overrides);
         let state = scene.default_state(&params).unwrap();
         let system = CartesianSystem::new(id, &params).unwrap();
-        let (mut z, mut zdot) = flatten(&maps::body_states(id, &params, &state).unwrap());
+        let (mut z, mut zdot) = flatten(&ReadBack::new(id, &params).unwrap().body_states(&state).unwrap());
         for (k, (p, v)) in z.iter_mut().zip(zdot.iter_mut()).enumerate() {
             *p += 1e-7 * (k as f64 + 1.0).sin();
             *v += 1e-5 * (k as f64 + 2.0).cos();
@@ -599,10 +602,10 @@ fn dynamics_interface_matches_the_bodies() {
         let params = scene.default_params();
         let state = scene.default_state(&params).unwrap();
         let system = CartesianSystem::new(id, &params).unwrap();
-        let bodies = maps::bodies(id, &params).unwrap();
+        let bodies = ReadBack::new(id, &params).unwrap().bodies().to_vec();
         let n = 3 * bodies.len();
         assert_eq!((system.dof(), system.bodies().len()), (n, bodies.len()), "{id}");
-        let states = maps::body_states(id, &params, &state).unwrap();
+        let states = ReadBack::new(id, &params).unwrap().body_states(&state).unwrap();
         let (z, zdot) = flatten(&states);
         let mut ws = system.new_workspace();
         let mut mass = vec![f64::NAN; n * n];
@@ -618,7 +621,7 @@ fn dynamics_interface_matches_the_bodies() {
             }
         }
         let energy = system.energy_function(&mut ws, state.t, &z, &zdot).unwrap();
-        let expected = maps::energy(id, &params, state.t, &states).unwrap();
+        let expected = ReadBack::new(id, &params).unwrap().energy(state.t, &states);
         assert!((energy - expected).abs() <= 1e-14 * expected.abs().max(1.0), "{id}: energy {energy} vs {expected}");
         let mut reaction = vec![0.0; n];
         assert!(system.reaction_forces(&mut ws, state.t, &z, &zdot, &mut reaction).unwrap());

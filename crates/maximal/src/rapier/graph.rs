@@ -231,11 +231,12 @@ pub(crate) fn plan(
         ..StepForces::default()
     };
     let simulated_graph = simulated.clone();
-    let simulated = GraphMechanism::new(simulated)?;
+    let simulated = Arc::new(GraphMechanism::new(simulated)?);
     let plan = Plan {
         scene: name.into(),
         mode,
         params: Params::defaults(&[]),
+        read_back: Some(crate::maps::ReadBack::graph(Arc::clone(&simulated))),
         deviations: deviations.clone(),
         gravity: graph.gravity,
         reduced_bodies: graph.bodies.len(),
@@ -244,7 +245,7 @@ pub(crate) fn plan(
         couplings,
         forces,
         t0: initial.t,
-        graph: Some(Arc::new(simulated)),
+        graph: Some(simulated),
     };
     Ok(GraphPlan { plan, deviations, graph: simulated_graph, inertias })
 }

@@ -51,6 +51,7 @@ fn plan(mode: JointMode, gravity: f64, bodies: Vec<BodySpec>, joints: Vec<JointS
         scene: "hand-made".into(),
         mode,
         params: Params::defaults(&[]),
+        read_back: None,
         deviations: Vec::new(),
         gravity,
         reduced_bodies: bodies.iter().filter(|b| b.reduced.is_some()).count(),
@@ -365,17 +366,14 @@ fn scene_errors(scene: &str, engine: Engine, t_end: f64, dt: f64, substeps: usiz
         .unwrap_or_else(|e| panic!("{scene}: reference: {e}"));
     let torque = ["torque", "mom"].iter().find(|p| built.params.spec(p).is_some()).map_or(0.0, |p| built.params.get(p));
     let energy = |simulation: &dyn MaximalSimulation, q0: f64| {
-        crate::maps::energy(scene, &built.params, simulation.t(), &simulation.bodies()).unwrap_or(f64::NAN)
-            - torque * q0
+        built.read_back.energy(simulation.t(), &simulation.bodies()) - torque * q0
     };
     let e0 = energy(&*built.simulation, initial.q[0]);
     let (mut error, mut violation, mut previous) = (0.0_f64, 0.0_f64, initial.q.clone());
     for (k, &t) in times.iter().enumerate() {
         built.simulation.advance_to(t).unwrap_or_else(|e| panic!("{engine} {scene}: {e}"));
         violation = violation.max(built.simulation.constraint_violation().unwrap_or(0.0));
-        let (q, _) =
-            crate::maps::generalized(scene, &built.params, built.simulation.t(), &built.simulation.bodies(), &previous)
-                .unwrap_or_else(|e| panic!("{scene}: {e}"));
+        let (q, _) = built.read_back.generalized(built.simulation.t(), &built.simulation.bodies(), &previous);
         error = error.max(max_diff(&q, reference.q(k)));
         previous = q;
     }

@@ -94,7 +94,15 @@ pub fn build(
     }
     let plan = scenes::plan(engine, mode, scene, params, initial)?;
     let (params, deviations) = (plan.params.clone(), plan.deviations.clone());
-    Ok(Built { simulation: world(engine, plan, settings)?, params, deviations, graph: None })
+    let read_back = scene_read_back(&plan)?;
+    Ok(Built { simulation: world(engine, plan, settings)?, params, deviations, graph: None, read_back })
+}
+
+/// The read-back a scene's or a graph's plan carries.
+fn scene_read_back(plan: &plan::Plan) -> Result<crate::maps::ReadBack, lagrange::Error> {
+    plan.read_back.clone().ok_or_else(|| lagrange::Error::Inconsistent {
+        what: format!("rapier plan of {}: no read-back (a plan written by hand cannot be built)", plan.scene),
+    })
 }
 
 /// The rapier world of `plan`, in the engine's precision.
@@ -121,10 +129,12 @@ pub(crate) fn build_graph(
     let name = mechanism.graph().name.clone();
     let built = graph::plan(engine, mode, &name, &mechanism, initial)?;
     let (deviations, simulated) = (built.deviations.clone(), built.graph.clone());
+    let read_back = scene_read_back(&built.plan)?;
     Ok(Built {
         simulation: world(engine, built.plan, settings)?,
         params: Params::defaults(&[]),
         deviations,
         graph: Some(simulated),
+        read_back,
     })
 }

@@ -210,6 +210,9 @@ pub(crate) struct Plan {
     pub mode: JointMode,
     /// The parameters simulated (the requested ones plus the deviations).
     pub params: Params,
+    /// The read-back of the scene or graph simulated (bodies, potential, inverse map); `None`
+    /// for a plan written by hand, with no potential.
+    pub read_back: Option<crate::maps::ReadBack>,
     /// One sentence per deviation from the requested scene.
     pub deviations: Vec<String>,
     /// Gravity `g` (along −y).

@@ -3,8 +3,9 @@
 //! deviations from the requested scene that rapier needs.
 
 use super::plan::{BodySpec, ColliderSpec, JointKind, JointMode, JointSpec, Motion, Plan, Shape, StepForces};
+use crate::maps::ReadBack;
 use crate::scenes::{MaximalScene, MaximalVisitor};
-use crate::{BodyState, BuildError, Engine, maps};
+use crate::{BodyState, BuildError, Engine};
 use lagrange::{Body, Error, State};
 use lagrange_scenes::Params;
 
@@ -150,6 +151,7 @@ pub(crate) struct Draft {
     /// Per-step forces.
     pub(crate) forces: StepForces,
     gravity: f64,
+    read_back: ReadBack,
 }
 
 impl Draft {
@@ -169,14 +171,16 @@ impl Draft {
     }
 
     fn new(mode: JointMode, scene: &str, params: &Params, initial: &State) -> Result<Self, Error> {
+        let read_back = ReadBack::new(scene, params)?;
         Ok(Self {
             mode,
-            reduced_bodies: maps::bodies(scene, params)?,
-            states: maps::body_states(scene, params, initial)?,
+            reduced_bodies: read_back.bodies().to_vec(),
+            states: read_back.body_states(initial)?,
             bodies: Vec::new(),
             joints: Vec::new(),
             forces: StepForces::default(),
-            gravity: maps::gravity(params),
+            gravity: read_back.gravity(),
+            read_back,
         })
     }
 
@@ -282,6 +286,7 @@ impl Draft {
             scene: scene.into(),
             mode: self.mode,
             params,
+            read_back: Some(self.read_back),
             deviations,
             gravity: self.gravity,
             reduced_bodies: self.states.len(),

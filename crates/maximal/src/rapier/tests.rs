@@ -4,7 +4,7 @@
 //! and invalid combinations.
 
 use super::build;
-use crate::{BuildError, Built, Engine, Settings, maps};
+use crate::{BuildError, Built, Engine, Settings};
 use lagrange::{Error, Method, Output, State, Tolerances};
 use lagrange_scenes::{Params, SINGULAR_DEFAULT_MOTION, Scene};
 use lagrange_testing::{assert_close, max_abs_diff, nan_max};
@@ -67,10 +67,9 @@ fn built(engine: Engine, scene: &str, params: &Params, initial: &State, dt: f64)
 }
 
 /// `(q, q̇)` read back from a build now (angles unwrapped towards `reference`).
-fn read_back(scene: &str, built: &Built, reference: &[f64]) -> (Vec<f64>, Vec<f64>) {
+fn read_back(built: &Built, reference: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let simulation = &built.simulation;
-    maps::generalized(scene, &built.params, simulation.t(), &simulation.bodies(), reference)
-        .unwrap_or_else(|e| panic!("{scene}: read-back failed: {e}"))
+    built.read_back.generalized(simulation.t(), &simulation.bodies(), reference)
 }
 
 /// The single-precision engine with the same joints.
@@ -149,7 +148,7 @@ fn initial_state_reads_back() {
         let (_, params, initial) = setup(scene, changes);
         for (engine, tolerance) in [(engine, tolerance::READ_BACK), (single(engine), tolerance::READ_BACK_F32)] {
             let built = built(engine, scene, &params, &initial, 1.0 / 240.0);
-            let (q, qdot) = read_back(scene, &built, &initial.q);
+            let (q, qdot) = read_back(&built, &initial.q);
             assert_close(&format!("{engine} {scene} {changes:?} q(0)"), &initial.q, &q, tolerance);
             assert_close(&format!("{engine} {scene} {changes:?} q̇(0)"), &initial.qdot, &qdot, tolerance);
         }
@@ -173,7 +172,7 @@ fn trajectory_error(scene: &str, changes: &[(&str, f64)], engine: Engine, dt: f6
     let mut previous = initial.q.clone();
     for (k, &t) in times.iter().enumerate() {
         built.simulation.advance_to(t).unwrap_or_else(|e| panic!("{engine} {scene}: {e}"));
-        let (q, _) = read_back(scene, &built, &previous);
+        let (q, _) = read_back(&built, &previous);
         worst = nan_max(worst, max_abs_diff(&q, reference.q(k)));
         previous = q;
     }
@@ -241,7 +240,7 @@ fn multibody_machines_have_the_closed_form_accelerations() {
         let dt = 1.0 / 240.0;
         let mut built = built(Engine::RapierMultibody, scene, &params, &initial, dt);
         built.simulation.advance_to(dt).unwrap_or_else(|e| panic!("{scene}: {e}"));
-        let (_, qdot) = read_back(scene, &built, &initial.q);
+        let (_, qdot) = read_back(&built, &initial.q);
         let got: Vec<f64> = qdot.iter().zip(&initial.qdot).map(|(v, v0)| (v - v0) / dt).collect();
         let expected = found
             .closed_form_accelerations(&built.params, initial.t, &initial.q, &initial.qdot)
@@ -262,8 +261,8 @@ fn single_precision_agrees_with_double() {
         for simulation in [&mut double.simulation, &mut single.simulation] {
             simulation.advance_to(1.0).unwrap_or_else(|e| panic!("{engine} {scene}: {e}"));
         }
-        let (q, qdot) = read_back(scene, &double, &initial.q);
-        let (q_single, qdot_single) = read_back(scene, &single, &q);
+        let (q, qdot) = read_back(&double, &initial.q);
+        let (q_single, qdot_single) = read_back(&single, &q);
         println!(
             "{scene:22} {engine:18} f32 vs f64 at t = 1: q {:8.1e}  q̇ {:8.1e}",
             max_abs_diff(&q, &q_single),
@@ -293,7 +292,7 @@ fn constraint_force_error(scene: &str, dt: f64) -> f64 {
     for k in 1..=20 {
         let t = f64::from(k) * 0.05;
         built.simulation.advance_to(t).unwrap_or_else(|e| panic!("{scene}: {e}"));
-        let (q, qdot) = read_back(scene, &built, &initial.q);
+        let (q, qdot) = read_back(&built, &initial.q);
         let forces = built.simulation.constraint_forces().unwrap_or_else(|| panic!("{scene}: impulse forces"));
         let reactions = system.reaction_forces(t - 0.5 * dt, &q, &qdot).ok().flatten().map(<[f64]>::to_vec);
         let reactions = reactions.unwrap_or_else(|| panic!("{scene}: reduced reactions"));
@@ -365,7 +364,7 @@ fn left_out_pulley_turns_with_the_rope() {
     let (_, params, initial) = setup("atwood", &[("pulley_inertia", 0.0)]);
     let mut built = built(Engine::RapierMultibody, "atwood", &params, &initial, 1.0 / 240.0);
     built.simulation.advance_to(0.5).unwrap_or_else(|e| panic!("{e}"));
-    let (q, qdot) = read_back("atwood", &built, &initial.q);
+    let (q, qdot) = read_back(&built, &initial.q);
     let pulley = built.simulation.bodies()[2];
     let a = params.get("pulley_radius");
     assert_close("pulley (x, y, φ)", &[0.0, 0.0, q[0] / a], &pulley.pose, 1e-15);

@@ -11,7 +11,7 @@ use super::rapier::prelude::{
 };
 use super::{real, wide};
 use crate::rapier::plan::{ColliderSpec, JointKind, JointMode, JointSpec, Motion, Plan, Shape, wrap};
-use crate::{BodyState, Engine, MaximalSimulation, Settings, maps};
+use crate::{BodyState, Engine, MaximalSimulation, Settings};
 use lagrange::{Error, Mechanism};
 
 /// PGS sweeps per substep for multibodies with couplings: the couplings of one multibody are
@@ -179,8 +179,8 @@ impl RapierSimulation {
         let forces = self.plan.forces;
         let reduced = self.reduced_states(plan_states);
         let mut gradient = vec![0.0; 3 * reduced.len()];
-        if forces.potential {
-            maps::potential(&self.plan.scene, &self.plan.params, t, &reduced, Some(&mut gradient))?;
+        if let Some(read_back) = self.plan.read_back.as_ref().filter(|_| forces.potential) {
+            read_back.potential(t, &reduced, Some(&mut gradient));
         }
         // The spring at the start of the step (D from the body's pose then), the constant torque,
         // a joint graph's force elements.

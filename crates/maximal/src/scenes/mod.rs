@@ -23,8 +23,6 @@ use crate::rapier::scenes::Draft;
 use lagrange::graph::GraphMechanism;
 use lagrange::{Error, Scalar, State};
 use lagrange_scenes::{Params, SceneType};
-use std::cell::RefCell;
-use std::sync::Arc;
 
 /// Call `$callback!` with every scene type that has a hand-written maximal description (the
 /// scenes that are not joint graphs).
@@ -43,30 +41,13 @@ macro_rules! hand_written {
     };
 }
 
-/// The last scene asked for by [`graph`] on this thread, with its parameters and its resolved
-/// graph (or `None`, for a scene that is not a graph).
-type Resolved = (String, Params, Option<Arc<GraphMechanism>>);
-
-thread_local! {
-    static LAST_GRAPH: RefCell<Option<Resolved>> = const { RefCell::new(None) };
-}
-
-/// The resolved joint graph of `scene` with `params`, if the scene is one. The read-back asks
-/// at every read of a run, always for the same scene and parameters: the answer is built and
-/// resolved once and kept until another scene or other parameters are asked for.
+/// The resolved joint graph of `scene` with `params`, if the scene is one.
 ///
 /// # Errors
 /// An unknown scene, invalid parameters, or a graph that is not a mechanism.
-pub(crate) fn graph(scene: &str, params: &Params) -> Result<Option<Arc<GraphMechanism>>, Error> {
-    let cached = LAST_GRAPH
-        .with(|last| last.borrow().as_ref().filter(|(id, p, _)| id == scene && p == params).map(|(_, _, g)| g.clone()));
-    if let Some(graph) = cached {
-        return Ok(graph);
-    }
+pub(crate) fn graph(scene: &str, params: &Params) -> Result<Option<GraphMechanism>, Error> {
     let found = lagrange_scenes::find(scene).ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
-    let graph = found.joint_graph(params)?.map(GraphMechanism::new).transpose()?.map(Arc::new);
-    LAST_GRAPH.with(|last| *last.borrow_mut() = Some((scene.to_string(), params.clone(), graph.clone())));
-    Ok(graph)
+    found.joint_graph(params)?.map(GraphMechanism::new).transpose()
 }
 
 /// The rapier deviations of the joint-graph scenes, as [`MaximalScene::rapier_deviations`]

@@ -5,7 +5,7 @@ use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings
 use crate::Error;
 use lagrange::integrate::stability as theory;
 use lagrange::{Method, Output, State};
-use lagrange_maximal::{Engine, Settings, build, maps};
+use lagrange_maximal::{Engine, Settings, build};
 use std::time::Instant;
 
 pub const LONG_RUN: CaseSpec = CaseSpec {
@@ -137,13 +137,7 @@ fn rapier_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> 
                 failure = Some(e.to_string());
                 break;
             }
-            match maps::energy("harmonic_oscillator", &built.params, t, &built.simulation.bodies()) {
-                Ok(e) => energy.push(e),
-                Err(e) => {
-                    failure = Some(e.to_string());
-                    break;
-                }
-            }
+            energy.push(built.read_back.energy(t, &built.simulation.bodies()));
         }
         let cost = Cost {
             steps: Some(built.simulation.steps()),

@@ -10,7 +10,7 @@ use crate::Error;
 use crate::tolerance::{LINEAR_STABILITY_LIMIT, STABILITY_LIMIT, gauss_energy_per_step};
 use lagrange::integrate::stability::{self as theory, bisect_limit};
 use lagrange::{Method, Output, State, System, Tolerances};
-use lagrange_maximal::{Engine, Settings, build, maps};
+use lagrange_maximal::{Engine, Settings, build};
 use lagrange_scenes::Params;
 use lagrange_scenes::SceneType;
 use std::time::Instant;
@@ -90,8 +90,8 @@ fn rapier_bounded(engine: Engine, scene: &str, params: &Params, initial: &State,
         if built.simulation.advance_to(t).is_err() {
             return false;
         }
-        match maps::energy(scene, &built.params, t, &built.simulation.bodies()) {
-            Ok(e) if e.is_finite() => {
+        match built.read_back.energy(t, &built.simulation.bodies()) {
+            e if e.is_finite() => {
                 if k <= steps / 10 {
                     first = first.max(e);
                 } else if k > steps - steps / 10 {

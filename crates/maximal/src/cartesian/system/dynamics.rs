@@ -2,7 +2,7 @@
 //! Lagrangian the interface requires.
 
 use super::{AppliedForce, CartesianSystem, CartesianWorkspace};
-use crate::{BodyState, maps};
+use crate::BodyState;
 use lagrange::{Body, Coordinate, Dynamics, Error, LagrangianFunction, Scalar, Stage};
 
 /// `L(z, ż, t) = T − Σ m_b g y_b − V`, for the variational integrator's interface. The scene
@@ -33,7 +33,7 @@ impl LagrangianFunction for CartesianSystem {
                     BodyState { pose, velocity: [0.0; 3] }
                 })
                 .collect();
-            let value = maps::potential(&self.scene, &self.params, t.re(), &states, None).map_or(f64::NAN, |v| v.0);
+            let value = self.scene_potential(t.re(), &states, None);
             lagrangian -= S::from(value);
         }
         if let Some(graph) = self.graph() {
