@@ -2,8 +2,9 @@
 //! (forward kinematics), loop-closing joints give the constraints, force elements give the
 //! potential and the applied loads.
 
-use super::description::{ForceElement, GROUND, JointGraph, JointType, Profile, Role, Shape};
+use super::description::{ForceElement, GROUND, JointGraph, JointType, Profile, Shape};
 use super::invalid;
+use super::spanning::{self, Ends, Orientation};
 use crate::mechanism::Loads;
 use crate::tree::{AngleReference, Joint, Parent, Tree};
 use crate::{Body, Bounds, Coordinate, Error, Mechanism, Pose, Scalar};
@@ -114,15 +115,6 @@ pub struct GraphMechanism {
     has_loads: bool,
 }
 
-/// Union-find root of `i`.
-fn root(sets: &mut [usize], mut i: usize) -> usize {
-    while sets[i] != i {
-        sets[i] = sets[sets[i]];
-        i = sets[i];
-    }
-    i
-}
-
 /// The world position of `at` on a body at `pose` (the ground: `pose` is `None`).
 pub(crate) fn point<S: Scalar>(pose: Option<&Pose<S>>, at: [f64; 2]) -> [S; 2] {
     match pose {
@@ -157,335 +149,21 @@ impl GraphMechanism {
         if graph.bodies.is_empty() {
             return Err(invalid(&graph.name, "has no bodies".into()));
         }
-        let nb = graph.bodies.len();
-        let mut bodies = Vec::with_capacity(nb);
-        for (i, body) in graph.bodies.iter().enumerate() {
-            let what = format!("body `{}`", body.name);
-            if body.name.is_empty() || body.name == GROUND {
-                return Err(invalid(&what, format!("a body may not be named `{}`", body.name)));
-            }
-            if graph.bodies[..i].iter().any(|b| b.name == body.name) {
-                return Err(invalid(&what, "the name is used twice".into()));
-            }
-            for (name, value) in [("mass", body.mass), ("inertia", body.inertia)] {
-                if !(value.is_finite() && value >= 0.0) {
-                    return Err(invalid(&what, format!("its {name} {value} must be finite and non-negative")));
-                }
-            }
-            if let Some(shape) = body.shape {
-                let size_ok = match shape {
-                    Shape::Disc { radius } => radius.is_finite() && radius > 0.0,
-                    Shape::Rectangle { half_extents: [a, b] } => a.is_finite() && b.is_finite() && a > 0.0 && b > 0.0,
-                };
-                if !size_ok {
-                    return Err(invalid(&what, format!("its shape {shape:?} must have positive, finite sizes")));
-                }
-                let expected = shape.inertia(body.mass);
-                if (body.inertia - expected).abs() > SHAPE_TOLERANCE * expected.max(f64::MIN_POSITIVE) {
-                    return Err(invalid(
-                        &what,
-                        format!("its inertia {} is not its shape's {expected} for mass {}", body.inertia, body.mass),
-                    ));
-                }
-            }
-            bodies.push(Body::rigid(body.name.clone(), body.mass, body.inertia));
-        }
-        let body_index = |name: &str, what: &str| -> Result<Option<usize>, Error> {
-            if name == GROUND {
-                return Ok(None);
-            }
-            graph
-                .bodies
-                .iter()
-                .position(|b| b.name == name)
-                .map(Some)
-                .ok_or_else(|| invalid(what, format!("refers to a body `{name}` the graph does not have")))
-        };
-        // Joints: bodies, values, roles.
-        let nj = graph.joints.len();
-        let mut ends = Vec::with_capacity(nj);
-        for (j, joint) in graph.joints.iter().enumerate() {
-            let what = format!("joint `{}`", joint.name);
-            if joint.name.is_empty() || graph.joints[..j].iter().any(|k| k.name == joint.name) {
-                return Err(invalid(&what, "joint names must be unique and not empty".into()));
-            }
-            let (parent, child) = (body_index(&joint.parent, &what)?, body_index(&joint.child, &what)?);
-            if parent == child {
-                return Err(invalid(&what, format!("joins `{}` to itself", joint.parent)));
-            }
-            for value in joint.parent_anchor.iter().chain(&joint.child_anchor) {
-                if !value.is_finite() {
-                    return Err(invalid(&what, format!("an anchor coordinate is {value}, not finite")));
-                }
-            }
-            match joint.kind {
-                JointType::Prismatic { axis } => {
-                    let norm = axis[0].hypot(axis[1]);
-                    let unit = (norm - 1.0).abs() <= UNIT_AXIS_TOLERANCE; // false for NaN
-                    if !unit {
-                        return Err(invalid(&what, format!("its axis {axis:?} is not a unit vector")));
-                    }
-                }
-                JointType::Fixed { angle } if !angle.is_finite() => {
-                    return Err(invalid(&what, format!("its angle {angle} is not finite")));
-                }
-                _ => {}
-            }
-            if let Some(drive) = joint.drive {
-                if matches!(joint.kind, JointType::Fixed { .. }) {
-                    return Err(invalid(&what, "a fixed joint has no coordinate to drive".into()));
-                }
-                drive.check(&what)?;
-            }
-            ends.push((parent, child));
-        }
-        let joint_index = |name: &str, what: &str| -> Result<usize, Error> {
-            graph
-                .joints
-                .iter()
-                .position(|j| j.name == name)
-                .ok_or_else(|| invalid(what, format!("refers to a joint `{name}` the graph does not have")))
-        };
-        // Couplings: one per coupled joint, on revolute or prismatic joints.
-        let mut coupled: Vec<Option<(usize, f64, f64)>> = vec![None; nj];
-        for coupling in &graph.couplings {
-            let what = format!("coupling of `{}` to `{}`", coupling.joint, coupling.source);
-            let (j, s) = (joint_index(&coupling.joint, &what)?, joint_index(&coupling.source, &what)?);
-            if j == s {
-                return Err(invalid(&what, "couples a joint to itself".into()));
-            }
-            for k in [j, s] {
-                if matches!(graph.joints[k].kind, JointType::Fixed { .. }) {
-                    return Err(invalid(&what, format!("`{}` is fixed and has no coordinate", graph.joints[k].name)));
-                }
-            }
-            if graph.joints[j].drive.is_some() {
-                return Err(invalid(&what, format!("`{}` is driven already", coupling.joint)));
-            }
-            if coupled[j].is_some() {
-                return Err(invalid(&what, format!("`{}` is coupled twice", coupling.joint)));
-            }
-            if !(coupling.ratio.is_finite() && coupling.offset.is_finite()) {
-                return Err(invalid(&what, "its ratio and offset must be finite".into()));
-            }
-            coupled[j] = Some((s, coupling.ratio, coupling.offset));
-        }
-        // The spanning tree: joints marked as tree joints, then the others in order, each unless
-        // it closes a loop (node 0 is the ground, node b + 1 body b).
-        let node = |end: Option<usize>| end.map_or(0, |b| b + 1);
-        let mut sets: Vec<usize> = (0..=nb).collect();
-        let mut in_tree = vec![false; nj];
-        for pass in [Role::Tree, Role::Auto] {
-            for (j, joint) in graph.joints.iter().enumerate().filter(|(_, joint)| joint.role == pass) {
-                let (a, b) = (root(&mut sets, node(ends[j].0)), root(&mut sets, node(ends[j].1)));
-                if a == b {
-                    if pass == Role::Tree {
-                        return Err(invalid(
-                            &format!("joint `{}`", joint.name),
-                            "is marked as a tree joint but closes a loop of tree joints".into(),
-                        ));
-                    }
-                    continue;
-                }
-                sets[a] = b;
-                in_tree[j] = true;
-            }
-        }
-        for (b, body) in graph.bodies.iter().enumerate() {
-            if root(&mut sets, b + 1) != root(&mut sets, 0) {
-                return Err(invalid(&format!("body `{}`", body.name), "has no path of joints to the ground".into()));
-            }
-        }
-        // Orient the tree from the ground (breadth first), in joint order at each level.
-        let mut placed = vec![false; nb];
-        let mut reversed = vec![false; nj];
-        let mut order = Vec::with_capacity(nb);
-        let mut paths: Vec<Vec<usize>> = vec![Vec::new(); nb];
-        let mut frontier: Vec<Option<usize>> = vec![None];
-        while !frontier.is_empty() {
-            let mut next = Vec::new();
-            for known in frontier {
-                for j in (0..nj).filter(|&j| in_tree[j]) {
-                    let (p, c) = ends[j];
-                    let target = if p == known && c.is_some_and(|c| !placed[c]) {
-                        c
-                    } else if c == known && p.is_some_and(|p| !placed[p]) {
-                        reversed[j] = true;
-                        p
-                    } else {
-                        continue;
-                    };
-                    let Some(body) = target else { continue };
-                    placed[body] = true;
-                    let mut path = known.map_or_else(Vec::new, |k| paths[k].clone());
-                    path.push(j);
-                    paths[body] = path;
-                    order.push((j, body));
-                    next.push(Some(body));
-                }
-            }
-            frontier = next;
-        }
-        // Values of the tree joints, coordinates in joint order.
-        let mut coordinates = Vec::new();
-        let mut coordinate_joints = Vec::new();
-        let mut joints = Vec::with_capacity(nj);
-        for (j, joint) in graph.joints.iter().enumerate() {
-            let what = format!("joint `{}`", joint.name);
-            let value = match (joint.kind, joint.drive, coupled[j]) {
-                (JointType::Fixed { .. }, _, _) => JointValue::Fixed,
-                (_, Some(profile), _) => JointValue::Driven(profile),
-                (_, None, Some((source, ratio, offset))) => {
-                    if !in_tree[source] {
-                        return Err(invalid(
-                            &what,
-                            format!(
-                                "is coupled to `{}`, which closes a loop: a coupling's source must be a tree joint",
-                                graph.joints[source].name
-                            ),
-                        ));
-                    }
-                    JointValue::Coupled { source, ratio, offset }
-                }
-                (kind, None, None) if in_tree[j] => {
-                    coordinates.push(match kind {
-                        JointType::Prismatic { .. } => Coordinate::length(joint.name.clone()),
-                        _ => Coordinate::angle(joint.name.clone()),
-                    });
-                    coordinate_joints.push(j);
-                    JointValue::Coordinate(coordinates.len() - 1)
-                }
-                _ => JointValue::Fixed,
-            };
-            if in_tree[j] && reversed[j] && joint.kind == JointType::Revolute && joint.angle == AngleReference::World {
-                return Err(invalid(
-                    &what,
-                    format!(
-                        "measures the absolute angle of `{}`, but the tree reaches `{}` first: list the joint the other way round or measure its angle from the parent",
-                        joint.child, joint.child
-                    ),
-                ));
-            }
-            joints.push(ResolvedJoint {
-                parent: ends[j].0,
-                child: ends[j].1,
-                tree: in_tree[j],
-                reversed: reversed[j],
-                value,
-                first_row: 0,
-            });
-        }
-        // Couplings in a cycle never resolve.
-        for j in 0..nj {
-            let mut k = j;
-            for _ in 0..=nj {
-                match joints[k].value {
-                    JointValue::Coupled { source, .. } => k = source,
-                    _ => break,
-                }
-            }
-            if matches!(joints[k].value, JointValue::Coupled { .. }) {
-                return Err(invalid(&format!("joint `{}`", graph.joints[j].name), "is coupled in a cycle".into()));
-            }
-        }
+        let bodies = check_bodies(&graph)?;
+        let ends = check_joints(&graph)?;
+        let coupled = check_couplings(&graph)?;
+        let in_tree = spanning::spanning_tree(&graph, &ends)?;
+        let Orientation { reversed, order, paths } = spanning::orient(graph.bodies.len(), &ends, &in_tree);
+        let Values { mut joints, coordinates, coordinate_joints } =
+            joint_values(&graph, &ends, &in_tree, &reversed, &coupled)?;
         if coordinates.is_empty() {
             return Err(invalid(
                 &graph.name,
                 "has no free coordinate: every tree joint is fixed, driven or coupled".into(),
             ));
         }
-        // Constraint rows of the loop-closing joints.
-        let mut rows = 0;
-        let mut row_names = Vec::new();
-        for (j, joint) in graph.joints.iter().enumerate() {
-            if in_tree[j] {
-                continue;
-            }
-            joints[j].first_row = rows;
-            let mut name = |what: &str| row_names.push(format!("{} ({what})", joint.name));
-            match joint.kind {
-                JointType::Revolute => ["x", "y"].iter().for_each(|w| name(w)),
-                JointType::Prismatic { .. } => ["off the axis", "angle"].iter().for_each(|w| name(w)),
-                JointType::Fixed { .. } => ["x", "y", "angle"].iter().for_each(|w| name(w)),
-            }
-            if let Some(profile) = joint.drive {
-                joints[j].value = JointValue::Driven(profile);
-                name("drive");
-            } else if let Some((source, ratio, offset)) = coupled[j] {
-                joints[j].value = JointValue::Coupled { source, ratio, offset };
-                name("coupling");
-            }
-            rows = row_names.len();
-        }
-        // Force elements.
-        let mut elements = Vec::with_capacity(graph.forces.len());
-        for (e, force) in graph.forces.iter().enumerate() {
-            let what = format!("force element {e}");
-            let non_negative = |name: &str, value: f64| {
-                if value.is_finite() && value >= 0.0 {
-                    Ok(())
-                } else {
-                    Err(invalid(&what, format!("its {name} {value} must be finite and non-negative")))
-                }
-            };
-            let finite_point = |at: [f64; 2]| {
-                if at.iter().all(|v| v.is_finite()) {
-                    Ok(at)
-                } else {
-                    Err(invalid(&what, format!("its point {at:?} is not finite")))
-                }
-            };
-            let coordinate_joint = |name: &str| -> Result<usize, Error> {
-                let j = joint_index(name, &what)?;
-                if matches!(graph.joints[j].kind, JointType::Fixed { .. }) {
-                    return Err(invalid(&what, format!("acts on `{name}`, a fixed joint without a coordinate")));
-                }
-                Ok(j)
-            };
-            let moving = |name: &str| -> Result<usize, Error> {
-                body_index(name, &what)?.ok_or_else(|| invalid(&what, "acts on the ground, which does not move".into()))
-            };
-            elements.push(match force {
-                ForceElement::Spring { a, b, stiffness, rest_length } => {
-                    non_negative("stiffness", *stiffness)?;
-                    non_negative("rest length", *rest_length)?;
-                    Element::Spring {
-                        a: (body_index(&a.body, &what)?, finite_point(a.at)?),
-                        b: (body_index(&b.body, &what)?, finite_point(b.at)?),
-                        stiffness: *stiffness,
-                        rest: *rest_length,
-                    }
-                }
-                ForceElement::Damper { a, b, coefficient } => {
-                    non_negative("coefficient", *coefficient)?;
-                    Element::Damper {
-                        a: (body_index(&a.body, &what)?, finite_point(a.at)?),
-                        b: (body_index(&b.body, &what)?, finite_point(b.at)?),
-                        coefficient: *coefficient,
-                    }
-                }
-                ForceElement::JointSpring { joint, stiffness, rest } => {
-                    non_negative("stiffness", *stiffness)?;
-                    if !rest.is_finite() {
-                        return Err(invalid(&what, format!("its rest value {rest} is not finite")));
-                    }
-                    Element::JointSpring { joint: coordinate_joint(joint)?, stiffness: *stiffness, rest: *rest }
-                }
-                ForceElement::JointDamper { joint, coefficient } => {
-                    non_negative("coefficient", *coefficient)?;
-                    Element::JointDamper { joint: coordinate_joint(joint)?, coefficient: *coefficient }
-                }
-                ForceElement::Torque { body, torque } => {
-                    torque.check(&what)?;
-                    Element::Torque { body: moving(body)?, torque: *torque }
-                }
-                ForceElement::Force { at, force } => {
-                    force[0].check(&what)?;
-                    force[1].check(&what)?;
-                    Element::Force { body: moving(&at.body)?, at: finite_point(at.at)?, force: *force }
-                }
-            });
-        }
+        let (rows, row_names) = number_rows(&graph, &in_tree, &coupled, &mut joints);
+        let elements = resolve_forces(&graph)?;
         let has_potential = elements.iter().any(|e| matches!(e, Element::Spring { .. } | Element::JointSpring { .. }));
         let has_loads = elements.iter().any(|e| {
             matches!(
@@ -959,4 +637,329 @@ impl Mechanism for GraphMechanism {
     fn tree(&self) -> Option<&Tree> {
         self.tree.as_ref()
     }
+}
+
+// The steps of `GraphMechanism::new`, in order: check the bodies, the joints and the
+// couplings; choose and orient the spanning tree (`spanning`); give every joint its value and
+// number the coordinates; number the loop-closing joints' constraint rows; resolve the force
+// elements.
+
+/// The index of body `name` (`None`: the ground).
+fn body_index(graph: &JointGraph, name: &str, what: &str) -> Result<Option<usize>, Error> {
+    if name == GROUND {
+        return Ok(None);
+    }
+    graph
+        .bodies
+        .iter()
+        .position(|b| b.name == name)
+        .map(Some)
+        .ok_or_else(|| invalid(what, format!("refers to a body `{name}` the graph does not have")))
+}
+
+/// The index of joint `name`.
+fn joint_index(graph: &JointGraph, name: &str, what: &str) -> Result<usize, Error> {
+    graph
+        .joints
+        .iter()
+        .position(|j| j.name == name)
+        .ok_or_else(|| invalid(what, format!("refers to a joint `{name}` the graph does not have")))
+}
+
+/// The bodies, once their names, masses, inertias and shapes are checked.
+fn check_bodies(graph: &JointGraph) -> Result<Vec<Body>, Error> {
+    let mut bodies = Vec::with_capacity(graph.bodies.len());
+    for (i, body) in graph.bodies.iter().enumerate() {
+        let what = format!("body `{}`", body.name);
+        if body.name.is_empty() || body.name == GROUND {
+            return Err(invalid(&what, format!("a body may not be named `{}`", body.name)));
+        }
+        if graph.bodies[..i].iter().any(|b| b.name == body.name) {
+            return Err(invalid(&what, "the name is used twice".into()));
+        }
+        for (name, value) in [("mass", body.mass), ("inertia", body.inertia)] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(invalid(&what, format!("its {name} {value} must be finite and non-negative")));
+            }
+        }
+        if let Some(shape) = body.shape {
+            let size_ok = match shape {
+                Shape::Disc { radius } => radius.is_finite() && radius > 0.0,
+                Shape::Rectangle { half_extents: [a, b] } => a.is_finite() && b.is_finite() && a > 0.0 && b > 0.0,
+            };
+            if !size_ok {
+                return Err(invalid(&what, format!("its shape {shape:?} must have positive, finite sizes")));
+            }
+            let expected = shape.inertia(body.mass);
+            if (body.inertia - expected).abs() > SHAPE_TOLERANCE * expected.max(f64::MIN_POSITIVE) {
+                return Err(invalid(
+                    &what,
+                    format!("its inertia {} is not its shape's {expected} for mass {}", body.inertia, body.mass),
+                ));
+            }
+        }
+        bodies.push(Body::rigid(body.name.clone(), body.mass, body.inertia));
+    }
+    Ok(bodies)
+}
+
+/// Every joint's ends, once its name, bodies, anchors, axis and drive are checked.
+fn check_joints(graph: &JointGraph) -> Result<Vec<Ends>, Error> {
+    let mut ends = Vec::with_capacity(graph.joints.len());
+    for (j, joint) in graph.joints.iter().enumerate() {
+        let what = format!("joint `{}`", joint.name);
+        if joint.name.is_empty() || graph.joints[..j].iter().any(|k| k.name == joint.name) {
+            return Err(invalid(&what, "joint names must be unique and not empty".into()));
+        }
+        let (parent, child) = (body_index(graph, &joint.parent, &what)?, body_index(graph, &joint.child, &what)?);
+        if parent == child {
+            return Err(invalid(&what, format!("joins `{}` to itself", joint.parent)));
+        }
+        for value in joint.parent_anchor.iter().chain(&joint.child_anchor) {
+            if !value.is_finite() {
+                return Err(invalid(&what, format!("an anchor coordinate is {value}, not finite")));
+            }
+        }
+        match joint.kind {
+            JointType::Prismatic { axis } => {
+                let norm = axis[0].hypot(axis[1]);
+                let unit = (norm - 1.0).abs() <= UNIT_AXIS_TOLERANCE; // false for NaN
+                if !unit {
+                    return Err(invalid(&what, format!("its axis {axis:?} is not a unit vector")));
+                }
+            }
+            JointType::Fixed { angle } if !angle.is_finite() => {
+                return Err(invalid(&what, format!("its angle {angle} is not finite")));
+            }
+            _ => {}
+        }
+        if let Some(drive) = joint.drive {
+            if matches!(joint.kind, JointType::Fixed { .. }) {
+                return Err(invalid(&what, "a fixed joint has no coordinate to drive".into()));
+            }
+            drive.check(&what)?;
+        }
+        ends.push((parent, child));
+    }
+    Ok(ends)
+}
+
+/// A joint's coupling: `(source, ratio, offset)`.
+type Coupling = (usize, f64, f64);
+
+/// Per joint, its coupling to another joint, if any: one per coupled joint, between revolute
+/// or prismatic joints, none on a driven joint.
+fn check_couplings(graph: &JointGraph) -> Result<Vec<Option<Coupling>>, Error> {
+    let mut coupled: Vec<Option<Coupling>> = vec![None; graph.joints.len()];
+    for coupling in &graph.couplings {
+        let what = format!("coupling of `{}` to `{}`", coupling.joint, coupling.source);
+        let (j, s) = (joint_index(graph, &coupling.joint, &what)?, joint_index(graph, &coupling.source, &what)?);
+        if j == s {
+            return Err(invalid(&what, "couples a joint to itself".into()));
+        }
+        for k in [j, s] {
+            if matches!(graph.joints[k].kind, JointType::Fixed { .. }) {
+                return Err(invalid(&what, format!("`{}` is fixed and has no coordinate", graph.joints[k].name)));
+            }
+        }
+        if graph.joints[j].drive.is_some() {
+            return Err(invalid(&what, format!("`{}` is driven already", coupling.joint)));
+        }
+        if coupled[j].is_some() {
+            return Err(invalid(&what, format!("`{}` is coupled twice", coupling.joint)));
+        }
+        if !(coupling.ratio.is_finite() && coupling.offset.is_finite()) {
+            return Err(invalid(&what, "its ratio and offset must be finite".into()));
+        }
+        coupled[j] = Some((s, coupling.ratio, coupling.offset));
+    }
+    Ok(coupled)
+}
+
+/// The joints resolved, with the coordinates they carry.
+struct Values {
+    joints: Vec<ResolvedJoint>,
+    coordinates: Vec<Coordinate>,
+    /// The joint of each coordinate.
+    coordinate_joints: Vec<usize>,
+}
+
+/// What sets each joint's value — a coordinate (a free tree joint, numbered in the order
+/// listed), a drive, a coupling to a tree joint, or nothing — with couplings in a cycle and
+/// absolute angles measured against the tree's direction refused.
+fn joint_values(
+    graph: &JointGraph,
+    ends: &[Ends],
+    in_tree: &[bool],
+    reversed: &[bool],
+    coupled: &[Option<Coupling>],
+) -> Result<Values, Error> {
+    let mut coordinates = Vec::new();
+    let mut coordinate_joints = Vec::new();
+    let mut joints = Vec::with_capacity(graph.joints.len());
+    for (j, joint) in graph.joints.iter().enumerate() {
+        let what = format!("joint `{}`", joint.name);
+        let value = match (joint.kind, joint.drive, coupled[j]) {
+            (JointType::Fixed { .. }, _, _) => JointValue::Fixed,
+            (_, Some(profile), _) => JointValue::Driven(profile),
+            (_, None, Some((source, ratio, offset))) => {
+                if !in_tree[source] {
+                    return Err(invalid(
+                        &what,
+                        format!(
+                            "is coupled to `{}`, which closes a loop: a coupling's source must be a tree joint",
+                            graph.joints[source].name
+                        ),
+                    ));
+                }
+                JointValue::Coupled { source, ratio, offset }
+            }
+            (kind, None, None) if in_tree[j] => {
+                coordinates.push(match kind {
+                    JointType::Prismatic { .. } => Coordinate::length(joint.name.clone()),
+                    _ => Coordinate::angle(joint.name.clone()),
+                });
+                coordinate_joints.push(j);
+                JointValue::Coordinate(coordinates.len() - 1)
+            }
+            _ => JointValue::Fixed,
+        };
+        if in_tree[j] && reversed[j] && joint.kind == JointType::Revolute && joint.angle == AngleReference::World {
+            return Err(invalid(
+                &what,
+                format!(
+                    "measures the absolute angle of `{}`, but the tree reaches `{}` first: list the joint the other way round or measure its angle from the parent",
+                    joint.child, joint.child
+                ),
+            ));
+        }
+        let (parent, child) = ends[j];
+        joints.push(ResolvedJoint { parent, child, tree: in_tree[j], reversed: reversed[j], value, first_row: 0 });
+    }
+    // Couplings in a cycle never resolve.
+    let nj = joints.len();
+    for j in 0..nj {
+        let mut k = j;
+        for _ in 0..=nj {
+            match joints[k].value {
+                JointValue::Coupled { source, .. } => k = source,
+                _ => break,
+            }
+        }
+        if matches!(joints[k].value, JointValue::Coupled { .. }) {
+            return Err(invalid(&format!("joint `{}`", graph.joints[j].name), "is coupled in a cycle".into()));
+        }
+    }
+    Ok(Values { joints, coordinates, coordinate_joints })
+}
+
+/// Number the loop-closing joints' constraint rows (2 for a revolute or prismatic joint, 3
+/// for a fixed one, one more for a drive or a coupling), setting each one's first row and what
+/// its extra row demands; returns the row count and the rows' names.
+fn number_rows(
+    graph: &JointGraph,
+    in_tree: &[bool],
+    coupled: &[Option<Coupling>],
+    joints: &mut [ResolvedJoint],
+) -> (usize, Vec<String>) {
+    let mut rows = 0;
+    let mut row_names = Vec::new();
+    for (j, joint) in graph.joints.iter().enumerate() {
+        if in_tree[j] {
+            continue;
+        }
+        joints[j].first_row = rows;
+        let mut name = |what: &str| row_names.push(format!("{} ({what})", joint.name));
+        match joint.kind {
+            JointType::Revolute => ["x", "y"].iter().for_each(|w| name(w)),
+            JointType::Prismatic { .. } => ["off the axis", "angle"].iter().for_each(|w| name(w)),
+            JointType::Fixed { .. } => ["x", "y", "angle"].iter().for_each(|w| name(w)),
+        }
+        if let Some(profile) = joint.drive {
+            joints[j].value = JointValue::Driven(profile);
+            name("drive");
+        } else if let Some((source, ratio, offset)) = coupled[j] {
+            joints[j].value = JointValue::Coupled { source, ratio, offset };
+            name("coupling");
+        }
+        rows = row_names.len();
+    }
+    (rows, row_names)
+}
+
+/// The force elements with their bodies and joints resolved to indices, once their values
+/// are checked.
+fn resolve_forces(graph: &JointGraph) -> Result<Vec<Element>, Error> {
+    let mut elements = Vec::with_capacity(graph.forces.len());
+    for (e, force) in graph.forces.iter().enumerate() {
+        let what = format!("force element {e}");
+        elements.push(resolve_force(graph, force, &what)?);
+    }
+    Ok(elements)
+}
+
+/// One force element resolved (`what` names it in errors).
+fn resolve_force(graph: &JointGraph, force: &ForceElement, what: &str) -> Result<Element, Error> {
+    let non_negative = |name: &str, value: f64| {
+        if value.is_finite() && value >= 0.0 {
+            Ok(())
+        } else {
+            Err(invalid(what, format!("its {name} {value} must be finite and non-negative")))
+        }
+    };
+    let point = |body: &str, at: [f64; 2]| -> Result<(Option<usize>, [f64; 2]), Error> {
+        let body = body_index(graph, body, what)?;
+        if at.iter().all(|v| v.is_finite()) {
+            Ok((body, at))
+        } else {
+            Err(invalid(what, format!("its point {at:?} is not finite")))
+        }
+    };
+    let coordinate_joint = |name: &str| -> Result<usize, Error> {
+        let j = joint_index(graph, name, what)?;
+        if matches!(graph.joints[j].kind, JointType::Fixed { .. }) {
+            return Err(invalid(what, format!("acts on `{name}`, a fixed joint without a coordinate")));
+        }
+        Ok(j)
+    };
+    let moving = |name: &str| -> Result<usize, Error> {
+        body_index(graph, name, what)?.ok_or_else(|| invalid(what, "acts on the ground, which does not move".into()))
+    };
+    Ok(match force {
+        ForceElement::Spring { a, b, stiffness, rest_length } => {
+            non_negative("stiffness", *stiffness)?;
+            non_negative("rest length", *rest_length)?;
+            Element::Spring {
+                a: point(&a.body, a.at)?,
+                b: point(&b.body, b.at)?,
+                stiffness: *stiffness,
+                rest: *rest_length,
+            }
+        }
+        ForceElement::Damper { a, b, coefficient } => {
+            non_negative("coefficient", *coefficient)?;
+            Element::Damper { a: point(&a.body, a.at)?, b: point(&b.body, b.at)?, coefficient: *coefficient }
+        }
+        ForceElement::JointSpring { joint, stiffness, rest } => {
+            non_negative("stiffness", *stiffness)?;
+            if !rest.is_finite() {
+                return Err(invalid(what, format!("its rest value {rest} is not finite")));
+            }
+            Element::JointSpring { joint: coordinate_joint(joint)?, stiffness: *stiffness, rest: *rest }
+        }
+        ForceElement::JointDamper { joint, coefficient } => {
+            non_negative("coefficient", *coefficient)?;
+            Element::JointDamper { joint: coordinate_joint(joint)?, coefficient: *coefficient }
+        }
+        ForceElement::Torque { body, torque } => {
+            torque.check(what)?;
+            Element::Torque { body: moving(body)?, torque: *torque }
+        }
+        ForceElement::Force { at, force } => {
+            force[0].check(what)?;
+            force[1].check(what)?;
+            let (body, at) = (moving(&at.body)?, point(&at.body, at.at)?.1);
+            Element::Force { body, at, force: *force }
+        }
+    })
 }

@@ -51,6 +51,7 @@
 mod description;
 mod forces;
 mod mechanism;
+mod spanning;
 #[cfg(test)]
 mod tests;
 
