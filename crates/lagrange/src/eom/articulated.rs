@@ -20,8 +20,9 @@
 use super::{all_finite, kinematics, non_finite};
 use crate::error::{Stage, bad_pivot};
 use crate::linalg::PIVOT_RTOL;
+use crate::tree::Link;
 use crate::tree::spatial::{Force, Inertia, Motion, RigidInertia, Translation};
-use crate::{Error, Mechanism, Model, Scalar, Tree, Workspace};
+use crate::{Coordinate, Error, Mechanism, Model, Scalar, Tree, Workspace};
 
 /// The articulated-body algorithm's scratch for one body (RBDA's symbols), filled by
 /// [`solve`]; a [`Workspace`] holds one per body (`B`), none unless the model uses the tree path.
@@ -118,35 +119,33 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
     q: &[S],
     qdot: &[S],
 ) -> Result<(), Error> {
-    // Joint-space forces Q − ∂V/∂q in the user's coordinates (into ws.rhs).
-    // Applied forces need the pose Jacobian: `n` dual passes, as the potential gradient.
+    // Joint-space forces Q − ∂V/∂q (+ applied forces) in the user's coordinates, into ws.rhs,
+    // as the bias path adds them. Applied forces need the pose Jacobian: `n` dual passes, as
+    // the potential gradient.
     let forces = model.has_potential || model.has_force || model.has_applied;
     if forces {
         ws.rhs.fill(S::zero());
         if model.has_potential || model.has_applied {
             kinematics::jacobian_pass(model, ws, t, q, true);
         }
-        if model.has_potential {
-            for (r, g) in ws.rhs.iter_mut().zip(&ws.potential_gradient) {
-                *r -= *g;
-            }
-        }
-        if model.has_force {
-            ws.generalized_force.fill(S::zero());
-            model.mechanism.generalized_force(t, q, qdot, &mut ws.generalized_force);
-            for (r, f) in ws.rhs.iter_mut().zip(&ws.generalized_force) {
-                *r += *f;
-            }
-        }
-        if model.has_applied {
-            super::applied::add(model, ws, false, t, q, qdot);
-        }
+        super::bias::add_joint_forces(model, ws, false, t, q, qdot);
     }
     let links = tree.links();
     let bodies = &mut ws.articulated[..links.len()];
+    orientations(links, bodies, q);
+    velocities(links, bodies, q, qdot);
+    let rhs = if forces { Some(&ws.rhs[..]) } else { None };
+    inertias(links, bodies, rhs, model.coordinates(), t, q)?;
+    accelerations(links, bodies, model.gravity, &mut ws.qddot);
+    if !all_finite(&ws.qddot) {
+        return Err(non_finite(super::force_stage(model, ws).unwrap_or(Stage::Accelerations), t, q));
+    }
+    Ok(())
+}
 
-    // Orientations φ_i and their sines and cosines first: a loop without other state, so that
-    // the trigonometric calls do not interrupt the recursion below.
+/// Orientations `φ_i` and their sines and cosines first: a loop without other state, so that
+/// the trigonometric calls do not interrupt the recursion of the passes.
+fn orientations<S: Scalar>(links: &[Link], bodies: &mut [ArticulatedBody<S>], q: &[S]) {
     for (i, link) in links.iter().enumerate() {
         let (parent_angle, parent_sin, parent_cos) = match link.parent {
             None => (S::zero(), S::zero(), S::one()),
@@ -161,11 +160,13 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
         body.angle = if link.absolute { turn } else { parent_angle + turn };
         (body.sin, body.cos) = body.angle.sin_cos();
     }
+}
 
-    // Pass 1, root to leaves (RBDA Table 7.1, first loop): relative rate ṙ_i (q̇_i − ω_λ(i) for
-    // an absolute angle), offset r_i = R(φ_λ) parent_anchor − R(φ_i) child_anchor
-    // (+ R(φ_λ) q_i axis), subspace s_i, v_i = X_i v_λ(i) + s_i ṙ_i, c_i = v_i × s_i ṙ_i,
-    // I^A_i = I_i, p^A_i = v_i ×* I_i v_i = (0, −m ω v_y, m ω v_x).
+/// Pass 1, root to leaves (RBDA Table 7.1, first loop): relative rate ṙ_i (q̇_i − ω_λ(i) for
+/// an absolute angle), offset r_i = R(φ_λ) parent_anchor − R(φ_i) child_anchor
+/// (+ R(φ_λ) q_i axis), subspace s_i, v_i = X_i v_λ(i) + s_i ṙ_i, c_i = v_i × s_i ṙ_i,
+/// I^A_i = I_i, p^A_i = v_i ×* I_i v_i = (0, −m ω v_y, m ω v_x).
+fn velocities<S: Scalar>(links: &[Link], bodies: &mut [ArticulatedBody<S>], q: &[S], qdot: &[S]) {
     let mut previous = Motion::zero();
     for (i, link) in links.iter().enumerate() {
         let (parent_sin, parent_cos, parent_velocity) = match link.parent {
@@ -206,16 +207,29 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             absolute_force_below: S::zero(),
         };
     }
+}
 
-    // Pass 2, leaves to root (second loop): U_i = I^A_i s_i, D_i = s_iᵀ U_i,
-    // u_i = τ_i − s_iᵀ p^A_i; the parent receives I^a = I^A_i − U_i U_iᵀ / D_i and
-    // p^a = p^A_i + I^a c_i + U_i u_i / D_i through X_iᵀ, transported as
-    // X_iᵀ I^A_i X_i − Ũ_i Ũ_iᵀ / D_i and X_iᵀ (p^A_i + I^A_i c_i) + Ũ_i (u_i − U_iᵀ c_i) / D_i with
-    // Ũ_i = X_iᵀ U_i, so that the transports do not wait for the division. The relative joint
-    // forces are τ = T⁻ᵀ Q: for a revolute joint, its own Q_i plus those of every absolute
-    // revolute joint below it (turning r_i turns those bodies too, though their absolute
-    // coordinates stay). What a body passes to its parent stays in registers when the parent
-    // is next, as in chains (reading it back from memory right after writing it stalls).
+/// Pass 2, leaves to root (second loop): U_i = I^A_i s_i, D_i = s_iᵀ U_i,
+/// u_i = τ_i − s_iᵀ p^A_i; the parent receives I^a = I^A_i − U_i U_iᵀ / D_i and
+/// p^a = p^A_i + I^a c_i + U_i u_i / D_i through X_iᵀ, transported as
+/// X_iᵀ I^A_i X_i − Ũ_i Ũ_iᵀ / D_i and X_iᵀ (p^A_i + I^A_i c_i) + Ũ_i (u_i − U_iᵀ c_i) / D_i with
+/// Ũ_i = X_iᵀ U_i, so that the transports do not wait for the division. The relative joint
+/// forces are τ = T⁻ᵀ Q: for a revolute joint, its own Q_i plus those of every absolute
+/// revolute joint below it (turning r_i turns those bodies too, though their absolute
+/// coordinates stay). What a body passes to its parent stays in registers when the parent
+/// is next, as in chains (reading it back from memory right after writing it stalls).
+///
+/// `rhs`: the joint-space forces, `None` without any.
+fn inertias<S: Scalar>(
+    links: &[Link],
+    bodies: &mut [ArticulatedBody<S>],
+    rhs: Option<&[S]>,
+    names: &[Coordinate],
+    t: S,
+    q: &[S],
+) -> Result<(), Error> {
+    let forces = rhs.is_some();
+    let rhs = rhs.unwrap_or(&[]);
     let mut from_next: Option<Subtree<S>> = None;
     for i in (0..links.len()).rev() {
         let link = &links[i];
@@ -227,7 +241,7 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             subtree.add_assign(&child);
         }
         let Subtree { articulated_inertia, composite_inertia, bias_force, absolute_force_below } = subtree;
-        let mut tau = if forces { ws.rhs[i] * link.sense } else { S::zero() };
+        let mut tau = if forces { rhs[i] * link.sense } else { S::zero() };
         if link.revolute && forces {
             tau += absolute_force_below;
         }
@@ -243,7 +257,7 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             return Err(non_finite(Stage::Kinematics, t, q));
         }
         if !(diagonal > 0.0 && d > PIVOT_RTOL * diagonal) {
-            return Err(bad_pivot(t, q, &model.coordinates()[i].name, d, diagonal));
+            return Err(bad_pivot(t, q, &names[i].name, d, diagonal));
         }
         // For pass 3: r̈_i = (u_i − U_iᵀ (X_i a_λ + c_i)) / D_i = β_i − (X_iᵀ U_i / D_i)ᵀ a_λ.
         let transported = x.force_to_parent(body.u_force);
@@ -257,7 +271,7 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
                 .force_to_parent(bias_force.add(articulated_inertia.apply(c)))
                 .add(transported.scale(body.acceleration_offset)),
             absolute_force_below: absolute_force_below
-                + if link.absolute && forces { ws.rhs[i] * link.sense } else { S::zero() },
+                + if link.absolute && forces { rhs[i] * link.sense } else { S::zero() },
         };
         if p + 1 == i {
             from_next = Some(passed);
@@ -265,14 +279,17 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             head[p].subtree.add_assign(&passed);
         }
     }
+    Ok(())
+}
 
-    // Pass 3, root to leaves (third loop): r̈_i = (u_i − U_iᵀ a'_i) / D_i with
-    // a'_i = X_i a_λ(i) + c_i, i.e. β_i − (X_iᵀ U_i / D_i)ᵀ a_λ(i); a_i = a'_i + s_i r̈_i; back to
-    // the user's coordinates, q̈_i = r̈_i + ω̇_λ(i) for an absolute angle. The ground
-    // accelerates upwards at g (gravity).
-    // (The previous body's result is kept in registers: in chains it is the parent, and reading
-    // it back from memory right after writing it stalls.)
-    let ground = Motion { angular: S::zero(), x: S::zero(), y: S::from(model.gravity) };
+/// Pass 3, root to leaves (third loop): r̈_i = (u_i − U_iᵀ a'_i) / D_i with
+/// a'_i = X_i a_λ(i) + c_i, i.e. β_i − (X_iᵀ U_i / D_i)ᵀ a_λ(i); a_i = a'_i + s_i r̈_i; back to
+/// the user's coordinates, q̈_i = r̈_i + ω̇_λ(i) for an absolute angle. The ground
+/// accelerates upwards at g (gravity).
+/// (The previous body's result is kept in registers: in chains it is the parent, and reading
+/// it back from memory right after writing it stalls.)
+fn accelerations<S: Scalar>(links: &[Link], bodies: &mut [ArticulatedBody<S>], gravity: f64, qddot: &mut [S]) {
+    let ground = Motion { angular: S::zero(), x: S::zero(), y: S::from(gravity) };
     let mut previous = ground;
     for (i, link) in links.iter().enumerate() {
         let parent_acceleration = match link.parent {
@@ -288,21 +305,8 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
             .add(body.bias_acceleration)
             .add(body.subspace.scale(relative));
         body.acceleration = previous;
-        ws.qddot[i] = (if link.absolute { relative + parent_acceleration.angular } else { relative }) * link.sense;
+        qddot[i] = (if link.absolute { relative + parent_acceleration.angular } else { relative }) * link.sense;
     }
-    if !all_finite(&ws.qddot) {
-        let stage = if model.has_potential && !all_finite(&ws.potential_gradient) {
-            Stage::Potential
-        } else if model.has_force && !all_finite(&ws.generalized_force) {
-            Stage::GeneralizedForce
-        } else if model.has_applied && !all_finite(&ws.applied_force) {
-            Stage::AppliedForce
-        } else {
-            Stage::Accelerations
-        };
-        return Err(non_finite(stage, t, q));
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -39,6 +39,21 @@ pub(crate) fn assemble<M: Mechanism, S: Scalar, N: Size>(
             }
         }
     }
+    add_joint_forces(model, ws, model.constant.is_some(), t, q, qdot);
+}
+
+/// Add the joint-space forces to `ws.rhs`: `−∂V/∂q` (from `ws.potential_gradient`), `+ Q`,
+/// and `+ Σ_b J_bᵀ w_b` of the forces applied at points of bodies (the caller filled the
+/// poses; `constant`: the model's constant Jacobian holds them). The bias path and the
+/// articulated-body algorithm share it.
+pub(crate) fn add_joint_forces<M: Mechanism, S: Scalar>(
+    model: &Model<M>,
+    ws: &mut Workspace<S>,
+    constant: bool,
+    t: S,
+    q: &[S],
+    qdot: &[S],
+) {
     // − ∂V/∂q.
     if model.has_potential {
         for (r, g) in ws.rhs.iter_mut().zip(&ws.potential_gradient) {
@@ -55,6 +70,6 @@ pub(crate) fn assemble<M: Mechanism, S: Scalar, N: Size>(
     }
     // + Σ_b J_bᵀ w_b (forces applied at points of bodies; the caller filled the poses).
     if model.has_applied {
-        super::applied::add(model, ws, model.constant.is_some(), t, q, qdot);
+        super::applied::add(model, ws, constant, t, q, qdot);
     }
 }

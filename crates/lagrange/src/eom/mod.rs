@@ -132,16 +132,24 @@ pub(crate) fn factor_mass_matrix<M: Mechanism, S: Scalar>(
 fn diagnose<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &Workspace<S>, t: S, q: &[S]) -> Error {
     let stage = if model.constant.is_none() && !(all_finite(&ws.jacobian) && all_finite(&ws.convective)) {
         Stage::Kinematics
-    } else if model.has_potential && !all_finite(&ws.potential_gradient) {
-        Stage::Potential
-    } else if model.has_force && !all_finite(&ws.generalized_force) {
-        Stage::GeneralizedForce
-    } else if model.has_applied && !all_finite(&ws.applied_force) {
-        Stage::AppliedForce
     } else {
-        Stage::Accelerations
+        force_stage(model, ws).unwrap_or(Stage::Accelerations)
     };
     non_finite(stage, t, q)
+}
+
+/// The first of the joint-space forces (potential gradient, generalized force, applied
+/// forces) that is not finite, if one is not.
+pub(crate) fn force_stage<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &Workspace<S>) -> Option<Stage> {
+    if model.has_potential && !all_finite(&ws.potential_gradient) {
+        Some(Stage::Potential)
+    } else if model.has_force && !all_finite(&ws.generalized_force) {
+        Some(Stage::GeneralizedForce)
+    } else if model.has_applied && !all_finite(&ws.applied_force) {
+        Some(Stage::AppliedForce)
+    } else {
+        None
+    }
 }
 
 /// Check lengths and finiteness of a state handed to the engine.

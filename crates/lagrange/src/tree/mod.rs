@@ -12,4 +12,5 @@ pub(crate) mod spatial;
 mod tree;
 
 pub use joint::{AngleReference, Joint, JointKind, Parent, Sense};
+pub(crate) use tree::Link;
 pub use tree::Tree;
