@@ -84,9 +84,7 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
 
 /// The number of coordinates from which the Jacobian passes (of the poses and of the
 /// constraints) seed [`seed::CHUNK`] coordinates at once: below it, one scalar dual pass per
-/// coordinate is as fast (measured: a two-coordinate pendulum's constrained `q̈` took 121 ns
-/// with scalar passes and 166 ns with one 8-lane pass; Andrews' squeezer's, in 7 coordinates,
-/// 2.61 µs and 2.28 µs).
+/// coordinate is as fast (measured; the figures are in this constant's commit history).
 pub(crate) const LANES_FROM: usize = 3;
 
 /// Fill `ws.velocity` (`ṗ = J q̇ + ∂p/∂t`) and `ws.convective` (`γ = d²/ds² p(q + s q̇, t + s)`):
