@@ -296,8 +296,8 @@ pub enum CliError {
     Plot {
         /// The SVG file.
         path: PathBuf,
-        /// plotters' error.
-        source: plotters::drawing::DrawingAreaErrorKind<std::io::Error>,
+        /// What went wrong drawing it.
+        source: lagrange_validation::render::plots::PlotError,
     },
 }
 

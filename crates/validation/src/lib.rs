@@ -7,8 +7,9 @@
 //! scene's report ([`assemble`]) into the serialized [`schema`], and the stability suite with
 //! its theory ([`stability`]); random joint graphs ([`graphs`]) and the tolerances with their
 //! reasons ([`tolerance`]). The numeric helpers every check shares (seeded generator, NaN-aware
-//! maxima, closeness, condition number) are the leaf crate `lagrange-testing`'s. Rendering (Markdown, SVG plots, the terminal summary) and file
-//! writing stay in the command line.
+//! maxima, closeness, condition number) are the leaf crate `lagrange-testing`'s. The report's rendering — Markdown, the SVG plots, the terminal
+//! summary — is here too ([`render`]), as text: any front end produces the same report, and
+//! writes the files itself.
 
 pub mod andrews;
 pub mod assemble;
@@ -20,6 +21,7 @@ pub mod measure;
 pub mod pareto;
 pub mod plan;
 pub mod reference;
+pub mod render;
 pub mod runs;
 pub mod schema;
 pub mod stability;

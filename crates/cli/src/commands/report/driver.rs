@@ -1,17 +1,15 @@
 //! `lagrange report` from start to end: validate the arguments, probe every scene, run every
 //! sweep under a progress bar, and write report.json, report.md, the plots and the summary.
 
-use super::markdown;
 use super::options::{Args, Options};
-use super::plots;
 use crate::error::CliError;
 use crate::output::{out, outln};
 use lagrange_validation::assemble::scene_report;
 use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_TARGET};
+use lagrange_validation::render::{markdown, plots, terminal};
 use lagrange_validation::runs::{ScenePlan, SceneRuns};
 use lagrange_validation::schema::{Plots, Report, SCHEMA_VERSION, Targets, TimingReport};
 
-use super::terminal;
 use crate::commands::{files, long_work};
 use indicatif::ProgressBar;
 use lagrange_validation::stability::{self, Effort};
@@ -59,8 +57,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let id = scene_plan.scene.id();
         let names = Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg") };
         let own = &scene_plan.plan;
-        plots::work_precision(&options.out.join(&names.work_precision), &runs, own.horizon)?;
-        plots::errors_over_time(&options.out.join(&names.error), &runs, &own.times)?;
+        let plot = |name: &String, svg: Result<String, plots::PlotError>| {
+            let path = options.out.join(name);
+            let svg = svg.map_err(|source| CliError::Plot { path: path.clone(), source })?;
+            files::write(&path, svg.as_bytes())
+        };
+        plot(&names.work_precision, plots::work_precision(&runs, own.horizon))?;
+        plot(&names.error, plots::errors_over_time(&runs, &own.times))?;
         files += 2;
         scenes.push(scene_report(&runs, names, scene_start.elapsed().as_secs_f64()));
     }

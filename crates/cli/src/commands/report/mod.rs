@@ -18,9 +18,9 @@
 //! `<scene>_error.svg`; a summary on standard output and a progress bar on standard error.
 //!
 //! The pipeline: [`options`] here → the validation library's [`plan`], [`runs`] (with
-//! [`reference`] and [`measure`]), [`assemble`] (with [`pareto`]) and [`schema`] → [`markdown`],
-//! [`plots`], [`terminal`] here; the library's [`stability`] for the stability section, rendered
-//! by [`stability_render`]; [`driver`] runs it.
+//! [`reference`] and [`measure`]), [`assemble`] (with [`pareto`]) and [`schema`] → the library's
+//! [`render`] (Markdown, SVG plots, the terminal summary; its stability section too); the
+//! library's [`stability`] for the stability section; [`driver`] runs it and writes the files.
 //!
 //! [`plan`]: lagrange_validation::plan
 //! [`runs`]: lagrange_validation::runs
@@ -30,14 +30,10 @@
 //! [`pareto`]: lagrange_validation::pareto
 //! [`schema`]: lagrange_validation::schema
 //! [`stability`]: lagrange_validation::stability
+//! [`render`]: lagrange_validation::render
 
-mod cells;
 mod driver;
-mod markdown;
 mod options;
-mod plots;
-mod stability_render;
-mod terminal;
 
 pub use driver::run;
 pub use options::Args;

@@ -1,6 +1,6 @@
 //! How numbers and ratios read in report.md and on the terminal.
 
-use lagrange_validation::pareto::{EqualError, EqualTime, TimeToError};
+use crate::pareto::{EqualError, EqualTime, TimeToError};
 
 /// `1.23e-4`, or `—` for a metric that does not apply.
 pub fn number(value: Option<f64>) -> String {

@@ -1,7 +1,7 @@
 //! The stability section of report.md, and its lines in the terminal summary.
 
 use super::cells;
-use lagrange_validation::stability::{Case, Check, Measurement, StabilityReport};
+use crate::stability::{Case, Check, Measurement, StabilityReport};
 use std::fmt::Write;
 
 /// `1.23e-4`, or `—`.

@@ -1,16 +1,13 @@
 //! The SVG plots of a scene: work-precision (max error against wall time, log-log, one line per
 //! method family through its sweep) and the reference trajectory above each family's error
-//! over time. Each is drawn in memory and written whole (`commands::files`).
+//! over time. Each is drawn in memory and returned as the SVG text.
 
-use crate::commands::files;
-use crate::error::CliError;
-use lagrange_validation::pareto::{Front, Point};
-use lagrange_validation::plan::{Family, Setting};
-use lagrange_validation::reference::Reference;
-use lagrange_validation::runs::{FamilyRuns, Run, SceneRuns};
+use crate::pareto::{Front, Point};
+use crate::plan::{Family, Setting};
+use crate::reference::Reference;
+use crate::runs::{FamilyRuns, Run, SceneRuns};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// One colour per family, in `Family::ALL` order; the f32 builds are lighter than their f64 twins.
 const PALETTE: [RGBColor; Family::ALL.len()] = [
@@ -43,9 +40,14 @@ fn colour(family: Family) -> RGBColor {
     PALETTE[index]
 }
 
-/// The [`CliError::Plot`] of a drawing error on the plot at `path`.
-fn drawing_error(path: &Path) -> impl Fn(DrawingAreaErrorKind<std::io::Error>) -> CliError + '_ {
-    move |source| CliError::Plot { path: path.to_path_buf(), source }
+/// A plot that could not be drawn: plotters' error, as text.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct PlotError(pub String);
+
+/// The [`PlotError`] of a drawing error.
+fn drawing_error(source: DrawingAreaErrorKind<std::io::Error>) -> PlotError {
+    PlotError(source.to_string())
 }
 
 /// A log axis range around positive `values`, with a margin of `factor` on both sides.
@@ -76,12 +78,11 @@ fn draw_legend(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     top: i32,
     entries: &[(String, RGBColor)],
-    path: &Path,
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     for (k, (label, colour)) in entries.iter().enumerate() {
         let y = top + 22 * k as i32;
-        area.draw(&PathElement::new(vec![(4, y), (28, y)], colour.stroke_width(3))).map_err(drawing_error(path))?;
-        area.draw(&Text::new(label.clone(), (34, y - 7), ("sans-serif", 13))).map_err(drawing_error(path))?;
+        area.draw(&PathElement::new(vec![(4, y), (28, y)], colour.stroke_width(3))).map_err(drawing_error)?;
+        area.draw(&Text::new(label.clone(), (34, y - 7), ("sans-serif", 13))).map_err(drawing_error)?;
     }
     Ok(())
 }
@@ -91,27 +92,25 @@ fn draw_legend(
 ///
 /// # Errors
 /// The file cannot be written.
-pub fn work_precision(path: &Path, runs: &SceneRuns, horizon: f64) -> Result<(), CliError> {
+pub fn work_precision(runs: &SceneRuns, horizon: f64) -> Result<String, PlotError> {
     let mut svg = String::new();
-    draw_work_precision(SVGBackend::with_string(&mut svg, (1100, 640)).into_drawing_area(), path, runs, horizon)?;
-    files::write(path, svg.as_bytes())
+    draw_work_precision(SVGBackend::with_string(&mut svg, (1100, 640)).into_drawing_area(), runs, horizon)?;
+    Ok(svg)
 }
 
 /// [`work_precision`] drawn into `root`.
 fn draw_work_precision(
     root: DrawingArea<SVGBackend<'_>, Shift>,
-    path: &Path,
     runs: &SceneRuns,
     horizon: f64,
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     let series: Vec<(Family, Vec<(f64, f64)>)> =
         runs.families.iter().map(|f| (f.family, work_precision_points(f))).filter(|(_, p)| !p.is_empty()).collect();
     let all = || series.iter().flat_map(|(_, p)| p.iter().copied());
-    root.fill(&WHITE).map_err(drawing_error(path))?;
+    root.fill(&WHITE).map_err(drawing_error)?;
     let (Some(x), Some(y)) = (log_range(all().map(|p| p.0), 1.5), log_range(all().map(|p| p.1), 3.0)) else {
-        root.titled(&format!("{}: no successful run", runs.scene.id()), ("sans-serif", 20))
-            .map_err(drawing_error(path))?;
-        return root.present().map_err(drawing_error(path));
+        root.titled(&format!("{}: no successful run", runs.scene.id()), ("sans-serif", 20)).map_err(drawing_error)?;
+        return root.present().map_err(drawing_error);
     };
     let (left, right) = root.split_horizontally(880);
     let caption =
@@ -122,7 +121,7 @@ fn draw_work_precision(
         .x_label_area_size(45)
         .y_label_area_size(70)
         .build_cartesian_2d(x.log_scale(), y.log_scale())
-        .map_err(drawing_error(path))?;
+        .map_err(drawing_error)?;
     chart
         .configure_mesh()
         .x_desc("wall time (s), minimum over repetitions")
@@ -130,32 +129,30 @@ fn draw_work_precision(
         .x_label_formatter(&exponent_label)
         .y_label_formatter(&exponent_label)
         .draw()
-        .map_err(drawing_error(path))?;
+        .map_err(drawing_error)?;
     let mut legend = Vec::new();
     for (family, points) in &series {
         let colour = colour(*family);
         let front =
             Front::new(points.iter().enumerate().map(|(run, &(time, error))| Point { time, error, family: 0, run }));
         let line: Vec<(f64, f64)> = front.points.iter().map(|p| (p.time, p.error)).collect();
-        chart.draw_series(LineSeries::new(line, colour.stroke_width(2))).map_err(drawing_error(path))?;
+        chart.draw_series(LineSeries::new(line, colour.stroke_width(2))).map_err(drawing_error)?;
         let on_front = |k: usize| front.points.iter().any(|p| p.run == k);
         chart
             .draw_series(points.iter().enumerate().map(|(k, &p)| {
                 let style = if on_front(k) { colour.filled() } else { colour.stroke_width(1) };
                 Circle::new(p, 3, style)
             }))
-            .map_err(drawing_error(path))?;
+            .map_err(drawing_error)?;
         legend.push((family.name().to_string(), colour));
     }
-    draw_legend(&right, 60, &legend, path)?;
+    draw_legend(&right, 60, &legend)?;
     let note = ("sans-serif", 12);
-    right
-        .draw(&Text::new("lines: Pareto fronts", (4, 70 + 22 * legend.len() as i32), note))
-        .map_err(drawing_error(path))?;
+    right.draw(&Text::new("lines: Pareto fronts", (4, 70 + 22 * legend.len() as i32), note)).map_err(drawing_error)?;
     right
         .draw(&Text::new("hollow: dominated runs", (4, 86 + 22 * legend.len() as i32), note))
-        .map_err(drawing_error(path))?;
-    root.present().map_err(drawing_error(path))
+        .map_err(drawing_error)?;
+    root.present().map_err(drawing_error)
 }
 
 /// The wall time the error plot picks runs at: rapier's (impulse, else multibody, f64) run
@@ -213,8 +210,7 @@ fn draw_reference(
     runs: &SceneRuns,
     reference: &Reference,
     times: &[f64],
-    path: &Path,
-) -> Result<(), CliError> {
+) -> Result<(), PlotError> {
     let values = || reference.q.iter().flatten().copied();
     let (low, high) = values().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(v), h.max(v)));
     let pad = ((high - low) * 0.05).max(1e-9);
@@ -226,14 +222,14 @@ fn draw_reference(
         .x_label_area_size(35)
         .y_label_area_size(70)
         .build_cartesian_2d(0.0..t_end, (low - pad)..(high + pad))
-        .map_err(drawing_error(path))?;
-    chart.configure_mesh().x_desc("t (s)").y_desc("q_ref (m, rad)").draw().map_err(drawing_error(path))?;
+        .map_err(drawing_error)?;
+    chart.configure_mesh().x_desc("t (s)").y_desc("q_ref (m, rad)").draw().map_err(drawing_error)?;
     for (i, coordinate) in runs.coordinates.iter().enumerate() {
         let colour = COORDINATE_COLOURS[i % COORDINATE_COLOURS.len()];
         let points = times.iter().zip(&reference.q).map(|(&t, q)| (t, q[i]));
         chart
             .draw_series(LineSeries::new(points, colour.stroke_width(2)))
-            .map_err(drawing_error(path))?
+            .map_err(drawing_error)?
             .label(coordinate.name.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
     }
@@ -243,7 +239,7 @@ fn draw_reference(
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
-        .map_err(drawing_error(path))
+        .map_err(drawing_error)
 }
 
 /// One line of the error plot.
@@ -258,25 +254,24 @@ struct Curve {
 ///
 /// # Errors
 /// The file cannot be written.
-pub fn errors_over_time(path: &Path, runs: &SceneRuns, times: &[f64]) -> Result<(), CliError> {
+pub fn errors_over_time(runs: &SceneRuns, times: &[f64]) -> Result<String, PlotError> {
     let mut svg = String::new();
-    draw_errors_over_time(SVGBackend::with_string(&mut svg, (1160, 900)).into_drawing_area(), path, runs, times)?;
-    files::write(path, svg.as_bytes())
+    draw_errors_over_time(SVGBackend::with_string(&mut svg, (1160, 900)).into_drawing_area(), runs, times)?;
+    Ok(svg)
 }
 
 /// [`errors_over_time`] drawn into `root`.
 fn draw_errors_over_time(
     root: DrawingArea<SVGBackend<'_>, Shift>,
-    path: &Path,
     runs: &SceneRuns,
     times: &[f64],
-) -> Result<(), CliError> {
-    root.fill(&WHITE).map_err(drawing_error(path))?;
+) -> Result<(), PlotError> {
+    root.fill(&WHITE).map_err(drawing_error)?;
     let (top, bottom) = root.split_vertically(360);
     let (bottom, legend_area) = bottom.split_horizontally(780);
-    draw_reference(&top, runs, &runs.reference, times, path)?;
+    draw_reference(&top, runs, &runs.reference, times)?;
     let Some(time) = representative_time(runs) else {
-        return root.present().map_err(drawing_error(path));
+        return root.present().map_err(drawing_error);
     };
     // Errors at t = 0 vanish and have no logarithm: each curve starts at the first positive one.
     let curves: Vec<Curve> = representatives(runs, time)
@@ -295,7 +290,7 @@ fn draw_errors_over_time(
         .collect();
     let t_end = times.last().copied().unwrap_or(1.0);
     let Some(y) = log_range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)), 3.0) else {
-        return root.present().map_err(drawing_error(path));
+        return root.present().map_err(drawing_error);
     };
     let caption = format!("errors over time, one run per method at about {time:.2e} s of wall time");
     let mut chart = ChartBuilder::on(&bottom)
@@ -304,19 +299,19 @@ fn draw_errors_over_time(
         .x_label_area_size(35)
         .y_label_area_size(70)
         .build_cartesian_2d(0.0..t_end, y.log_scale())
-        .map_err(drawing_error(path))?;
+        .map_err(drawing_error)?;
     chart
         .configure_mesh()
         .x_desc("t (s)")
         .y_desc("‖q − q_ref‖∞ (m, rad)")
         .y_label_formatter(&exponent_label)
         .draw()
-        .map_err(drawing_error(path))?;
+        .map_err(drawing_error)?;
     let mut legend = Vec::new();
     for curve in curves {
-        chart.draw_series(LineSeries::new(curve.points, curve.colour.stroke_width(2))).map_err(drawing_error(path))?;
+        chart.draw_series(LineSeries::new(curve.points, curve.colour.stroke_width(2))).map_err(drawing_error)?;
         legend.push((curve.label, curve.colour));
     }
-    draw_legend(&legend_area, 60, &legend, path)?;
-    root.present().map_err(drawing_error(path))
+    draw_legend(&legend_area, 60, &legend)?;
+    root.present().map_err(drawing_error)
 }

@@ -2,9 +2,9 @@
 //! with every run and its plots, and the stability section.
 
 use super::cells;
-use lagrange_validation::pareto;
-use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
-use lagrange_validation::schema::{MethodReport, Report, SceneReport, Versus};
+use crate::pareto;
+use crate::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
+use crate::schema::{MethodReport, Report, SceneReport, Versus};
 use std::fmt::Write;
 
 fn reference(scene: &SceneReport) -> String {
@@ -115,7 +115,7 @@ pub fn render(report: &Report) -> String {
     for scene in &report.scenes {
         scene_section(&mut md, scene);
     }
-    super::stability_render::markdown(&mut md, &report.stability);
+    super::stability::markdown(&mut md, &report.stability);
     md
 }
 

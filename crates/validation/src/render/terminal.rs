@@ -4,8 +4,8 @@
 
 use super::cells;
 use super::markdown::targets_met;
-use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
-use lagrange_validation::schema::Report;
+use crate::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
+use crate::schema::Report;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -63,7 +63,7 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
          {error_met} of {comparisons}; total {:.1} s",
         report.total_wall_time_s
     );
-    super::stability_render::terminal(&mut text, &report.stability);
+    super::stability::terminal(&mut text, &report.stability);
     let _ = writeln!(text, "wrote {} (report.json, report.md, {files} SVG plots)", out.display());
     text
 }

@@ -1,0 +1,10 @@
+//! The report rendered, for any front end: the Markdown report ([`markdown::render`]) with its
+//! stability section ([`stability::markdown`]), the terminal summary ([`terminal::render`]),
+//! and the SVG plots of a scene ([`plots::work_precision`], [`plots::errors_over_time`]). Each
+//! returns text; writing files is the caller's.
+
+mod cells;
+pub mod markdown;
+pub mod plots;
+pub mod stability;
+pub mod terminal;
