@@ -7,7 +7,7 @@
 
 use criterion::Criterion;
 use lagrange::integrate::Rk4;
-use lagrange::{Dynamics, Mechanism, Model, RawModel, State};
+use lagrange::{Mechanism, Model, RawModel, State};
 use lagrange_benches::{bench_step, criterion, mean_ns};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::hint::black_box;
@@ -48,7 +48,7 @@ impl MechanismVisitor for Register<'_> {
             })
         });
         if let Some(raw) = &raw {
-            let mut rws = raw.new_workspace();
+            let mut rws = raw.workspace();
             group.bench_function("raw_path", |b| {
                 b.iter(|| {
                     black_box(

@@ -31,7 +31,7 @@ impl MechanismVisitor for Register<'_> {
         let n = model.dof();
         let s = self.state;
         let mut group = self.criterion.benchmark_group(format!("implicit_{}", self.id));
-        let mut ws = model.new_workspace();
+        let mut ws = model.workspace();
         let mut rk4 = Rk4::new(n);
         bench_step(&mut group, "rk4_step", &s, |state| rk4.step(&model, &mut ws, state, black_box(STEP)));
         // Gauss keeps its Jacobian, factor and stage values between steps, as in a run: the

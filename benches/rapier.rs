@@ -5,8 +5,8 @@
 //! `cargo bench -p lagrange-benches --bench rapier` measures, then prints the table.
 
 use criterion::Criterion;
+use lagrange::Model;
 use lagrange::integrate::Rk4;
-use lagrange::{Dynamics, Model};
 use lagrange_benches::{bench_advance, bench_step, criterion, format_ns, mean_ns};
 use lagrange_maximal::{BuildError, Engine, Settings, build};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
@@ -26,7 +26,7 @@ impl MechanismVisitor for ReducedStep<'_> {
 
     fn visit<M: lagrange::Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
-        let mut ws = model.new_workspace();
+        let mut ws = model.workspace();
         let mut rk4 = Rk4::new(model.dof());
         let state = self.state;
         bench_step(&mut self.criterion.benchmark_group(self.id), "reduced_rk4", &state, |s| {

@@ -28,7 +28,7 @@ fn main() {
         let state = scene.default_state(&params).expect("valid");
         // The reduced solver.
         let model = Model::new(Chain::from_params(&params).expect("valid")).expect("valid");
-        let mut ws = model.new_workspace();
+        let mut ws = model.workspace();
         let mut qddot = vec![0.0; n];
         let mut g = criterion.benchmark_group(&group);
         g.bench_function("reduced_accelerations", |b| {
@@ -39,7 +39,7 @@ fn main() {
         // The same chain from its joint graph.
         let graph = scene.joint_graph(&params).expect("valid").expect("the chain is a joint graph");
         let graph_model = Model::new(GraphMechanism::new(graph).expect("a mechanism")).expect("valid");
-        let mut graph_ws = graph_model.new_workspace();
+        let mut graph_ws = graph_model.workspace();
         g.bench_function("graph_accelerations", |b| {
             b.iter(|| {
                 graph_model.accelerations(&mut graph_ws, 0.0, black_box(&state.q), black_box(&state.qdot), &mut qddot)

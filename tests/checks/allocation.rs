@@ -58,7 +58,7 @@ fn allocations(f: impl FnOnce()) -> usize {
 /// Every per-step entry point of `system`, after its buffers exist, allocates nothing.
 fn assert_no_allocation_per_step<D: Dynamics>(name: &str, system: &D, initial: &State) {
     let n = system.dof();
-    let mut ws = system.new_workspace();
+    let mut ws = system.workspace();
     let mut qddot = vec![0.0; n];
     let mut rk4 = Rk4::new(n);
     let mut state = initial.clone();

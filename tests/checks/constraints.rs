@@ -283,7 +283,7 @@ fn projection_removes_a_drift_along_the_constraint_forces_exactly() {
     let (n, c) = (3, 2);
     for (theta2, rate) in [(std::f64::consts::FRAC_PI_3, 6.0), (2.0, -3.0), (4.5, 1.0)] {
         let state = four_bar_state(&model, theta2, rate);
-        let mut ws = model.new_workspace();
+        let mut ws = model.workspace();
         let mass = lagrange::mass_matrix(&model, &mut model.workspace(), 0.0, &state.q, &state.qdot)
             .expect("evaluates")
             .to_vec();

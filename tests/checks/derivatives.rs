@@ -7,7 +7,7 @@ use lagrange_testing as fixtures;
 use lagrange_tests::{max_abs, rng, sampling, tolerance};
 
 fn poses<M: Mechanism>(model: &Model<M>, t: f64, q: &[f64]) -> Vec<f64> {
-    let mut out = vec![Pose::<f64>::default(); model.bodies()];
+    let mut out = vec![Pose::<f64>::default(); model.bodies().len()];
     model.mechanism().poses(t, q, &mut out);
     out.iter().flat_map(|p| [p.x, p.y, p.angle]).collect()
 }
@@ -45,7 +45,7 @@ impl MechanismVisitor for FiniteDifferences<'_> {
 
     fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) {
         let model = Model::new(mechanism).expect("valid");
-        let rows = 3 * model.bodies();
+        let rows = 3 * model.bodies().len();
         let mut ws = model.workspace();
         for s in self.states {
             // J and γ from the engine (the momenta call runs both passes).
@@ -72,7 +72,7 @@ impl MechanismVisitor for FiniteDifferences<'_> {
                 let extra = |q: &[f64], ws: &mut lagrange::Workspace<f64>| {
                     let total = lagrange::potential_energy(&model, ws, s.t, q).expect("valid");
                     let p = poses(&model, s.t, q);
-                    let gravity: f64 = (0..model.bodies())
+                    let gravity: f64 = (0..model.bodies().len())
                         .map(|b| model.mechanism().bodies()[b].mass * model.gravity() * p[3 * b + 1])
                         .sum();
                     total - gravity

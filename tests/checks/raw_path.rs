@@ -25,7 +25,7 @@ impl MechanismVisitor for RawVsBody<'_> {
             return 0;
         }
         let raw = RawModel::new(Model::new(mechanism).expect("valid")).expect("valid");
-        let (mut ws, mut rws) = (body.new_workspace(), raw.new_workspace());
+        let (mut ws, mut rws) = (body.workspace(), raw.workspace());
         let n = body.dof();
         let (mut a, mut b, mut m) = (vec![0.0; n], vec![0.0; n], vec![0.0; n * n]);
         for s in self.states {

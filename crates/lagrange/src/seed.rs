@@ -58,7 +58,7 @@ pub(crate) fn chunk<S: Scalar>(out: &mut [Lanes<S>], x: &[S], j0: usize) -> usiz
 
 /// What the tangent passes of a Jacobian need besides the `f64` workspace: the workspace `W`
 /// of the evaluation in `Dual64` and the seeded state. An `f64` workspace holds one (boxed),
-/// allocated by [`Dynamics::new_workspace`] or by the first Jacobian.
+/// allocated by [`Dynamics::workspace`] or by the first Jacobian.
 #[derive(Clone, Debug)]
 pub(crate) struct Tangent<W> {
     /// The evaluation's workspace in `Dual64`.

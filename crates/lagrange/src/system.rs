@@ -97,9 +97,11 @@ pub trait System {
     /// Whether `h` is a constant of the motion.
     fn conserves_energy(&self) -> bool;
 
-    /// Whether non-conservative generalized forces `Q` act (they cannot be attributed to one
-    /// body, so [`reaction_forces`](Self::reaction_forces) then includes them).
-    fn has_generalized_force(&self) -> bool;
+    /// Whether forces act beyond gravity, the potential and the constraints — generalized
+    /// forces `Q` or forces applied at points of bodies ([`Dynamics::has_external_forces`]);
+    /// [`reaction_forces`](Self::reaction_forces) then includes what cannot be attributed to
+    /// one body.
+    fn has_external_forces(&self) -> bool;
 
     /// Integrate from `initial` to `t_end`; see [`simulate`](crate::simulate).
     ///
@@ -153,12 +155,12 @@ pub struct Buffered<D: Dynamics> {
 impl<D: Dynamics> Buffered<D> {
     /// Wrap a system, allocating its workspace.
     pub fn new(system: D) -> Self {
-        let ws = system.new_workspace();
+        let ws = system.workspace();
         let out = vec![0.0; system.dof()];
         let mass = vec![0.0; system.dof() * system.dof()];
         let reaction = vec![0.0; 3 * system.bodies().len()];
         let jacobian = vec![0.0; 2 * system.dof() * system.dof()];
-        let (m, k) = system.constraint_counts();
+        let (m, k) = Dynamics::constraint_counts(&system);
         let multipliers = vec![0.0; m + k];
         let rows = (vec![0.0; (m + k) * system.dof()], vec![0.0; m], vec![0.0; m + k]);
         Self { system, ws, out, mass, reaction, multipliers, jacobian, rows }
@@ -212,7 +214,7 @@ impl<D: Dynamics> System for Buffered<D> {
     }
 
     fn constraint_counts(&self) -> (usize, usize) {
-        self.system.constraint_counts()
+        Dynamics::constraint_counts(&self.system)
     }
 
     fn constraint_violation(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<[f64; 2]>, Error> {
@@ -248,8 +250,8 @@ impl<D: Dynamics> System for Buffered<D> {
         self.system.conserves_energy()
     }
 
-    fn has_generalized_force(&self) -> bool {
-        self.system.has_generalized_force()
+    fn has_external_forces(&self) -> bool {
+        self.system.has_external_forces()
     }
 
     fn simulate(&self, initial: &State, t_end: f64, method: Method, output: &Output) -> Result<Trajectory, Error> {

@@ -80,7 +80,7 @@ pub struct Workspace<S: Scalar> {
     pub(crate) articulated: Vec<ArticulatedBody<S>>,
     /// The `Dual64` workspace and seeds of the tangent passes of
     /// [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian): allocated
-    /// up front by [`Dynamics::new_workspace`](crate::Dynamics::new_workspace), otherwise by the
+    /// up front by [`Dynamics::workspace`](crate::Dynamics::workspace), otherwise by the
     /// first Jacobian (`None` until then).
     pub(crate) tangent: Option<Box<Tangent<Workspace<Dual64>>>>,
     /// The constrained solve's buffers (`None` for a model without constraints): `G`, `γ`,
@@ -95,7 +95,7 @@ impl<S: Scalar> Workspace<S> {
     /// Allocate every buffer for `model` (users call [`Model::workspace`] / [`Model::workspace_in`]).
     pub(crate) fn new<M: Mechanism>(model: &Model<M>) -> Self {
         let n = model.dof();
-        let b = model.bodies();
+        let b = model.bodies().len();
         let zero = S::zero();
         let lift = |v: &Vec<f64>| v.iter().map(|&x| S::from(x)).collect::<Vec<S>>();
         let (constant_jacobian, constant_factor, constant_gravity) = match &model.constant {

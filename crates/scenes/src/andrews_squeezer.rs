@@ -468,7 +468,7 @@ impl SceneType for AndrewsSqueezer {
     /// `T + V − mom β` (`V` the spring's energy): with `mom ≠ 0` not the energy the engine
     /// derives (it sees an applied torque), so declared as another constant; `E = T + V`
     /// when `mom = 0`.
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         let energy = |s: &Self, q: &[f64], qdot: &[f64]| s.energy(q, qdot);
         if self.mom == 0.0 {
             vec![Conserved::energy(self, energy)]

@@ -166,7 +166,7 @@ impl SceneType for CartPendulum {
 
     /// `E = ½ (M + m) Ẋ² + m r Ẋ θ̇ cosθ + ½ (m r² + I_b) θ̇² − m g r cosθ` and
     /// [`p_X`](CartPendulum::horizontal_momentum) (docs/scenes.md#cart_pendulum).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         let energy = Conserved::energy(self, |s, q, qdot| {
             let ([_, theta], [v, w]) = (fixed(q, "q"), fixed(qdot, "q̇"));
             let (cart, bob, r, cos) = (s.cart_mass, s.bob_mass, s.rod_length, theta.cos());

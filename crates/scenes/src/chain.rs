@@ -155,7 +155,7 @@ impl SceneType for Chain {
 
     /// The energy `½ q̇ᵀ M q̇ − m g l Σ_i (N − i − ½) cosθ_i` (`M`, `V` as in
     /// [`Chain::closed_form_accelerations`]).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, q, qdot| {
             let qdot = DVector::from_column_slice(qdot);
             let weight = s.link_mass * s.gravity * s.link_length;

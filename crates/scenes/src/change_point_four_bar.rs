@@ -283,7 +283,7 @@ impl SceneType for ChangePointFourBar {
     }
 
     /// `E = T + V` ([`FourBar::energy`] with no torque).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, q, qdot| s.four_bar.energy(q, qdot))]
     }
 

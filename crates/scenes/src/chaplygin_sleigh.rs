@@ -188,7 +188,7 @@ impl SceneType for ChaplyginSleigh {
     }
 
     /// The energy `E = ½ m (ẋ² + ẏ²) + ½ I φ̇²` (the knife edge does no work).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, _q, v| 0.5 * (s.mass * (v[0] * v[0] + v[1] * v[1]) + s.inertia * v[2] * v[2]))]
     }
 

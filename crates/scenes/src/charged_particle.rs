@@ -103,7 +103,7 @@ impl SceneType for ChargedParticle {
     /// `p_φ = m (x ẏ − y ẋ) + (e B/2)(x² + y²)` (`L` is invariant under rotations about the
     /// origin); and `K = (m ẋ − e B y, m ẏ + e B x)`, `e B` times the guiding centre turned by
     /// −90° (a translation changes `L` by a total time derivative).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         let (why, other) = ("translations change L by a total derivative", Invariant::Other);
         vec![
             Conserved::energy(self, |s, _, v| 0.5 * s.mass * (v[0] * v[0] + v[1] * v[1])),

@@ -182,7 +182,7 @@ impl SceneType for DoublePendulum {
     }
 
     /// The energy `T + V` (`T`, `V` above, with the bobs' rotation `½ I_i θ̇_i²`).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, q, qdot| {
             let ([theta_1, theta_2], [w1, w2]) = (fixed(q, "q"), fixed(qdot, "q̇"));
             let (m1, m2, l1, l2, g) = (s.mass_1, s.mass_2, s.length_1, s.length_2, s.gravity);

@@ -78,7 +78,7 @@ impl SceneType for DrivenPendulum {
 
     /// Driven: none (`∂L/∂t ≠ 0`). Without a drive (`A = 0` or `ω = 0`) the energy
     /// `E = ½ m l² θ̇² − m g l cosθ`.
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         if self.amplitude != 0.0 && self.drive_frequency != 0.0 {
             return Vec::new();
         }

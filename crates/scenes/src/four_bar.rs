@@ -259,7 +259,7 @@ impl SceneType for FourBar {
 
     /// `E = T + V` without torque; with a constant torque `τ`, `E − τ θ2` (its work is
     /// `τ Δθ2`), which the engine does not derive (it sees an applied force).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         let energy = |s: &Self, q: &[f64], qdot: &[f64]| s.energy(q, qdot);
         if self.torque == 0.0 {
             vec![Conserved::energy(self, energy)]

@@ -39,7 +39,7 @@ fn check(scene: &dyn Scene, params: &Params) -> usize {
     let model = Model::new(GraphMechanism::new(graph).unwrap()).unwrap();
     let mut system = scene.build(params).unwrap();
     assert_eq!(model.coordinates(), &scene.coordinates(params).unwrap()[..], "{}: coordinates", scene.id());
-    let mut ws = Dynamics::new_workspace(&model);
+    let mut ws = Dynamics::workspace(&model);
     let default = scene.default_state(params).unwrap();
     for state in states(&model, &default) {
         let expected = system.accelerations(state.t, &state.q, &state.qdot).unwrap().to_vec();
@@ -144,7 +144,7 @@ fn joint_graph_twins_of_the_other_pendulums_equal_them() {
         let model = Model::new(GraphMechanism::new(twin).unwrap()).unwrap();
         assert_eq!(model.coordinates(), &scene.coordinates(&params).unwrap()[..], "{id}: coordinates");
         let mut system = scene.build(&params).unwrap();
-        let mut ws = Dynamics::new_workspace(&model);
+        let mut ws = Dynamics::workspace(&model);
         for state in states(&model, &scene.default_state(&params).unwrap()) {
             let expected = system.accelerations(state.t, &state.q, &state.qdot).unwrap().to_vec();
             let mut got = vec![0.0; expected.len()];

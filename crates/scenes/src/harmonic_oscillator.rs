@@ -127,7 +127,7 @@ impl SceneType for HarmonicOscillator {
     }
 
     /// Undamped: `E = ½ m ẋ² + ½ k x²`; damped: none (`dE/dt = −c ẋ²`).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         let energy = |s: &Self, q: &[f64], qdot: &[f64]| 0.5 * (s.mass * qdot[0] * qdot[0] + s.stiffness * q[0] * q[0]);
         if self.damping == 0.0 { vec![Conserved::energy(self, energy)] } else { Vec::new() }
     }

@@ -142,7 +142,7 @@ impl SceneType for IsotropicOscillator {
     /// `E = ½ m (ṙ² + r² θ̇²) + ½ k r²`, `ℓ = m r² θ̇`, and the Fradkin tensor
     /// `A_ij = p_i p_j / m + k x_i x_j` (docs/scenes.md#isotropic_oscillator) by its components
     /// `E_x = A_xx / 2`, the energy of the x motion, and `A_xy`.
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         let (why, other) = ("Fradkin tensor: V ∝ r²", Invariant::Other);
         let energy = |s: &Self, q: &[f64], v: &[f64]| {
             0.5 * (s.mass * (v[0] * v[0] + q[0] * q[0] * v[1] * v[1]) + s.stiffness * q[0] * q[0])

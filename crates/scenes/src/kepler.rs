@@ -233,7 +233,7 @@ impl SceneType for Kepler {
 
     /// [`E`](Kepler::energy), [`ℓ`](Kepler::angular_momentum) and the
     /// [Runge–Lenz vector](Kepler::runge_lenz).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         let (why, other) = ("Runge–Lenz vector: V ∝ 1/r", Invariant::Other);
         vec![
             Conserved::energy(self, Self::energy),

@@ -108,7 +108,7 @@ impl SceneType for NonminimalPendulum {
     }
 
     /// The energy `E = ½ m (ẋ² + ẏ²) + m g y`.
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, q, v| s.mass * (0.5 * (v[0] * v[0] + v[1] * v[1]) + s.gravity * q[1]))]
     }
 

@@ -209,7 +209,7 @@ impl SceneType for ParallelogramChain {
     }
 
     /// `E = T + V` ([`ParallelogramChain::energy`]).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, q, qdot| s.energy(q, qdot))]
     }
 

@@ -156,7 +156,7 @@ impl SceneType for RedundantParallelogram {
     }
 
     /// `E = T + V` ([`RedundantParallelogram::energy`]).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, q, qdot| s.energy(q, qdot))]
     }
 

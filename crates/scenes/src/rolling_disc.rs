@@ -109,7 +109,7 @@ impl SceneType for RollingDisc {
     }
 
     /// The energy `E = ½ m ṡ² + ½ I φ̇² − m g s sinα` (rolling friction does no work).
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, q, v| {
             0.5 * (s.mass * v[0] * v[0] + s.inertia() * v[1] * v[1]) - s.mass * s.gravity * q[0] * s.incline.sin()
         })]

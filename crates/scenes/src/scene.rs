@@ -155,7 +155,7 @@ pub trait SceneType: Clone + Send + Sync + Sized + 'static {
     /// or damped scene).
     ///
     /// [`Invariant::Energy`]: crate::Invariant::Energy
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         Vec::new()
     }
 
@@ -401,7 +401,7 @@ impl<T: SceneType> Scene for Registered<T> {
     }
 
     fn conserved_quantities(&self, params: &Params) -> Result<Vec<Conserved>, Error> {
-        Ok(T::from_params(params)?.conserved())
+        Ok(T::from_params(params)?.conserves_energy())
     }
 
     fn joint_graph(&self, params: &Params) -> Result<Option<JointGraph>, Error> {

@@ -197,7 +197,7 @@ impl SceneType for SliderCrank {
     }
 
     /// `E = T + V` without torque; with a constant torque `τ`, `E − τ φ`.
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         let energy = |s: &Self, q: &[f64], qdot: &[f64]| s.energy(q, qdot);
         if self.torque == 0.0 {
             vec![Conserved::energy(self, energy)]

@@ -81,7 +81,7 @@ impl SceneType for SpringPendulum {
     }
 
     /// The energy `E = ½ m (ṙ² + r² θ̇²) − m g r cosθ + ½ k (r − L0)²`.
-    fn conserved(&self) -> Vec<Conserved> {
+    fn conserves_energy(&self) -> Vec<Conserved> {
         vec![Conserved::energy(self, |s, q, qdot| {
             let ([r, theta], [r_dot, theta_dot]) = (fixed(q, "q"), fixed(qdot, "q̇"));
             let stretch = r - s.rest_length;

@@ -50,7 +50,7 @@ macro_rules! constant_force_scene {
         }
 
         /// The energy `E = ½ q̇ᵀ M q̇ − F·q + V₀` and `p_j − F_j t` (docs/scenes.md#constant-accelerations).
-        fn conserved(&self) -> Vec<$crate::Conserved> {
+        fn conserves_energy(&self) -> Vec<$crate::Conserved> {
             $crate::uniform_acceleration::constant_force_invariants(self)
         }
 

@@ -93,7 +93,7 @@ pub fn compare(
     let read_back = built.read_back.clone();
     let masses: Vec<f64> = read_back.bodies().iter().map(|b| b.mass).collect();
     let g = read_back.gravity();
-    let comparable = !reduced.has_generalized_force();
+    let comparable = !reduced.has_external_forces();
     // The closed form where the scene has one: near a singular configuration the reduced
     // solution itself is only as exact as its solve there.
     let exact = closed_form(scene, params, initial, &times)?;

@@ -13,7 +13,7 @@
 //! whose accelerations already take second derivatives of `L` by hyper-dual numbers, the
 //! Lagrangian is evaluated in `HyperDual<Dual64>` (see [`RawWorkspace`](crate::RawWorkspace)).
 //! The dual workspace hangs off the `f64` one ([`Workspace`](crate::Workspace),
-//! [`RawWorkspace`](crate::RawWorkspace)); [`Dynamics::new_workspace`] allocates it up front, so
+//! [`RawWorkspace`](crate::RawWorkspace)); [`Dynamics::workspace`] allocates it up front, so
 //! a Jacobian allocates nothing.
 
 pub(crate) mod jacobian;
@@ -34,7 +34,7 @@ use crate::{Body, Error, LagrangianFunction, State};
 /// borrowed from the workspace), which these methods run for both models. It extends
 /// [`LagrangianFunction`] because the variational integrator works on `L` itself.
 pub trait Dynamics: LagrangianFunction {
-    /// Scratch space, allocated once by [`new_workspace`](Self::new_workspace).
+    /// Scratch space, allocated once by [`workspace`](Self::workspace).
     type Workspace;
 
     /// Number of coordinates `n`.
@@ -43,7 +43,7 @@ pub trait Dynamics: LagrangianFunction {
     }
 
     /// Allocate the scratch space.
-    fn new_workspace(&self) -> Self::Workspace;
+    fn workspace(&self) -> Self::Workspace;
 
     /// Write `q̈` into `qddot`.
     ///
@@ -218,8 +218,10 @@ pub trait Dynamics: LagrangianFunction {
     /// Which coordinates are cyclic.
     fn cyclic_coordinates(&self) -> &[bool];
 
-    /// Whether non-conservative generalized forces act.
-    fn has_generalized_force(&self) -> bool;
+    /// Whether forces act beyond gravity, the potential and the constraints: generalized
+    /// forces `Q` or forces applied at points of bodies (`Model::has_generalized_force` and
+    /// `Model::has_applied_forces` tell them apart).
+    fn has_external_forces(&self) -> bool;
 
     /// Whether `h` is conserved (autonomous and no generalized forces).
     fn conserves_energy(&self) -> bool;
@@ -251,7 +253,7 @@ pub trait Dynamics: LagrangianFunction {
 impl<E: Equations + LagrangianFunction> Dynamics for E {
     type Workspace = E::Workspace<f64>;
 
-    fn new_workspace(&self) -> Self::Workspace {
+    fn workspace(&self) -> Self::Workspace {
         self.allocate_for_jacobian()
     }
 
@@ -300,11 +302,11 @@ impl<E: Equations + LagrangianFunction> Dynamics for E {
     }
 
     fn cyclic_coordinates(&self) -> &[bool] {
-        self.cyclic()
+        Equations::cyclic_coordinates(self)
     }
 
     fn constraint_counts(&self) -> (usize, usize) {
-        self.constraints_of()
+        Equations::constraint_counts(self)
     }
 
     fn project(&self, ws: &mut Self::Workspace, t: f64, q: &mut [f64], qdot: &mut [f64]) -> Result<(), Error> {
@@ -362,16 +364,16 @@ impl<E: Equations + LagrangianFunction> Dynamics for E {
         self.eval_assemble(approximate, held)
     }
 
-    fn has_generalized_force(&self) -> bool {
-        self.forced()
+    fn has_external_forces(&self) -> bool {
+        Equations::has_external_forces(self)
     }
 
     fn conserves_energy(&self) -> bool {
-        self.conserved()
+        Equations::conserves_energy(self)
     }
 
     fn bodies(&self) -> &[Body] {
-        self.body_list()
+        Equations::bodies(self)
     }
 
     fn reaction_forces(

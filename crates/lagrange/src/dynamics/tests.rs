@@ -47,7 +47,7 @@ fn states(n: usize) -> Vec<(f64, Vec<f64>, Vec<f64>)> {
 /// margin of 50.
 fn check<D: Dynamics>(name: &str, system: &D) {
     let n = system.dof();
-    let mut ws = system.new_workspace();
+    let mut ws = system.workspace();
     let mut jacobian = vec![0.0; 2 * n * n];
     let mut qddot = vec![0.0; n];
     for (t, q, v) in states(n) {
@@ -93,7 +93,7 @@ fn jacobian_matches_finite_differences_on_the_constant_mass_path() {
     assert!(spring.has_constant_mass_matrix());
     check("damped oscillator", &spring);
     // Exact: ∂ẍ/∂x = −k/m, ∂ẍ/∂ẋ = −c/m.
-    let mut ws = spring.new_workspace();
+    let mut ws = spring.workspace();
     let mut jacobian = [0.0; 2];
     spring.acceleration_jacobian(&mut ws, 0.0, &[0.3], &[-0.2], &mut jacobian).unwrap();
     assert!((jacobian[0] + 7.0 / 1.5).abs() < 1e-14 && (jacobian[1] + 0.3 / 1.5).abs() < 1e-15, "{jacobian:?}");
@@ -113,7 +113,7 @@ fn jacobian_matches_finite_differences_on_the_raw_path() {
 fn body_and_raw_jacobians_agree_to_round_off() {
     let body = Model::new(cart(2.0, 1.0, 1.3)).unwrap();
     let raw = RawModel::new(Model::new(cart(2.0, 1.0, 1.3)).unwrap()).unwrap();
-    let (mut wb, mut wr) = (body.new_workspace(), raw.new_workspace());
+    let (mut wb, mut wr) = (body.workspace(), raw.workspace());
     let (mut a, mut b) = ([0.0; 8], [0.0; 8]);
     for (t, q, v) in states(2) {
         body.acceleration_jacobian(&mut wb, t, &q, &v, &mut a).unwrap();
@@ -128,7 +128,7 @@ fn body_and_raw_jacobians_agree_to_round_off() {
 #[test]
 fn jacobian_rejects_a_wrong_shape_and_a_non_finite_state() {
     let cart = Model::new(cart(2.0, 1.0, 1.3)).unwrap();
-    let mut ws = cart.new_workspace();
+    let mut ws = cart.workspace();
     let mut short = [0.0; 7];
     let error = cart.acceleration_jacobian(&mut ws, 0.0, &[0.1, 0.2], &[0.0, 0.0], &mut short).unwrap_err();
     assert!(matches!(error, Error::DimensionMismatch { expected: 8, got: 7, .. }), "{error}");
@@ -165,8 +165,8 @@ impl<D: Dynamics> LagrangianFunction for WithoutJacobian<D> {
 
 impl<D: Dynamics> Dynamics for WithoutJacobian<D> {
     type Workspace = D::Workspace;
-    fn new_workspace(&self) -> D::Workspace {
-        self.0.new_workspace()
+    fn workspace(&self) -> D::Workspace {
+        self.0.workspace()
     }
     fn accelerations(&self, ws: &mut D::Workspace, t: f64, q: &[f64], v: &[f64], a: &mut [f64]) -> Result<(), Error> {
         self.0.accelerations(ws, t, q, v, a)
@@ -183,8 +183,8 @@ impl<D: Dynamics> Dynamics for WithoutJacobian<D> {
     fn cyclic_coordinates(&self) -> &[bool] {
         self.0.cyclic_coordinates()
     }
-    fn has_generalized_force(&self) -> bool {
-        self.0.has_generalized_force()
+    fn has_external_forces(&self) -> bool {
+        self.0.has_external_forces()
     }
     fn conserves_energy(&self) -> bool {
         self.0.conserves_energy()
@@ -197,7 +197,7 @@ impl<D: Dynamics> Dynamics for WithoutJacobian<D> {
 fn default_jacobian_is_finite_differences_close_to_ad() {
     let exact = Model::new(driven()).unwrap();
     let fallback = WithoutJacobian(Model::new(driven()).unwrap());
-    let (mut we, mut wf) = (exact.new_workspace(), fallback.new_workspace());
+    let (mut we, mut wf) = (exact.workspace(), fallback.workspace());
     let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
     for (t, q, v) in states(1) {
         exact.acceleration_jacobian(&mut we, t, &q, &v, &mut a).unwrap();

@@ -25,7 +25,7 @@ pub trait Equations: sealed::Sealed {
     type Workspace<S: Scalar>;
 
     #[doc(hidden)]
-    fn allocate<S: Scalar>(&self) -> Self::Workspace<S>;
+    fn workspace_in<S: Scalar>(&self) -> Self::Workspace<S>;
 
     #[doc(hidden)]
     fn eval_accelerations<'w, S: Scalar>(
@@ -82,24 +82,24 @@ pub trait Equations: sealed::Sealed {
     ) -> Result<(), Error>;
 
     #[doc(hidden)]
-    fn cyclic(&self) -> &[bool];
+    fn cyclic_coordinates(&self) -> &[bool];
 
     /// Whether generalized or applied forces act.
     #[doc(hidden)]
-    fn forced(&self) -> bool;
+    fn has_external_forces(&self) -> bool;
 
     /// Whether the energy function is a constant of the motion.
     #[doc(hidden)]
-    fn conserved(&self) -> bool;
+    fn conserves_energy(&self) -> bool;
 
     #[doc(hidden)]
-    fn body_list(&self) -> &[Body] {
+    fn bodies(&self) -> &[Body] {
         &[]
     }
 
     /// `(m, k)`: holonomic and velocity constraints.
     #[doc(hidden)]
-    fn constraints_of(&self) -> (usize, usize) {
+    fn constraint_counts(&self) -> (usize, usize) {
         (0, 0)
     }
 
@@ -292,7 +292,7 @@ pub fn lagrangian<E: Equations, S: Scalar>(
 impl<M: Mechanism> Equations for Model<M> {
     type Workspace<S: Scalar> = Workspace<S>;
 
-    fn allocate<S: Scalar>(&self) -> Workspace<S> {
+    fn workspace_in<S: Scalar>(&self) -> Workspace<S> {
         Workspace::new(self)
     }
 
@@ -336,8 +336,8 @@ impl<M: Mechanism> Equations for Model<M> {
     }
 
     fn allocate_for_jacobian(&self) -> Workspace<f64> {
-        let mut ws = self.allocate();
-        ws.tangent = Some(Tangent::new(self.allocate(), self.n));
+        let mut ws = self.workspace_in();
+        ws.tangent = Some(Tangent::new(self.workspace_in(), self.n));
         ws
     }
 
@@ -352,23 +352,23 @@ impl<M: Mechanism> Equations for Model<M> {
         tangent_jacobian(self, self.n, &mut ws.tangent, t, q, qdot, jacobian)
     }
 
-    fn cyclic(&self) -> &[bool] {
+    fn cyclic_coordinates(&self) -> &[bool] {
         self.cyclic_coordinates()
     }
 
-    fn forced(&self) -> bool {
+    fn has_external_forces(&self) -> bool {
         self.has_force || self.has_applied
     }
 
-    fn conserved(&self) -> bool {
+    fn conserves_energy(&self) -> bool {
         self.conserves_energy()
     }
 
-    fn body_list(&self) -> &[Body] {
+    fn bodies(&self) -> &[Body] {
         self.mechanism.bodies()
     }
 
-    fn constraints_of(&self) -> (usize, usize) {
+    fn constraint_counts(&self) -> (usize, usize) {
         self.constraint_counts
     }
 
@@ -466,7 +466,7 @@ pub(crate) fn tangent_jacobian<E: Equations>(
     qdot: &[f64],
     jacobian: &mut [f64],
 ) -> Result<(), Error> {
-    let tangent = tangent.get_or_insert_with(|| Tangent::new(model.allocate(), n));
+    let tangent = tangent.get_or_insert_with(|| Tangent::new(model.workspace_in(), n));
     let Tangent { workspace, seeds } = &mut **tangent;
     seeds.jacobian(t, q, qdot, jacobian, |t, q, qdot, column| {
         let qddot = model.eval_accelerations(workspace, t, q, qdot)?;

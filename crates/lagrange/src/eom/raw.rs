@@ -62,7 +62,7 @@ pub struct RawWorkspace<F: LagrangianFunction, S: Scalar = f64> {
     pub momenta: Vec<S>,
     /// The `Dual64` workspace and seeds of the tangent passes of
     /// [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian): allocated
-    /// up front by [`Dynamics::new_workspace`](crate::Dynamics::new_workspace), otherwise by the
+    /// up front by [`Dynamics::workspace`](crate::Dynamics::workspace), otherwise by the
     /// first Jacobian.
     pub(crate) tangent: Option<Box<Tangent<RawWorkspace<F, Dual64>>>>,
 }
@@ -89,7 +89,7 @@ impl<F: LagrangianFunction> RawModel<F> {
                 why: "a system needs at least one coordinate".into(),
             });
         }
-        let (m, k) = function.attached_constraints();
+        let (m, k) = function.constraint_counts();
         if m + k > 0 {
             return Err(Error::InvalidParameter {
                 name: "constraints".into(),
@@ -227,7 +227,7 @@ impl<F: LagrangianFunction> RawModel<F> {
 impl<F: LagrangianFunction> Equations for RawModel<F> {
     type Workspace<S: Scalar> = RawWorkspace<F, S>;
 
-    fn allocate<S: Scalar>(&self) -> RawWorkspace<F, S> {
+    fn workspace_in<S: Scalar>(&self) -> RawWorkspace<F, S> {
         self.workspace_in()
     }
 
@@ -368,15 +368,15 @@ impl<F: LagrangianFunction> Equations for RawModel<F> {
         tangent_jacobian(self, self.n, &mut ws.tangent, t, q, qdot, jacobian)
     }
 
-    fn cyclic(&self) -> &[bool] {
+    fn cyclic_coordinates(&self) -> &[bool] {
         &self.cyclic
     }
 
-    fn forced(&self) -> bool {
+    fn has_external_forces(&self) -> bool {
         self.has_force
     }
 
-    fn conserved(&self) -> bool {
+    fn conserves_energy(&self) -> bool {
         self.autonomous && !self.has_force
     }
 }

@@ -155,7 +155,7 @@ fn body_wrenches_project_onto_the_generalized_forces() {
     let mut ws = model.workspace();
     let qddot = accelerations(&model, &mut ws, t, &q, &qdot).unwrap().to_vec();
     let mut mass = vec![0.0; 4];
-    Dynamics::mass_matrix(&model, &mut Dynamics::new_workspace(&model), t, &q, &qdot, &mut mass).unwrap();
+    Dynamics::mass_matrix(&model, &mut Dynamics::workspace(&model), t, &q, &qdot, &mut mass).unwrap();
     // M q̈ = f − (convective terms); the convective terms at this q̇: run with the elements removed.
     let mut bare = model.mechanism().graph().clone();
     bare.forces.clear();

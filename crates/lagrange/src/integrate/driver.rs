@@ -228,11 +228,11 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
     let n = system.dof();
     let times = check_run(system, initial, t_end, output)?;
     let t0 = initial.t;
-    let mut ws = system.new_workspace();
+    let mut ws = system.workspace();
     // Asked once: a system without a region is never checked again.
     let region = non_finite_quantity(&[], &initial.q, &initial.qdot).is_none()
         && Bounds::check(system, t0, &initial.q, &initial.qdot)?;
-    let constrained = system.constraint_counts() != (0, 0);
+    let constrained = Dynamics::constraint_counts(system) != (0, 0);
     if constrained {
         check_consistent(system, &mut ws, initial)?;
     }

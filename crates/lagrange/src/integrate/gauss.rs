@@ -26,7 +26,7 @@ const NEWTON_MAX_ITERATIONS: usize = 50;
 /// velocity that stays near zero at `k/m` = 1e6) — so a fixed multiple of `ε` would reject
 /// well-solved stages; `√ε` is far below what a non-converging iteration reaches (the
 /// predictor's error, `O(h ‖∂f/∂y‖)³`). The level reached is kept in [`Gauss4::max_residual`].
-const ROUNDOFF_PLATEAU: f64 = 1.490_116_119_384_765_6e-8;
+const UPDATE_NOISE_FLOOR: f64 = 1.490_116_119_384_765_6e-8;
 /// Contraction `θ` above which Newton re-evaluates the Jacobian at the mean stage value and
 /// refactors within the step: a Jacobian from the step's start describes a violent event
 /// (a light link whipped by heavy ones) too poorly to converge in a useful number of
@@ -411,7 +411,7 @@ impl Gauss4 {
                 if theta < 1.0 {
                     converged = theta / (1.0 - theta) * norm <= f64::EPSILON;
                 }
-                if !converged && theta > THETA_UPDATE && effect > ROUNDOFF_PLATEAU && updates < MAX_JACOBIAN_UPDATES {
+                if !converged && theta > THETA_UPDATE && effect > UPDATE_NOISE_FLOOR && updates < MAX_JACOBIAN_UPDATES {
                     updates += 1;
                     // A slow rate: the next step evaluates its own Jacobian (θ > THETA_REFRESH).
                     theta_max = theta_max.max(theta);
@@ -426,7 +426,7 @@ impl Gauss4 {
                     continue;
                 }
                 if !converged && since_best >= 2 {
-                    if best.min(effect) <= ROUNDOFF_PLATEAU {
+                    if best.min(effect) <= UPDATE_NOISE_FLOOR {
                         converged = true;
                     } else {
                         return Ok(Err(Failure::Newton(iteration, Some(norm))));

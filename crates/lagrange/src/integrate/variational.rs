@@ -32,7 +32,7 @@ const NEWTON_MAX_ITERATIONS: usize = 50;
 /// [`Variational::invert_legendre`]), up to `n ε` for sums over `n` coordinates; 1e-12 leaves a
 /// margin of ~4500 ε while staying 100 times below the `NEWTON_RTOL` asked of the update. A
 /// stall above it is a failure.
-const ROUNDOFF_PLATEAU: f64 = 1e-12;
+const MOMENTUM_ROUNDOFF: f64 = 1e-12;
 
 /// The midpoint discrete Lagrangian `L_d(q₀, q₁) = h L((q₀+q₁)/2, (q₁−q₀)/h, t + h/2)` in
 /// position–momentum form:
@@ -395,10 +395,10 @@ impl<F: LagrangianFunction> Variational<F> {
                 converged = true;
                 break;
             }
-            // At the round-off plateau (see ROUNDOFF_PLATEAU and `invert_legendre`): a midpoint
+            // At the round-off plateau (see MOMENTUM_ROUNDOFF and `invert_legendre`): a midpoint
             // velocity passing through zero makes `NEWTON_RTOL |Δq|` smaller than the rounding
             // of the momenta the residual is made of.
-            if update >= 0.5 * previous_update && relative_residual <= ROUNDOFF_PLATEAU {
+            if update >= 0.5 * previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
                 converged = true;
                 break;
             }
@@ -451,7 +451,7 @@ impl<F: LagrangianFunction> Variational<F> {
     ///
     /// It stops when the update is below `1e-13 |q̇|`, or when it has reached the round-off of
     /// the residual `∂L/∂q̇ − p`: the update no longer halves and the residual is below
-    /// [`ROUNDOFF_PLATEAU`] of the magnitude of its terms ([`momentum_scale`]). The first test
+    /// [`MOMENTUM_ROUNDOFF`] of the magnitude of its terms ([`momentum_scale`]). The first test
     /// alone cannot be met where a velocity passes through zero while its momentum does not:
     /// on the driven pendulum (`p = m l² θ̇ + m A ω l cos ωt cosθ`, the drive's term ≈ 0.3) at
     /// `dt` = 0.0125, t = 4.15, `θ̇` = 2.7e-4 at a turning point, the momentum's rounding
@@ -495,7 +495,7 @@ impl<F: LagrangianFunction> Variational<F> {
             if update <= 1e-13 * scale || update == 0.0 {
                 return Ok(());
             }
-            if update >= 0.5 * previous_update && relative_residual <= ROUNDOFF_PLATEAU {
+            if update >= 0.5 * previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
                 return Ok(());
             }
             previous_update = update;
@@ -691,7 +691,7 @@ impl<D: Dynamics> Variational<D> {
                 converged = true;
                 break;
             }
-            if update >= 0.5 * previous_update && relative_residual <= ROUNDOFF_PLATEAU {
+            if update >= 0.5 * previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
                 converged = true;
                 break;
             }
@@ -803,7 +803,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 impl<D: Dynamics> Integrator<D> for Variational<D> {
     fn begin(&mut self, system: &D, _: &mut D::Workspace, initial: &State, _: f64) -> Result<(), Error> {
         check_step(self.grid.dt)?;
-        let counts = system.constraint_counts();
+        let counts = Dynamics::constraint_counts(system);
         self.constrained = (counts != (0, 0)).then(|| Box::new(ConstrainedStep::new(self.n, counts)));
         self.grid = Grid::new(initial.t, self.grid.dt);
         self.start(system, initial.t, &initial.q, &initial.qdot)

@@ -82,7 +82,7 @@ pub trait Poses {
 /// }
 ///
 /// let model = Model::new(Described::new(Pendulum { r: 1.0 }).angle("θ").point("bob", 1.0).gravity(9.81))?;
-/// assert_eq!((model.dof(), model.bodies()), (1, 1));
+/// assert_eq!((model.dof(), model.bodies().len()), (1, 1));
 /// # Ok::<(), lagrange::Error>(())
 /// ```
 #[derive(Clone, Debug)]

@@ -73,7 +73,7 @@ pub trait LagrangianFunction {
     /// this Lagrangian (a body [`Model`](crate::Model)'s own); `(0, 0)` by default.
     /// [`RawModel::new`](crate::RawModel::new) refuses a Lagrangian that has any: the raw path
     /// would drop them.
-    fn attached_constraints(&self) -> (usize, usize) {
+    fn constraint_counts(&self) -> (usize, usize) {
         (0, 0)
     }
 }

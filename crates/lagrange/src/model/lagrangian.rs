@@ -28,12 +28,12 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
         self.mechanism.coordinates()
     }
 
-    fn attached_constraints(&self) -> (usize, usize) {
+    fn constraint_counts(&self) -> (usize, usize) {
         self.constraint_counts
     }
 
     fn scratch<S: Scalar>(&self) -> BodyScratch<S> {
-        let (n, b, zero) = (self.n, self.bodies(), S::zero());
+        let (n, b, zero) = (self.n, self.bodies().len(), S::zero());
         let sized = |len: usize| if self.has_applied { vec![zero; len] } else { Vec::new() };
         BodyScratch {
             q: vec![Dual::from_re(zero); n],

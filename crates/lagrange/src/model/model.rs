@@ -116,12 +116,12 @@ impl<M: Mechanism> Model<M> {
         probe::check_poses(&model.mechanism, &probes)?;
         // Ask once which optional terms exist.
         let (q, qdot, t) = probes.state(0);
-        let mut poses = vec![Pose::<f64>::default(); model.bodies()];
+        let mut poses = vec![Pose::<f64>::default(); model.bodies().len()];
         model.mechanism.poses(t, q, &mut poses);
         model.has_potential = model.mechanism.potential(t, q, &poses).is_some();
         let mut force = vec![0.0; n];
         model.has_force = model.mechanism.generalized_force(t, q, qdot, &mut force);
-        let mut wrench = vec![0.0; 3 * model.bodies()];
+        let mut wrench = vec![0.0; 3 * model.bodies().len()];
         let mut loads = Loads::new(&poses, &mut wrench);
         model.has_applied = model.mechanism.applied_forces(t, q, qdot, &poses, &mut loads);
         if let Some(body) = loads.bad_body() {
@@ -172,9 +172,9 @@ impl<M: Mechanism> Model<M> {
         self.n
     }
 
-    /// Number of bodies `B`.
-    pub fn bodies(&self) -> usize {
-        self.mass.len()
+    /// The bodies, in the order of the poses (`bodies().len()` is `B`).
+    pub fn bodies(&self) -> &[Body] {
+        self.mechanism.bodies()
     }
 
     /// The generalized coordinates.

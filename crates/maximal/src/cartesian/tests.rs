@@ -607,7 +607,7 @@ fn dynamics_interface_matches_the_bodies() {
         assert_eq!((system.dof(), system.bodies().len()), (n, bodies.len()), "{id}");
         let states = ReadBack::new(id, &params).unwrap().body_states(&state).unwrap();
         let (z, zdot) = flatten(&states);
-        let mut ws = system.new_workspace();
+        let mut ws = system.workspace();
         let mut mass = vec![f64::NAN; n * n];
         system.mass_matrix(&mut ws, 0.0, &z, &zdot, &mut mass).unwrap();
         let mut momenta = vec![0.0; n];

@@ -182,7 +182,7 @@ fn an_applied_force_equals_the_same_force_written_by_hand() -> Result<(), Error>
     let (s, c) = f64::sin_cos(q[0]);
     assert!((ra[0] * (-c * r) - ra[1] * (s * r)).abs() < 1e-13, "{ra:?}");
     // The acceleration Jacobians of the implicit integrators.
-    let (mut da, mut dh) = (applied.new_workspace(), by_hand.new_workspace());
+    let (mut da, mut dh) = (applied.workspace(), by_hand.workspace());
     let (mut ja, mut jh) = ([0.0; 2], [0.0; 2]);
     applied.acceleration_jacobian(&mut da, 0.0, &q, &qdot, &mut ja)?;
     by_hand.acceleration_jacobian(&mut dh, 0.0, &q, &qdot, &mut jh)?;

@@ -5,7 +5,7 @@ use super::{assert_order, final_state};
 use crate::dynamics::tests::WithoutJacobian;
 use crate::integrate::*;
 use crate::test_support::{Spring, cart};
-use crate::{Dynamics, Error, Model, State};
+use crate::{Error, Model, State};
 use lagrange_testing::max_abs_diff;
 
 #[test]
@@ -138,7 +138,7 @@ fn dopri5_flags_stiffness_on_a_stiff_damped_problem() {
     assert_eq!(traj.stats.stiffness, None);
     // A collapse after the test fired says so and points to the implicit integrator.
     let mut dopri = Dopri5::new(1, Tolerances::uniform(1e-6)).unwrap();
-    let mut ws = damped.new_workspace();
+    let mut ws = damped.workspace();
     dopri.start(&damped, &mut ws, 0.0, &[1.0], &[0.0], 1.0).unwrap();
     while dopri.stats().stiffness.is_none() {
         dopri.step(&damped, &mut ws, 1.0).unwrap();

@@ -41,7 +41,7 @@ fn variational_is_second_order_and_conserves_cart_momentum() {
     assert_order(&initial, [0.02, 0.01, 0.005], |dt| Method::Variational { dt }, 3.0..5.0);
     // Horizontal momentum p_X: exactly conserved by the discrete Noether theorem.
     let traj = simulate(&model, &initial, 20.0, Method::Variational { dt: 0.01 }, &Output::Every(1.0)).unwrap();
-    let mut ws = model.new_workspace();
+    let mut ws = model.workspace();
     let mut p = [0.0; 2];
     model.momenta(&mut ws, 0.0, &initial.q, &initial.qdot, &mut p).unwrap();
     let p0 = p[0];
@@ -95,7 +95,7 @@ fn dop853_is_eighth_order_with_a_seventh_order_dense_output() {
     for steps in [16, 32] {
         let h = 2.0 / steps as f64;
         let mut dop = Dop853::new(1, Tolerances::uniform(0.9)).unwrap();
-        let mut ws = model.new_workspace();
+        let mut ws = model.workspace();
         dop.start(&model, &mut ws, 0.0, &initial.q, &initial.qdot, h).unwrap();
         let (mut q, mut qdot) = ([0.0; 1], [0.0; 1]);
         let mut middle: f64 = 0.0;

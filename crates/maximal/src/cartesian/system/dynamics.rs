@@ -62,7 +62,7 @@ impl LagrangianFunction for CartesianSystem {
 impl Dynamics for CartesianSystem {
     type Workspace = CartesianWorkspace;
 
-    fn new_workspace(&self) -> CartesianWorkspace {
+    fn workspace(&self) -> CartesianWorkspace {
         self.workspace()
     }
 
@@ -120,7 +120,7 @@ impl Dynamics for CartesianSystem {
         &self.cyclic
     }
 
-    fn has_generalized_force(&self) -> bool {
+    fn has_external_forces(&self) -> bool {
         self.applied != AppliedForce::None || self.graph().is_some_and(|g| g.has_non_conservative_forces())
     }
 
