@@ -54,48 +54,98 @@ pub(crate) fn plan(
     initial: &State,
 ) -> Result<GraphPlan, BuildError> {
     let unbuildable = |reason: String| BuildError::Unbuildable { engine, scene: name.into(), reason };
-    let graph = mechanism.graph().clone();
-    let joints = mechanism.joints().to_vec();
-    // What rapier's joints of this mode cannot express.
+    check_expressible(mode, mechanism).map_err(unbuildable)?;
+    let states = maps::graph_body_states(mechanism, initial)?;
+    let PlannedBodies { bodies, deviations, inertias, simulated } =
+        plan_bodies(mode, mechanism, &states).map_err(unbuildable)?;
+    let (specs, plan_joint, sign) = plan_joints(mechanism, &bodies);
+    let couplings = plan_couplings(mechanism, &bodies, &specs, &plan_joint, &sign);
+    let graph = mechanism.graph();
+    let simulated_graph = simulated.clone();
+    let simulated = Arc::new(GraphMechanism::new(simulated)?);
+    let plan = Plan {
+        scene: name.into(),
+        mode,
+        params: Params::defaults(&[]),
+        read_back: Some(crate::maps::ReadBack::graph(Arc::clone(&simulated))),
+        deviations: deviations.clone(),
+        gravity: graph.gravity,
+        reduced_bodies: graph.bodies.len(),
+        bodies,
+        joints: specs,
+        couplings,
+        forces: step_forces(graph),
+        t0: initial.t,
+        graph: Some(simulated),
+    };
+    Ok(GraphPlan { plan, deviations, graph: simulated_graph, inertias })
+}
+
+/// What rapier's joints of `mode` cannot express in the graph, as a sentence: a driven joint
+/// in a multibody or on a body that also moves by itself, a coupling between impulse joints,
+/// in a loop, or on an absolute angle.
+fn check_expressible(mode: JointMode, mechanism: &GraphMechanism) -> Result<(), String> {
+    let graph = mechanism.graph();
+    let joints = mechanism.joints();
     for (j, joint) in joints.iter().enumerate() {
         let spec = &graph.joints[j];
         match joint.value {
             JointValue::Driven(_) if mode == JointMode::Multibody => {
-                return Err(unbuildable(format!("joint `{}` is driven: {NO_RHEONOMIC_MULTIBODY}", spec.name)));
+                return Err(format!("joint `{}` is driven: {NO_RHEONOMIC_MULTIBODY}", spec.name));
             }
             JointValue::Driven(_) if !joint.tree || !tree_child(joint).is_none_or(|b| mechanism.is_kinematic(b)) => {
-                return Err(unbuildable(format!(
+                return Err(format!(
                     "joint `{}` drives a body that also moves by itself: rapier has no joint with a prescribed \
                      coordinate, and only bodies driven from the ground become kinematic bodies",
                     spec.name
-                )));
+                ));
             }
             JointValue::Coupled { source, .. } => {
                 if mode == JointMode::Impulse {
-                    return Err(unbuildable(format!("joint `{}` is coupled: {NO_PULLEY_JOINT}", spec.name)));
+                    return Err(format!("joint `{}` is coupled: {NO_PULLEY_JOINT}", spec.name));
                 }
                 if !joint.tree {
-                    return Err(unbuildable(format!(
+                    return Err(format!(
                         "joint `{}` is coupled but closes a loop: rapier couples multibody coordinates only",
                         spec.name
-                    )));
+                    ));
                 }
                 for k in [j, source] {
                     let s = &graph.joints[k];
                     if s.kind == JointType::Revolute && s.angle == AngleReference::World && joints[k].parent.is_some() {
-                        return Err(unbuildable(format!(
+                        return Err(format!(
                             "the coupling of joint `{}` acts on `{}`, an absolute angle, but rapier couples relative \
                              joint coordinates",
                             spec.name, s.name
-                        )));
+                        ));
                     }
                 }
             }
             _ => {}
         }
     }
-    // Bodies: the ground, then one per graph body, with the impulse deviations.
-    let states = maps::graph_body_states(mechanism, initial)?;
+    Ok(())
+}
+
+/// The rapier bodies of a graph, with what they change in it.
+struct PlannedBodies {
+    bodies: Vec<BodySpec>,
+    deviations: Vec<String>,
+    inertias: Vec<(String, f64)>,
+    /// The graph with the changed inertias.
+    simulated: lagrange::graph::JointGraph,
+}
+
+/// The ground, then one rapier body per graph body: mass and inertia from its shape, a
+/// compound body for an impulse revolute joint on a body without inertia, a multibody link
+/// left out where it moves no mass.
+fn plan_bodies(
+    mode: JointMode,
+    mechanism: &GraphMechanism,
+    states: &[crate::BodyState],
+) -> Result<PlannedBodies, String> {
+    let graph = mechanism.graph();
+    let joints = mechanism.joints();
     let mut deviations = Vec::new();
     let mut inertias = Vec::new();
     let mut simulated = graph.clone();
@@ -108,10 +158,10 @@ pub(crate) fn plan(
         };
         if mode == JointMode::Impulse && !kinematic {
             if mass == 0.0 {
-                return Err(unbuildable(format!(
+                return Err(format!(
                     "body `{}` has no mass, which rapier's impulse joints read as an infinite mass",
                     body.name
-                )));
+                ));
             }
             // The farthest revolute anchor from the centre of a body without inertia.
             let arm = joints
@@ -164,9 +214,16 @@ pub(crate) fn plan(
             collider: None,
         });
     }
-    // Joints: the tree parents first (turned to hang each body from the one nearer the
-    // ground), then the loop-closing joints. Joints between bodies that do not move by
-    // themselves (the ground, kinematic bodies) are left out.
+    Ok(PlannedBodies { bodies, deviations, inertias, simulated })
+}
+
+/// The rapier joints: the tree parents first (turned to hang each body from the one nearer the
+/// ground), then the loop-closing joints; joints between bodies that do not move by themselves
+/// (the ground, kinematic bodies) are left out. Returns the joints, each graph joint's plan
+/// joint, and the sign of its coordinate in rapier's (−1 where turned).
+fn plan_joints(mechanism: &GraphMechanism, bodies: &[BodySpec]) -> (Vec<JointSpec>, Vec<Option<usize>>, Vec<f64>) {
+    let graph = mechanism.graph();
+    let joints = mechanism.joints();
     let plan_body = |end: Option<usize>| end.map_or(0, |b| b + 1);
     let moves = |end: Option<usize>| end.is_some_and(|b| !mechanism.is_kinematic(b));
     let mut specs = Vec::new();
@@ -204,10 +261,20 @@ pub(crate) fn plan(
         plan_joint[j] = Some(specs.len());
         specs.push(joint_spec);
     }
-    // Couplings (multibody only, checked above): in rapier's coordinates of the turned joints,
-    // the offset from the initial state.
+    (specs, plan_joint, sign)
+}
+
+/// The multibody couplings, in rapier's coordinates of the turned joints, with the offset from
+/// the initial state.
+fn plan_couplings(
+    mechanism: &GraphMechanism,
+    bodies: &[BodySpec],
+    specs: &[JointSpec],
+    plan_joint: &[Option<usize>],
+    sign: &[f64],
+) -> Vec<Coupling> {
     let mut couplings = Vec::new();
-    for (j, joint) in joints.iter().enumerate() {
+    for (j, joint) in mechanism.joints().iter().enumerate() {
         if let JointValue::Coupled { source, ratio, .. } = joint.value
             && let (Some(to), Some(from)) = (plan_joint[j], plan_joint[source])
         {
@@ -219,35 +286,18 @@ pub(crate) fn plan(
             couplings.push(Coupling { from, to, coeff, offset: coordinate(to) - coeff * coordinate(from) });
         }
     }
-    // Force elements: per step where they vary, in every substep where they are constant.
+    couplings
+}
+
+/// The graph's force elements: applied per step where they vary, in every substep where they
+/// are constant.
+fn step_forces(graph: &lagrange::graph::JointGraph) -> StepForces {
     let varying = graph.forces.iter().any(|f| match f {
         ForceElement::Torque { torque, .. } => torque.varies(),
         ForceElement::Force { force, .. } => force[0].varies() || force[1].varies(),
         _ => true,
     });
-    let forces = StepForces {
-        graph_varying: varying,
-        graph_constant: !varying && !graph.forces.is_empty(),
-        ..StepForces::default()
-    };
-    let simulated_graph = simulated.clone();
-    let simulated = Arc::new(GraphMechanism::new(simulated)?);
-    let plan = Plan {
-        scene: name.into(),
-        mode,
-        params: Params::defaults(&[]),
-        read_back: Some(crate::maps::ReadBack::graph(Arc::clone(&simulated))),
-        deviations: deviations.clone(),
-        gravity: graph.gravity,
-        reduced_bodies: graph.bodies.len(),
-        bodies,
-        joints: specs,
-        couplings,
-        forces,
-        t0: initial.t,
-        graph: Some(simulated),
-    };
-    Ok(GraphPlan { plan, deviations, graph: simulated_graph, inertias })
+    StepForces { graph_varying: varying, graph_constant: !varying && !graph.forces.is_empty(), ..StepForces::default() }
 }
 
 /// The body a tree joint places (its child, or its parent when the tree runs it backwards).
