@@ -26,8 +26,7 @@
 //! [`Dynamics::acceleration_jacobian`](crate::Dynamics::acceleration_jacobian), in the reduced
 //! form (docs/method.md#the-newton-step-shared-by-the-implicit-methods). The error-controlled methods ([`Dopri5`], [`Sdirk4`]) share one step-size
 //! controller: the scaled error norm, the first step and PI control. [`Dopri5`] watches for stiffness (Hairer's test) and says so when it
-//! fails ([`Error::Stiff`]). [`stability`] gives the boundaries of the explicit schemes'
-//! stability regions that the stability suite measures against.
+//! fails ([`Error::Stiff`]).
 
 mod control;
 mod dop853;
@@ -39,7 +38,6 @@ mod method;
 pub(crate) mod newton;
 mod rk4;
 mod sdirk;
-pub mod stability;
 mod variational;
 
 pub use dop853::Dop853;

@@ -1,9 +1,9 @@
 //! Long runs: ten million steps of the symplectic Gauss integrator and of rapier, and whether
 //! their energy drifts.
 
+use super::theory;
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, scene_params, timed_simulate};
 use crate::Error;
-use lagrange::integrate::stability as theory;
 use lagrange::{Method, Output, State};
 use lagrange_maximal::{Engine, Settings, build};
 use std::time::Instant;

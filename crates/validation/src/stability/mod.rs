@@ -4,8 +4,8 @@
 //! `e = 0.99`), `chaos.rs` (double pendulum), `singular.rs` (near-singular configurations),
 //! `constrained.rs` (closed loops and redundant constraints), `long_run.rs` (10⁷ steps),
 //! `bad_input.rs` (random and invalid input); the stability functions behind the theory values
-//! are `lagrange::integrate::stability`'s, the serialized types are here, and
-//! report.md's section and the terminal lines are rendered by the command line.
+//! are in [`theory`], the serialized types are here, and report.md's section and the terminal
+//! lines are rendered by [`crate::render::stability`].
 //!
 //! Every measurement is one row: what was run (scene, parameters, method, settings), what was
 //! measured (a quantity and its value, or the run's failure), the theory value and the bound
@@ -23,6 +23,7 @@ mod long_run;
 mod orbit;
 mod singular;
 mod stiff;
+pub mod theory;
 
 use crate::measure::relative_energy_error;
 use lagrange::integrate::Stats;

@@ -2,13 +2,13 @@
 //! stability functions of the methods, the explicit adaptive method pinned to its stability
 //! boundary, the implicit methods unconditionally stable — and rapier beside ours.
 
+use super::theory::{self, bisect_limit};
 use super::{
     CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, RunSettings, find, relative_energy_error, scene_params,
     timed_simulate,
 };
 use crate::Error;
 use crate::tolerance::{LINEAR_STABILITY_LIMIT, STABILITY_LIMIT, gauss_energy_per_step};
-use lagrange::integrate::stability::{self as theory, bisect_limit};
 use lagrange::{Method, Output, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build};
 use lagrange_scenes::Params;

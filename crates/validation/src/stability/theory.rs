@@ -8,9 +8,9 @@
 //! axis), so each needs the boundary of the stability region on its own axis.
 //!
 //! ```
-//! use lagrange::integrate::stability;
+//! use lagrange_validation::stability::theory;
 //! // An undamped spring of ω = 1e3 rad/s: RK4 is stable up to dt = 2√2 / ω.
-//! let dt_max = stability::rk4_imaginary_axis_limit() / 1e3;
+//! let dt_max = theory::rk4_imaginary_axis_limit() / 1e3;
 //! assert!((dt_max - 2.828e-3).abs() < 1e-6);
 //! ```
 
