@@ -273,6 +273,39 @@ mod system;
 #[cfg(test)]
 mod test_support;
 
+/// What most programs using the engine import: `use lagrange::prelude::*;`.
+///
+/// A mechanism's description ([`Mechanism`], [`Body`], [`Coordinate`], [`Pose`], [`Scalar`]),
+/// the validated [`Model`] and its [`State`], the evaluations ([`accelerations`],
+/// [`total_energy`], [`assemble`]) and the integrators ([`simulate`], [`Method`], [`Output`],
+/// [`Tolerances`]), with the [`Error`] they return.
+///
+/// ```
+/// use lagrange::prelude::*;
+///
+/// struct Pendulum { bodies: [Body; 1], coordinates: [Coordinate; 1] }
+///
+/// impl Mechanism for Pendulum {
+///     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
+///     fn bodies(&self) -> &[Body] { &self.bodies }
+///     fn gravity(&self) -> f64 { 9.81 }
+///     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
+///         world_from_body[0] = Pose::point(q[0].sin(), -q[0].cos());
+///     }
+/// }
+///
+/// let model = Model::new(Pendulum { bodies: [Body::point("bob", 1.0)], coordinates: [Coordinate::angle("θ")] })?;
+/// let run = simulate(&model, &State::new(0.0, [0.1], [0.0]), 1.0, Method::Rk4 { dt: 1e-3 }, &Output::Ends)?;
+/// assert!((run.q(1)[0] - 0.1 * 9.81_f64.sqrt().cos()).abs() < 1e-3);
+/// # Ok::<(), lagrange::Error>(())
+/// ```
+pub mod prelude {
+    pub use crate::integrate::{Method, Output, Tolerances, simulate};
+    pub use crate::{
+        Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, State, accelerations, assemble, total_energy,
+    };
+}
+
 pub use dynamics::Dynamics;
 pub use eom::constraints::{assemble, constraint_multipliers, project};
 pub use eom::energy::{kinetic_energy, potential_energy, total_energy};
