@@ -189,6 +189,12 @@ impl SceneType for CartPendulum {
                 .with_joint(GraphJoint::revolute("θ", "cart", [0.0, 0.0], "bob", [0.0, self.rod_length]).absolute()),
         )
     }
+
+    /// The bob is a point: an impulse revolute joint freezes it, so rapier's impulse build
+    /// gives it a compound bob's inertia.
+    fn rapier_deviations(multibody: bool) -> &'static [crate::RapierDeviation] {
+        if multibody { &[] } else { &[("bob_inertia", "bob_mass", "rod_length")] }
+    }
 }
 
 #[cfg(test)]

@@ -156,6 +156,12 @@ impl SceneType for DoubleAtwood {
                 .with_coupling("lower rope", "x'", -1.0, self.lower_rope_length),
         )
     }
+
+    /// A massless movable pulley makes rapier's multibody mass matrix singular
+    /// (docs/rapier.md#couplings), so the multibody build gives it mass.
+    fn rapier_deviations(multibody: bool) -> &'static [crate::RapierDeviation] {
+        if multibody { &[("lower_pulley_mass", "", "")] } else { &[] }
+    }
 }
 
 #[cfg(test)]

@@ -204,6 +204,12 @@ impl SceneType for DoubleDoubleAtwood {
                 .with_coupling("rope of A", "x''", -1.0, self.rope_length_a),
         )
     }
+
+    /// A massless movable pulley makes rapier's multibody mass matrix singular
+    /// (docs/rapier.md#couplings), so the multibody build gives it mass.
+    fn rapier_deviations(multibody: bool) -> &'static [crate::RapierDeviation] {
+        if multibody { &[("pulley_a_mass", "", ""), ("pulley_b_mass", "", "")] } else { &[] }
+    }
 }
 
 #[cfg(test)]

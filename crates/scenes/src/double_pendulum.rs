@@ -203,6 +203,12 @@ impl SceneType for DoublePendulum {
                 .with_joint(GraphJoint::revolute("θ2", "bob 1", [0.0, 0.0], "bob 2", [0.0, self.length_2]).absolute()),
         )
     }
+
+    /// The bob is a point: an impulse revolute joint freezes it, so rapier's impulse build
+    /// gives it a compound bob's inertia.
+    fn rapier_deviations(multibody: bool) -> &'static [crate::RapierDeviation] {
+        if multibody { &[] } else { &[("inertia_1", "mass_1", "length_1"), ("inertia_2", "mass_2", "length_2")] }
+    }
 }
 
 #[cfg(test)]

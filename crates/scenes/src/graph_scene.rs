@@ -209,6 +209,11 @@ impl Scene for GraphScene {
     fn joint_graph(&self, params: &Params) -> Result<Option<JointGraph>, Error> {
         self.graph_with(params).map(Some)
     }
+
+    /// None: a registered graph's own deviations are its bodies' (`build_graph` names them).
+    fn rapier_deviations(&self, _multibody: bool) -> &'static [crate::RapierDeviation] {
+        &[]
+    }
 }
 
 /// The scenes registered at run time, after the built-in ones.

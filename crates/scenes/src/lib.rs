@@ -171,7 +171,7 @@ pub use parallelogram_chain::ParallelogramChain;
 pub use params::{Domain, ParamSpec, Params};
 pub use redundant_parallelogram::RedundantParallelogram;
 pub use rolling_disc::RollingDisc;
-pub use scene::{SINGULAR_DEFAULT_MOTION, Scene, SceneType, all, find, ids, scene_of};
+pub use scene::{RapierDeviation, SINGULAR_DEFAULT_MOTION, Scene, SceneType, all, find, ids, scene_of};
 pub use slider_crank::{SliderCrank, SliderCrankCrank};
 pub use spring_pendulum::SpringPendulum;
 pub use visit::{ClosedForm, MechanismVisitor, unknown_scene, visit_mechanism};

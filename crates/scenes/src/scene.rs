@@ -96,6 +96,10 @@ pub trait Scene: Send + Sync {
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid parameters.
     fn joint_graph(&self, params: &Params) -> Result<Option<JointGraph>, Error>;
+
+    /// The parameters a rapier build with multibody (`multibody`) or impulse joints changes
+    /// where they are 0 ([`SceneType::rapier_deviations`]).
+    fn rapier_deviations(&self, multibody: bool) -> &'static [RapierDeviation];
 }
 
 /// A scene as one type: its identity, its parameter table and constructor from parameters, its
@@ -181,7 +185,23 @@ pub trait SceneType: Clone + Send + Sync + Sized + 'static {
     fn joint_graph(&self) -> Option<JointGraph> {
         None
     }
+
+    /// The parameters a rapier build needs changed where they are 0 — with multibody joints
+    /// (`multibody`) or impulse joints — as `(parameter, mass, length)`: a compound bob
+    /// `I = 1e-2 m l²` for `(inertia, mass, length)` (an impulse revolute joint freezes the
+    /// rotation of a body without inertia), a massive movable pulley for `(mass, "", "")` (a
+    /// massless multibody link makes the mass matrix singular); docs/rapier.md. None by
+    /// default. The reference a rapier run is measured against carries the same changes.
+    fn rapier_deviations(multibody: bool) -> &'static [RapierDeviation] {
+        let _ = multibody;
+        &[]
+    }
 }
+
+/// A parameter a rapier build changes where it is 0, as `(parameter, mass, length)`
+/// ([`SceneType::rapier_deviations`]): `(inertia, mass, length)` for a compound bob,
+/// `(mass, "", "")` for a massive pulley.
+pub type RapierDeviation = (&'static str, &'static str, &'static str);
 
 /// [`SceneType::closed_form`] from the scene's own `closed_form_accelerations(q, q̇)`.
 macro_rules! closed_form {
@@ -406,6 +426,10 @@ impl<T: SceneType> Scene for Registered<T> {
 
     fn joint_graph(&self, params: &Params) -> Result<Option<JointGraph>, Error> {
         Ok(T::from_params(params)?.joint_graph())
+    }
+
+    fn rapier_deviations(&self, multibody: bool) -> &'static [RapierDeviation] {
+        T::rapier_deviations(multibody)
     }
 }
 

@@ -52,7 +52,7 @@ pub(crate) fn plan(
             if let Some(reason) = T::rapier_unbuildable(mode) {
                 return Err(BuildError::Unbuildable { engine, scene: T::ID.into(), reason: reason.into() });
             }
-            let (params, deviations) = with_deviations(T::rapier_deviations(mode), params)?;
+            let (params, deviations) = with_deviations(T::rapier_deviations(mode == JointMode::Multibody), params)?;
             let scene = T::from_params(&params)?;
             let mut draft = Draft::new(mode, T::ID, &params, initial)?;
             scene.rapier(&mut draft, initial);
@@ -61,8 +61,10 @@ pub(crate) fn plan(
     }
     check_input(scene, params, initial)?;
     if crate::scenes::graph(scene, params)?.is_some() {
-        // A joint-graph scene: the scene's deviations on its parameters, then the graph's plan.
-        let (params, deviations) = with_deviations(crate::scenes::graph_deviations(scene, mode), params)?;
+        // A joint-graph scene: the deviations it declares on its parameters, then the graph's plan.
+        let declared =
+            lagrange_scenes::find(scene).map_or(&[][..], |s| s.rapier_deviations(mode == JointMode::Multibody));
+        let (params, deviations) = with_deviations(declared, params)?;
         let mechanism = crate::scenes::graph(scene, &params)?.ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
         let built = super::graph::plan(engine, mode, scene, &mechanism, initial)?;
         // The graph's own deviations, carried by the scene's parameters `<body>.inertia` (a
@@ -111,7 +113,7 @@ pub(crate) fn check_input(scene: &str, params: &Params, initial: &State) -> Resu
 }
 
 /// The parameters rapier simulates, and one sentence per change (the scene's
-/// [`MaximalScene::rapier_deviations`]): compound bobs for impulse revolute joints, massive
+/// `SceneType::rapier_deviations`): compound bobs for impulse revolute joints, massive
 /// movable pulleys for multibody couplings.
 fn with_deviations(changes: &[(&str, &str, &str)], params: &Params) -> Result<(Params, Vec<String>), Error> {
     let mut params = params.clone();

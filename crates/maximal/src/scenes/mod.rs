@@ -50,22 +50,6 @@ pub(crate) fn graph(scene: &str, params: &Params) -> Result<Option<GraphMechanis
     found.joint_graph(params)?.map(GraphMechanism::new).transpose()
 }
 
-/// The rapier deviations of the joint-graph scenes, as [`MaximalScene::rapier_deviations`]
-/// gives them for the others: the point bobs of the pendulums on impulse revolute joints, the
-/// massless movable pulleys of the multibody Atwood machines.
-pub(crate) fn graph_deviations(scene: &str, mode: JointMode) -> &'static [(&'static str, &'static str, &'static str)] {
-    match (scene, mode) {
-        ("cart_pendulum", JointMode::Impulse) => &[("bob_inertia", "bob_mass", "rod_length")],
-        ("double_pendulum", JointMode::Impulse) => {
-            &[("inertia_1", "mass_1", "length_1"), ("inertia_2", "mass_2", "length_2")]
-        }
-        // Massless movable pulleys (docs/rapier.md#couplings).
-        ("double_atwood", JointMode::Multibody) => &[("lower_pulley_mass", "", "")],
-        ("double_double_atwood", JointMode::Multibody) => &[("pulley_a_mass", "", ""), ("pulley_b_mass", "", "")],
-        _ => &[],
-    }
-}
-
 /// A scene's description in maximal coordinates: every body's full planar pose
 /// `z_b = (x_b, y_b, φ_b)`, bodies in the reduced model's order.
 pub(crate) trait MaximalScene: SceneType {
@@ -93,14 +77,6 @@ pub(crate) trait MaximalScene: SceneType {
     fn rapier_unbuildable(mode: JointMode) -> Option<&'static str> {
         let _ = mode;
         None
-    }
-
-    /// The parameters rapier's joints of `mode` need changed where they are 0, as
-    /// `(parameter, mass, length)`: a compound bob `I = 1e-2 m l²` for `(inertia, mass, length)`,
-    /// a massive movable pulley for `(mass, "", "")`. None by default.
-    fn rapier_deviations(mode: JointMode) -> &'static [(&'static str, &'static str, &'static str)] {
-        let _ = mode;
-        &[]
     }
 
     /// Write the rapier construction into `draft` (its bodies, joints, couplings and per-step
