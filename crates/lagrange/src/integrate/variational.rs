@@ -355,70 +355,24 @@ impl<F: LagrangianFunction> Variational<F> {
             self.check_finite(system, iteration)?;
             // Residual R = p₀ + (h/2) ∂L/∂q − ∂L/∂q̇ + (h/2) Q, and its size relative to the
             // magnitude of its terms.
-            residual_norm = 0.0;
-            let mut relative_residual = 0.0_f64;
-            for i in 0..n {
-                self.residual[i] = self.p[i] + 0.5 * h * (self.gradient[i] + self.force[i]) - self.gradient[n + i];
-                residual_norm = f64::max(residual_norm, self.residual[i].abs());
-                let scale = self.p[i].abs()
-                    + 0.5 * h * (self.gradient[i].abs() + self.force[i].abs())
-                    + momentum_scale(&self.hessian, &self.gradient, &self.velocity, i);
-                relative_residual = relative_residual.max(self.residual[i].abs() / scale);
-            }
-            // dR/dq₁ = (h/4) L_qq + ½ L_qv − ½ L_vq − (1/h) L_vv.
-            let m = 2 * n;
-            for i in 0..n {
-                for j in 0..n {
-                    self.jacobian[i * n + j] = 0.25 * h * self.hessian[i * m + j] + 0.5 * self.hessian[i * m + n + j]
-                        - 0.5 * self.hessian[(n + i) * m + j]
-                        - self.hessian[(n + i) * m + n + j] / h;
-                }
-            }
-            // + (h/2) dQ/dΔq, for systems with generalized forces.
-            if self.has_force {
-                self.add_force_jacobian(system, tm, h);
-            }
+            let relative_residual;
+            (residual_norm, relative_residual) = self.momentum_residual(h, None);
+            self.newton_matrix(system, tm, h);
             self.stats.factorizations += 1;
             if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
                 return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
             }
             solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
             self.check_update(system, iteration, "Δq")?;
-            // Δq ← Δq − J⁻¹ R (dR/dΔq = dR/dq₁).
-            let (mut update, mut scale) = (0.0_f64, 0.0_f64);
-            for i in 0..n {
-                self.delta[i] -= self.residual[i];
-                update = update.max(self.residual[i].abs());
-                scale = scale.max(self.delta[i].abs());
-            }
-            if update <= NEWTON_RTOL * scale || update == 0.0 {
+            if self.apply_update(&mut previous_update, relative_residual) {
                 converged = true;
                 break;
             }
-            // At the round-off plateau (see MOMENTUM_ROUNDOFF and `invert_legendre`): a midpoint
-            // velocity passing through zero makes `NEWTON_RTOL |Δq|` smaller than the rounding
-            // of the momenta the residual is made of.
-            if update >= 0.5 * previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
-                converged = true;
-                break;
-            }
-            previous_update = update;
         }
         if !converged {
             return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) });
         }
-        // p₁ = D₂L_d + (h/2) Q = (h/2)(∂L/∂q + Q) + ∂L/∂q̇ at the final midpoint; the final
-        // residual comes from the same gradient.
-        self.midpoint(system, tm, h);
-        self.derivatives(system, tm, false);
-        let mut final_residual = 0.0_f64;
-        for i in 0..n {
-            let lq = self.gradient[i] + self.force[i];
-            let lv = self.gradient[n + i];
-            final_residual = final_residual.max((self.p[i] + 0.5 * h * lq - lv).abs());
-            self.p[i] = 0.5 * h * lq + lv;
-        }
-        self.max_residual = self.max_residual.max(final_residual);
+        self.final_momenta(system, tm, h, None);
         for i in 0..n {
             self.q[i] += self.delta[i];
         }
@@ -428,6 +382,89 @@ impl<F: LagrangianFunction> Variational<F> {
             return Err(crate::eom::non_finite(crate::error::Stage::Lagrangian, self.t, &self.q));
         }
         Ok(())
+    }
+
+    /// The residual of the discrete Euler–Lagrange equation into `self.residual`,
+    /// `R = p₀ + (h/2)(∂L/∂q + Q) − ∂L/∂q̇ − C₀ᵀ Λ` at the midpoint (the impulse term with
+    /// `constrained`: its rows and multipliers); returns `max |R_i|` and its largest size
+    /// relative to the magnitude of the terms it is the sum of.
+    fn momentum_residual(&mut self, h: f64, constrained: Option<&ConstrainedStep>) -> (f64, f64) {
+        let n = self.n;
+        let (mut norm, mut relative) = (0.0_f64, 0.0_f64);
+        for i in 0..n {
+            let mut residual = self.p[i] + 0.5 * h * (self.gradient[i] + self.force[i]) - self.gradient[n + i];
+            let mut scale = self.p[i].abs()
+                + 0.5 * h * (self.gradient[i].abs() + self.force[i].abs())
+                + momentum_scale(&self.hessian, &self.gradient, &self.velocity, i);
+            if let Some(k) = constrained {
+                let impulse: f64 = (0..k.c).map(|r| k.force_rows[r * n + i] * k.multipliers[r]).sum();
+                residual -= impulse;
+                scale += impulse.abs();
+            }
+            self.residual[i] = residual;
+            norm = f64::max(norm, residual.abs());
+            relative = relative.max(residual.abs() / scale);
+        }
+        (norm, relative)
+    }
+
+    /// The Newton matrix into `self.jacobian`: `dR/dq₁ = (h/4) L_qq + ½ L_qv − ½ L_vq − (1/h)
+    /// L_vv`, `+ (h/2) dQ/dΔq` for systems with generalized forces.
+    fn newton_matrix(&mut self, system: &F, tm: f64, h: f64) {
+        let n = self.n;
+        let m = 2 * n;
+        for i in 0..n {
+            for j in 0..n {
+                self.jacobian[i * n + j] = 0.25 * h * self.hessian[i * m + j] + 0.5 * self.hessian[i * m + n + j]
+                    - 0.5 * self.hessian[(n + i) * m + j]
+                    - self.hessian[(n + i) * m + n + j] / h;
+            }
+        }
+        if self.has_force {
+            self.add_force_jacobian(system, tm, h);
+        }
+    }
+
+    /// `Δq ← Δq − J⁻¹ R` (the solved update in `self.residual`), and whether Newton has
+    /// converged: the update below `NEWTON_RTOL` of `|Δq|`, or at the round-off plateau (see
+    /// [`MOMENTUM_ROUNDOFF`] and `invert_legendre`: a midpoint velocity passing through zero
+    /// makes `NEWTON_RTOL |Δq|` smaller than the rounding of the momenta the residual is made
+    /// of). `previous_update` carries the last update's size between iterations.
+    fn apply_update(&mut self, previous_update: &mut f64, relative_residual: f64) -> bool {
+        let (mut update, mut scale) = (0.0_f64, 0.0_f64);
+        for i in 0..self.n {
+            self.delta[i] -= self.residual[i];
+            update = update.max(self.residual[i].abs());
+            scale = scale.max(self.delta[i].abs());
+        }
+        if update <= NEWTON_RTOL * scale || update == 0.0 {
+            return true;
+        }
+        if update >= 0.5 * *previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
+            return true;
+        }
+        *previous_update = update;
+        false
+    }
+
+    /// `p₁ = D₂L_d + (h/2) Q = (h/2)(∂L/∂q + Q) + ∂L/∂q̇` at the final midpoint, with the
+    /// final residual (the impulse term with `constrained`) from the same gradient.
+    fn final_momenta(&mut self, system: &F, tm: f64, h: f64, constrained: Option<&ConstrainedStep>) {
+        let n = self.n;
+        self.midpoint(system, tm, h);
+        self.derivatives(system, tm, false);
+        let mut final_residual = 0.0_f64;
+        for i in 0..n {
+            let lq = self.gradient[i] + self.force[i];
+            let lv = self.gradient[n + i];
+            let mut residual = self.p[i] + 0.5 * h * lq - lv;
+            if let Some(k) = constrained {
+                residual -= (0..k.c).map(|r| k.force_rows[r * n + i] * k.multipliers[r]).sum::<f64>();
+            }
+            final_residual = final_residual.max(residual.abs());
+            self.p[i] = 0.5 * h * lq + lv;
+        }
+        self.max_residual = self.max_residual.max(final_residual);
     }
 
     /// The continuous velocities `q̇` whose momenta `∂L/∂q̇(q, q̇, t)` equal the current `p`
@@ -579,18 +616,14 @@ impl<D: Dynamics> Variational<D> {
         result
     }
 
-    fn newton_constrained(
-        &mut self,
-        system: &D,
-        ws: &mut D::Workspace,
-        k: &mut ConstrainedStep,
-        h: f64,
-    ) -> Result<(), Error> {
-        let n = self.n;
-        let c = k.c;
-        let (t, tm, t1) = (self.t, self.t + 0.5 * h, self.t + h);
-        // The impulse directions at q₀, and which of them depend on the ones before.
-        system.constraint_rows(ws, (t, &self.q, &self.velocity), &mut k.force_rows, &mut k.phi, &mut k.rate)?;
+    /// The impulse directions `C₀ = [Φ_q; A](t₀, q₀)` into `k.force_rows`, and which of them
+    /// depend on the ones before (`C₀ C₀ᵀ` factored skipping dependent rows).
+    ///
+    /// # Errors
+    /// Any error of the constraint rows.
+    fn impulse_directions(&mut self, system: &D, ws: &mut D::Workspace, k: &mut ConstrainedStep) -> Result<(), Error> {
+        let (n, c) = (self.n, k.c);
+        system.constraint_rows(ws, (self.t, &self.q, &self.velocity), &mut k.force_rows, &mut k.phi, &mut k.rate)?;
         for i in 0..c {
             for l in 0..=i {
                 let g = dot(&k.force_rows[i * n..(i + 1) * n], &k.force_rows[l * n..(l + 1) * n]);
@@ -601,130 +634,80 @@ impl<D: Dynamics> Variational<D> {
         constraints::factor_skipping(c, &mut k.gram, &mut k.dependent);
         k.active.clear();
         k.active.extend((0..c).filter(|&i| !k.dependent[i]));
+        Ok(())
+    }
+
+    /// One constrained Newton update, with `self.residual` holding `R` and `self.jacobian`
+    /// the Newton matrix: factor `J`, `y = J⁻¹ R`, `X = J⁻¹ C₀ᵀ` over the independent rows,
+    /// `(D X) δΛ = D y − C` with `D` the step's constraint rows at the current iterate, and
+    /// leave `δΔq = y − X δΛ` in `self.residual` with `Λ` updated. `false` when `J` or the
+    /// Schur complement is singular (Newton fails).
+    ///
+    /// # Errors
+    /// Any error of the constraint rows.
+    fn constrained_update(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        k: &mut ConstrainedStep,
+        h: f64,
+    ) -> Result<bool, Error> {
+        let n = self.n;
+        let (tm, t1) = (self.t + 0.5 * h, self.t + h);
         let ca = k.active.len();
-        // Predictor: Δq = h v, Λ = 0 (the equations are linear in Λ).
+        // The step's constraint rows and their derivative at the current iterate.
         for i in 0..n {
-            self.delta[i] = h * self.velocity[i];
-        }
-        k.multipliers.fill(0.0);
-        let mut converged = false;
-        let mut residual_norm = f64::INFINITY;
-        let mut previous_update = f64::INFINITY;
-        for iteration in 1..=NEWTON_MAX_ITERATIONS {
-            self.stats.newton_iterations += 1;
-            self.midpoint(system, tm, h);
-            self.derivatives(system, tm, true);
-            self.check_finite(system, iteration)?;
-            residual_norm = 0.0;
-            let mut relative_residual = 0.0_f64;
-            for i in 0..n {
-                let impulse: f64 = (0..c).map(|r| k.force_rows[r * n + i] * k.multipliers[r]).sum();
-                self.residual[i] =
-                    self.p[i] + 0.5 * h * (self.gradient[i] + self.force[i]) - self.gradient[n + i] - impulse;
-                residual_norm = f64::max(residual_norm, self.residual[i].abs());
-                let scale = self.p[i].abs()
-                    + 0.5 * h * (self.gradient[i].abs() + self.force[i].abs())
-                    + momentum_scale(&self.hessian, &self.gradient, &self.velocity, i)
-                    + impulse.abs();
-                relative_residual = relative_residual.max(self.residual[i].abs() / scale);
-            }
-            let m2 = 2 * n;
-            for i in 0..n {
-                for j in 0..n {
-                    self.jacobian[i * n + j] = 0.25 * h * self.hessian[i * m2 + j] + 0.5 * self.hessian[i * m2 + n + j]
-                        - 0.5 * self.hessian[(n + i) * m2 + j]
-                        - self.hessian[(n + i) * m2 + n + j] / h;
-                }
-            }
-            if self.has_force {
-                self.add_force_jacobian(system, tm, h);
-            }
-            // The step's constraint rows and their derivative at the current iterate.
-            for i in 0..n {
-                k.q_end[i] = self.q[i] + self.delta[i];
-            }
-            system.step_constraint_rows(
-                ws,
-                (t1, &k.q_end),
-                (tm, &self.q_mid, &self.velocity, h),
-                &mut k.residual,
-                &mut k.step_rows,
-            )?;
-            self.stats.factorizations += 1;
-            if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
-                return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
-            }
-            // y = J⁻¹ R (in `residual`), X = J⁻¹ C₀ᵀ over the independent rows.
-            solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
-            for &r in &k.active {
-                k.mobility[r * n..(r + 1) * n].copy_from_slice(&k.force_rows[r * n..(r + 1) * n]);
-                solve::lu_solve(n, &self.jacobian, &self.pivots, &mut k.mobility[r * n..(r + 1) * n]);
-            }
-            // (D X) δΛ = D y − C over the independent rows; δΔq = −y + X δΛ.
-            for (a, &r) in k.active.iter().enumerate() {
-                let d = &k.step_rows[r * n..(r + 1) * n];
-                for (b, &l) in k.active.iter().enumerate() {
-                    k.schur[a * ca + b] = dot(d, &k.mobility[l * n..(l + 1) * n]);
-                }
-                k.rhs[a] = dot(d, &self.residual) - k.residual[r];
-            }
-            if ca > 0 {
-                if solve::lu_factor(ca, &mut k.schur[..ca * ca], &mut k.pivots[..ca]).is_err() {
-                    return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
-                }
-                solve::lu_solve(ca, &k.schur[..ca * ca], &k.pivots[..ca], &mut k.rhs[..ca]);
-            }
-            for (a, &r) in k.active.iter().enumerate() {
-                k.multipliers[r] += k.rhs[a];
-                for i in 0..n {
-                    self.residual[i] -= k.mobility[r * n + i] * k.rhs[a];
-                }
-            }
-            self.check_update(system, iteration, "Δq")?;
-            let (mut update, mut scale) = (0.0_f64, 0.0_f64);
-            for i in 0..n {
-                self.delta[i] -= self.residual[i];
-                update = update.max(self.residual[i].abs());
-                scale = scale.max(self.delta[i].abs());
-            }
-            if update <= NEWTON_RTOL * scale || update == 0.0 {
-                converged = true;
-                break;
-            }
-            if update >= 0.5 * previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
-                converged = true;
-                break;
-            }
-            previous_update = update;
-        }
-        if !converged {
-            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) });
-        }
-        // p₁ = D₂L_d + (h/2) Q at the final midpoint; the final residuals from the same point.
-        self.midpoint(system, tm, h);
-        self.derivatives(system, tm, false);
-        let mut final_residual = 0.0_f64;
-        for i in 0..n {
-            let lq = self.gradient[i] + self.force[i];
-            let lv = self.gradient[n + i];
-            let impulse: f64 = (0..c).map(|r| k.force_rows[r * n + i] * k.multipliers[r]).sum();
-            final_residual = final_residual.max((self.p[i] + 0.5 * h * lq - lv - impulse).abs());
-            self.p[i] = 0.5 * h * lq + lv;
-        }
-        self.max_residual = self.max_residual.max(final_residual);
-        for i in 0..n {
-            self.q[i] += self.delta[i];
+            k.q_end[i] = self.q[i] + self.delta[i];
         }
         system.step_constraint_rows(
             ws,
-            (t1, &self.q),
+            (t1, &k.q_end),
             (tm, &self.q_mid, &self.velocity, h),
             &mut k.residual,
             &mut k.step_rows,
         )?;
-        // A dependent row carries no impulse: it must hold by itself, to the consistency
-        // tolerance of the constrained solve relative to its change over the step (plus the
-        // round-off of a row evaluated at coordinates of size |q|; the rows are finite here).
+        self.stats.factorizations += 1;
+        if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
+            return Ok(false);
+        }
+        // y = J⁻¹ R (in `residual`), X = J⁻¹ C₀ᵀ over the independent rows.
+        solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
+        for &r in &k.active {
+            k.mobility[r * n..(r + 1) * n].copy_from_slice(&k.force_rows[r * n..(r + 1) * n]);
+            solve::lu_solve(n, &self.jacobian, &self.pivots, &mut k.mobility[r * n..(r + 1) * n]);
+        }
+        // (D X) δΛ = D y − C over the independent rows; δΔq = −y + X δΛ.
+        for (a, &r) in k.active.iter().enumerate() {
+            let d = &k.step_rows[r * n..(r + 1) * n];
+            for (b, &l) in k.active.iter().enumerate() {
+                k.schur[a * ca + b] = dot(d, &k.mobility[l * n..(l + 1) * n]);
+            }
+            k.rhs[a] = dot(d, &self.residual) - k.residual[r];
+        }
+        if ca > 0 {
+            if solve::lu_factor(ca, &mut k.schur[..ca * ca], &mut k.pivots[..ca]).is_err() {
+                return Ok(false);
+            }
+            solve::lu_solve(ca, &k.schur[..ca * ca], &k.pivots[..ca], &mut k.rhs[..ca]);
+        }
+        for (a, &r) in k.active.iter().enumerate() {
+            k.multipliers[r] += k.rhs[a];
+            for i in 0..n {
+                self.residual[i] -= k.mobility[r * n + i] * k.rhs[a];
+            }
+        }
+        Ok(true)
+    }
+
+    /// After the step: a dependent row carries no impulse, so it must hold by itself — to the
+    /// consistency tolerance of the constrained solve relative to its change over the step,
+    /// plus the round-off of a row evaluated at coordinates of size `|q|` (the rows are finite
+    /// here). Reads `k.residual` and `k.step_rows` at `q₁`; records the largest residual.
+    ///
+    /// # Errors
+    /// [`Error::InconsistentConstraints`] naming the dependent row and the rows it depends on.
+    fn check_dependent_rows(&mut self, system: &D, k: &ConstrainedStep, t1: f64) -> Result<(), Error> {
+        let (n, c) = (self.n, k.c);
         let size = 1.0 + self.q.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
         for i in 0..c {
             let d = &k.step_rows[i * n..(i + 1) * n];
@@ -746,6 +729,59 @@ impl<D: Dynamics> Variational<D> {
                 });
             }
         }
+        Ok(())
+    }
+
+    fn newton_constrained(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        k: &mut ConstrainedStep,
+        h: f64,
+    ) -> Result<(), Error> {
+        let n = self.n;
+        let (t, tm, t1) = (self.t, self.t + 0.5 * h, self.t + h);
+        self.impulse_directions(system, ws, k)?;
+        // Predictor: Δq = h v, Λ = 0 (the equations are linear in Λ).
+        for i in 0..n {
+            self.delta[i] = h * self.velocity[i];
+        }
+        k.multipliers.fill(0.0);
+        let mut converged = false;
+        let mut residual_norm = f64::INFINITY;
+        let mut previous_update = f64::INFINITY;
+        for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
+            self.midpoint(system, tm, h);
+            self.derivatives(system, tm, true);
+            self.check_finite(system, iteration)?;
+            let relative_residual;
+            (residual_norm, relative_residual) = self.momentum_residual(h, Some(k));
+            self.newton_matrix(system, tm, h);
+            if !self.constrained_update(system, ws, k, h)? {
+                return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
+            }
+            self.check_update(system, iteration, "Δq")?;
+            if self.apply_update(&mut previous_update, relative_residual) {
+                converged = true;
+                break;
+            }
+        }
+        if !converged {
+            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) });
+        }
+        self.final_momenta(system, tm, h, Some(k));
+        for i in 0..n {
+            self.q[i] += self.delta[i];
+        }
+        system.step_constraint_rows(
+            ws,
+            (t1, &self.q),
+            (tm, &self.q_mid, &self.velocity, h),
+            &mut k.residual,
+            &mut k.step_rows,
+        )?;
+        self.check_dependent_rows(system, k, t1)?;
         self.t = t1;
         self.stats.steps += 1;
         if !(crate::error::all_finite(&self.q) && crate::error::all_finite(&self.p)) {
