@@ -18,6 +18,8 @@ const LAYERS: &[&[&str]] = &[
     &["dynamics"],
     &["integrate"],
     &["system"],
+    // What most programs import: re-exports from every layer below.
+    &["prelude"],
 ];
 
 /// Test-only code, outside the layers: the crate's test fixtures, and unit tests (files named
