@@ -145,6 +145,9 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
 
 /// Orientations `φ_i` and their sines and cosines first: a loop without other state, so that
 /// the trigonometric calls do not interrupt the recursion of the passes.
+// The four passes are inlined into `solve` (`#[inline(always)]`), as one function's loops
+// they were: the hot path of every tree.
+#[inline(always)]
 fn orientations<S: Scalar>(links: &[Link], bodies: &mut [ArticulatedBody<S>], q: &[S]) {
     for (i, link) in links.iter().enumerate() {
         let (parent_angle, parent_sin, parent_cos) = match link.parent {
@@ -166,6 +169,7 @@ fn orientations<S: Scalar>(links: &[Link], bodies: &mut [ArticulatedBody<S>], q:
 /// an absolute angle), offset r_i = R(φ_λ) parent_anchor − R(φ_i) child_anchor
 /// (+ R(φ_λ) q_i axis), subspace s_i, v_i = X_i v_λ(i) + s_i ṙ_i, c_i = v_i × s_i ṙ_i,
 /// I^A_i = I_i, p^A_i = v_i ×* I_i v_i = (0, −m ω v_y, m ω v_x).
+#[inline(always)]
 fn velocities<S: Scalar>(links: &[Link], bodies: &mut [ArticulatedBody<S>], q: &[S], qdot: &[S]) {
     let mut previous = Motion::zero();
     for (i, link) in links.iter().enumerate() {
@@ -220,6 +224,7 @@ fn velocities<S: Scalar>(links: &[Link], bodies: &mut [ArticulatedBody<S>], q: &
 /// is next, as in chains (reading it back from memory right after writing it stalls).
 ///
 /// `rhs`: the joint-space forces, `None` without any.
+#[inline(always)]
 fn inertias<S: Scalar>(
     links: &[Link],
     bodies: &mut [ArticulatedBody<S>],
@@ -288,6 +293,7 @@ fn inertias<S: Scalar>(
 /// accelerates upwards at g (gravity).
 /// (The previous body's result is kept in registers: in chains it is the parent, and reading
 /// it back from memory right after writing it stalls.)
+#[inline(always)]
 fn accelerations<S: Scalar>(links: &[Link], bodies: &mut [ArticulatedBody<S>], gravity: f64, qddot: &mut [S]) {
     let ground = Motion { angular: S::zero(), x: S::zero(), y: S::from(gravity) };
     let mut previous = ground;
