@@ -74,7 +74,7 @@ pub fn compare(
 ) -> Result<Comparison, Error> {
     let id = scene.id();
     let mut built = build(engine, id, params, initial, settings)?;
-    let params = &built.params.clone();
+    let params = &built.params;
     // Sample times: on the rapier step grid.
     let grid = if engine.is_rapier() { settings.dt } else { every };
     let stride = (every / grid).round().max(1.0) * grid;

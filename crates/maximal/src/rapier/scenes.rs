@@ -59,12 +59,11 @@ pub(crate) fn plan(
             Ok(draft.finish(T::ID, params, deviations, initial.t))
         }
     }
-    check_input(scene, params, initial)?;
-    if crate::scenes::graph(scene, params)?.is_some() {
-        // A joint-graph scene: the deviations it declares on its parameters, then the graph's plan.
-        let declared =
-            lagrange_scenes::find(scene).map_or(&[][..], |s| s.rapier_deviations(mode == JointMode::Multibody));
-        let (params, deviations) = with_deviations(declared, params)?;
+    let found = check_input(scene, params, initial)?;
+    if found.joint_graph(params)?.is_some() {
+        // A joint-graph scene: the deviations it declares on its parameters, then the graph's
+        // plan (the graph resolved once, with them).
+        let (params, deviations) = with_deviations(found.rapier_deviations(mode == JointMode::Multibody), params)?;
         let mechanism = crate::scenes::graph(scene, &params)?.ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
         let built = super::graph::plan(engine, mode, scene, &mechanism, initial)?;
         // The graph's own deviations, carried by the scene's parameters `<body>.inertia` (a
@@ -90,8 +89,13 @@ pub(crate) fn plan(
     crate::scenes::visit(scene, params, Planner { engine, mode, params, initial })?
 }
 
-/// Scene, parameters and state are valid and fit together (before any `Params::get`).
-pub(crate) fn check_input(scene: &str, params: &Params, initial: &State) -> Result<(), BuildError> {
+/// Scene, parameters and state are valid and fit together (before any `Params::get`); the
+/// registered scene.
+pub(crate) fn check_input(
+    scene: &str,
+    params: &Params,
+    initial: &State,
+) -> Result<&'static dyn lagrange_scenes::Scene, BuildError> {
     let Some(found) = lagrange_scenes::find(scene) else {
         return Err(Error::InvalidParameter {
             name: "scene".into(),
@@ -109,7 +113,7 @@ pub(crate) fn check_input(scene: &str, params: &Params, initial: &State) -> Resu
     if !(initial.t.is_finite() && initial.q.iter().chain(&initial.qdot).all(|v| v.is_finite())) {
         return Err(Error::NonFinite { stage: lagrange::Stage::State, t: initial.t, q: initial.q.clone() }.into());
     }
-    Ok(())
+    Ok(found)
 }
 
 /// The parameters rapier simulates, and one sentence per change (the scene's
