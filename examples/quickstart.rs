@@ -1,13 +1,18 @@
 //! A double pendulum in a few lines: name the coordinates and bodies, write where the bodies are, simulate.
-use lagrange::{Described, Method, Model, Output, Pose, Poses, Scalar, State, accelerations, simulate};
+use lagrange::{Description, Mechanism, Method, Model, Output, Pose, Scalar, State, accelerations, simulate};
 
 /// Two point masses on massless rods of lengths l1, l2; θ1, θ2 from the downward vertical.
 struct DoublePendulum {
+    description: Description,
     l1: f64,
     l2: f64,
 }
 
-impl Poses for DoublePendulum {
+impl Mechanism for DoublePendulum {
+    // The data: coordinates, bodies, gravity.
+    fn description(&self) -> &Description {
+        &self.description
+    }
     // Where each body is, as a function of q: written once, differentiated exactly.
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x1, y1) = (q[0].sin() * self.l1, -q[0].cos() * self.l1);
@@ -18,8 +23,8 @@ impl Poses for DoublePendulum {
 
 fn main() -> Result<(), lagrange::Error> {
     let (m1, m2, l1, l2, g) = (1.0, 1.0, 1.0, 1.0, 9.81);
-    let pendulum = Described::new(DoublePendulum { l1, l2 }).angle("θ1").angle("θ2");
-    let model = Model::new(pendulum.point("bob 1", m1).point("bob 2", m2).gravity(g))?;
+    let description = Description::new().angle("θ1").angle("θ2").point("bob 1", m1).point("bob 2", m2).gravity(g);
+    let model = Model::new(DoublePendulum { description, l1, l2 })?;
 
     // q̈ against the textbook closed form of the double pendulum.
     let (q, qdot) = ([1.0_f64, 0.5], [0.3_f64, -0.2]);

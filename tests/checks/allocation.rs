@@ -6,7 +6,7 @@
 #![allow(unsafe_code)] // a global allocator is necessarily `unsafe impl`
 
 use lagrange::integrate::{Dopri5, Gauss4, Rk4, Sdirk4, Variational};
-use lagrange::{Described, Dynamics, Loads, Mechanism, Model, Pose, Poses, RawModel, Scalar, State, Tolerances};
+use lagrange::{Description, Dynamics, Loads, Mechanism, Model, Pose, RawModel, Scalar, State, Tolerances};
 use lagrange_scenes::SceneType;
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -146,10 +146,16 @@ fn no_heap_allocation_per_step_in_any_scene() {
     assert_no_allocation_per_step("charged_particle", &raw, &scene.default_state(&params).expect("valid"));
 }
 
-/// A rod pendulum pushed sideways at its tip, in the short form: the applied forces' pass.
-struct PushedRod;
+/// A rod pendulum pushed sideways at its tip: the applied forces' pass.
+struct PushedRod {
+    description: Description,
+}
 
-impl Poses for PushedRod {
+impl Mechanism for PushedRod {
+    fn description(&self) -> &Description {
+        &self.description
+    }
+
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (s, c) = (q[0].sin(), q[0].cos());
         world_from_body[0] = Pose::new(s * 0.5, -c * 0.5, q[0]);
@@ -164,7 +170,7 @@ impl Poses for PushedRod {
 
 #[test]
 fn no_heap_allocation_per_step_with_applied_forces() {
-    let rod = || Described::new(PushedRod).angle("θ").rigid("rod", 1.0, 1.0 / 12.0).gravity(9.81);
+    let rod = || PushedRod { description: Description::new().angle("θ").rigid("rod", 1.0, 1.0 / 12.0).gravity(9.81) };
     let initial = State::new(0.0, vec![0.4], vec![0.1]);
     let model = Model::new(rod()).expect("valid");
     assert!(model.has_applied_forces());

@@ -1,6 +1,6 @@
 //! Bad input gets a typed error naming what is wrong — never a panic, never a NaN.
 
-use lagrange::{Described, Error, Method, Model, Output, Pose, Poses, Scalar, Stage, State, Tolerances};
+use lagrange::{Description, Error, Mechanism, Method, Model, Output, Pose, Scalar, Stage, State, Tolerances};
 use lagrange_scenes::{Domain, all, find};
 
 #[test]
@@ -45,22 +45,28 @@ fn unknown_parameters_are_rejected_with_the_accepted_names() {
 }
 
 /// Two coordinates that move one body the same way: `M` is singular everywhere.
-struct Redundant;
+struct Redundant {
+    description: Description,
+}
 
-impl Poses for Redundant {
+impl Mechanism for Redundant {
+    fn description(&self) -> &Description {
+        &self.description
+    }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0] + q[1], S::zero());
     }
 }
 
-/// The redundant coordinates `a`, `b` under gravity, before its one body is added.
-fn redundant() -> Described<Redundant> {
-    Described::new(Redundant).length("a").length("b").gravity(9.81)
+/// The description of the redundant coordinates `a`, `b` under gravity, before its one body is
+/// added.
+fn redundant() -> Description {
+    Description::new().length("a").length("b").gravity(9.81)
 }
 
 #[test]
 fn dependent_coordinates_give_a_singular_mass_matrix_error() {
-    let model = Model::new(redundant().point("block", 1.0)).expect("valid bodies");
+    let model = Model::new(Redundant { description: redundant().point("block", 1.0) }).expect("valid bodies");
     let mut ws = model.workspace();
     match lagrange::accelerations(&model, &mut ws, 0.0, &[0.1, 0.2], &[0.0, 0.0]) {
         Err(Error::SingularMassMatrix { coordinate, q, .. }) => {
@@ -83,7 +89,7 @@ fn dependent_coordinates_give_a_singular_mass_matrix_error() {
 #[test]
 fn invalid_bodies_are_rejected() {
     for (mass, inertia) in [(f64::NAN, 0.0), (-1.0, 0.0), (1.0, -1.0), (1.0, f64::INFINITY)] {
-        let m = redundant().rigid("block", mass, inertia);
+        let m = Redundant { description: redundant().rigid("block", mass, inertia) };
         assert!(matches!(Model::new(m), Err(Error::InvalidParameter { .. })), "m = {mass}, I = {inertia}");
     }
 }

@@ -2,32 +2,43 @@
 //! times the full assembly (declaration withheld) gives the stored `M`, a zero convective term,
 //! and the same accelerations.
 
-use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, State};
+use lagrange::{Description, Mechanism, Model, Pose, Scalar, State};
 use lagrange_scenes::{ClosedForm, MechanismVisitor, all, visit_mechanism};
 use lagrange_tests::{max_abs, max_abs_diff, rng, sampling, tolerance};
 
 /// The same mechanism without the declaration: the engine assembles everything.
 #[derive(Clone)]
-struct Undeclared<M>(M);
+struct Undeclared<M> {
+    mechanism: M,
+    /// The mechanism's coordinates, bodies and gravity, nothing else declared.
+    description: Description,
+}
+
+impl<M: Mechanism> Undeclared<M> {
+    fn new(mechanism: M) -> Self {
+        let of = mechanism.description();
+        let description = Description {
+            coordinates: of.coordinates.clone(),
+            bodies: of.bodies.clone(),
+            gravity: of.gravity,
+            ..Description::default()
+        };
+        Self { mechanism, description }
+    }
+}
 
 impl<M: Mechanism> Mechanism for Undeclared<M> {
-    fn coordinates(&self) -> &[Coordinate] {
-        self.0.coordinates()
-    }
-    fn bodies(&self) -> &[Body] {
-        self.0.bodies()
-    }
-    fn gravity(&self) -> f64 {
-        self.0.gravity()
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
-        self.0.poses(t, q, p)
+        self.mechanism.poses(t, q, p)
     }
     fn potential<S: Scalar>(&self, t: S, q: &[S], p: &[Pose<S>]) -> Option<S> {
-        self.0.potential(t, q, p)
+        self.mechanism.potential(t, q, p)
     }
     fn generalized_force<S: Scalar>(&self, t: S, q: &[S], v: &[S], f: &mut [S]) -> bool {
-        self.0.generalized_force(t, q, v, f)
+        self.mechanism.generalized_force(t, q, v, f)
     }
 }
 
@@ -39,11 +50,11 @@ impl MechanismVisitor for Check<'_> {
     type Output = bool;
 
     fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> bool {
-        if !mechanism.constant_mass_matrix() {
+        if !mechanism.description().constant_mass_matrix {
             return false;
         }
         let declared = Model::new(mechanism.clone()).expect("valid");
-        let assembled = Model::new(Undeclared(mechanism)).expect("valid");
+        let assembled = Model::new(Undeclared::new(mechanism)).expect("valid");
         assert!(declared.has_constant_mass_matrix() && !assembled.has_constant_mass_matrix());
         let (mut wd, mut wa) = (declared.workspace(), assembled.workspace());
         for s in self.states {
@@ -82,23 +93,16 @@ fn a_false_declaration_is_refused() {
     /// A pendulum that wrongly claims a constant mass matrix.
     #[derive(Clone)]
     struct Liar {
-        bodies: [Body; 1],
-        coordinates: [Coordinate; 1],
+        description: Description,
     }
     impl Mechanism for Liar {
-        fn coordinates(&self) -> &[Coordinate] {
-            &self.coordinates
-        }
-        fn bodies(&self) -> &[Body] {
-            &self.bodies
+        fn description(&self) -> &Description {
+            &self.description
         }
         fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
             p[0] = Pose::point(q[0].sin(), -q[0].cos());
         }
-        fn constant_mass_matrix(&self) -> bool {
-            true
-        }
     }
-    let liar = Liar { bodies: [Body::point("bob", 1.0)], coordinates: [Coordinate::angle("θ")] };
+    let liar = Liar { description: Description::new().angle("θ").point("bob", 1.0).with_constant_mass_matrix() };
     assert!(matches!(Model::new(liar), Err(lagrange::Error::Inconsistent { .. })));
 }

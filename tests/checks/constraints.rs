@@ -4,44 +4,33 @@
 //! inconsistent constraints.
 
 use lagrange::{
-    Body, Coordinate, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances, accelerations,
-    assemble, constraint_multipliers,
+    Body, Coordinate, Description, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances,
+    accelerations, assemble, constraint_multipliers,
 };
 
 const G: f64 = 9.81;
 
 /// A pendulum bob in Cartesian coordinates `q = (x, y)` tied to the circle `x² + y² = l²`.
 struct CartesianPendulum {
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 1],
+    description: Description,
     length: f64,
 }
 
 impl CartesianPendulum {
     fn new(mass: f64, length: f64) -> Self {
         Self {
-            coordinates: [Coordinate::length("x"), Coordinate::length("y")],
-            bodies: [Body::point("bob", mass)],
+            description: Description::new().length("x").length("y").point("bob", mass).gravity(G).constraint("Φ1"),
             length,
         }
     }
 }
 
 impl Mechanism for CartesianPendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        G
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], q[1]);
-    }
-    fn holonomic_constraints(&self) -> usize {
-        1
     }
     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
         phi[0] = q[0] * q[0] + q[1] * q[1] - self.length * self.length;
@@ -96,7 +85,7 @@ fn every_integrator_keeps_the_cartesian_pendulum_on_its_circle() {
     let (q0, v0) = cartesian(length, 0.5, 0.0);
     let initial = State::new(0.0, q0, v0);
     // The reference: the same pendulum in its angle.
-    let angle = lagrange::Described::new(AnglePendulum(length)).angle("θ").point("bob", mass).gravity(G);
+    let angle = AnglePendulum { description: Description::new().angle("θ").point("bob", mass).gravity(G), length };
     let reference = Model::new(angle).expect("valid");
     let t_end = 2.0;
     let output = Output::Every(0.1);
@@ -137,11 +126,17 @@ fn every_integrator_keeps_the_cartesian_pendulum_on_its_circle() {
     }
 }
 
-struct AnglePendulum(f64);
+struct AnglePendulum {
+    description: Description,
+    length: f64,
+}
 
-impl lagrange::Poses for AnglePendulum {
+impl Mechanism for AnglePendulum {
+    fn description(&self) -> &Description {
+        &self.description
+    }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
-        p[0] = Pose::point(q[0].sin() * self.0, -q[0].cos() * self.0);
+        p[0] = Pose::point(q[0].sin() * self.length, -q[0].cos() * self.length);
     }
 }
 
@@ -149,8 +144,7 @@ impl lagrange::Poses for AnglePendulum {
 /// rods) in its three absolute angles with two loop constraints.
 #[derive(Clone)]
 struct FourBar {
-    coordinates: Vec<Coordinate>,
-    bodies: Vec<Body>,
+    description: Description,
     lengths: [f64; 4],
 }
 
@@ -158,16 +152,22 @@ impl FourBar {
     fn new(lengths: [f64; 4], masses: [f64; 3], reduced: bool) -> Self {
         let [a, b, c, _] = lengths;
         let rod = |name: &str, m: f64, l: f64| Body::rigid(name, m, m * l * l / 12.0);
-        let coordinates = if reduced {
-            vec![Coordinate::angle("θ2")]
+        let (coordinates, constraints) = if reduced {
+            (vec![Coordinate::angle("θ2")], vec![])
         } else {
-            vec![Coordinate::angle("θ2"), Coordinate::angle("θ3"), Coordinate::angle("θ4")]
+            (
+                vec![Coordinate::angle("θ2"), Coordinate::angle("θ3"), Coordinate::angle("θ4")],
+                vec!["Φ1".to_string(), "Φ2".to_string()],
+            )
         };
-        Self {
+        let description = Description {
             coordinates,
             bodies: vec![rod("crank", masses[0], a), rod("coupler", masses[1], b), rod("rocker", masses[2], c)],
-            lengths,
-        }
+            gravity: G,
+            constraints,
+            ..Description::default()
+        };
+        Self { description, lengths }
     }
 
     /// `(θ3, θ4)` from `θ2` by the closed-form position analysis: `B` is where the circle of
@@ -188,14 +188,8 @@ impl FourBar {
 }
 
 impl Mechanism for FourBar {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        G
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         let [a, b, c, d] = self.lengths;
@@ -205,9 +199,6 @@ impl Mechanism for FourBar {
         p[0] = Pose::new(theta2.cos() * (a / 2.0), theta2.sin() * (a / 2.0), theta2);
         p[1] = Pose::new(ax + theta3.cos() * (b / 2.0), ay + theta3.sin() * (b / 2.0), theta3);
         p[2] = Pose::new(theta4.cos() * (c / 2.0) + d, theta4.sin() * (c / 2.0), theta4);
-    }
-    fn holonomic_constraints(&self) -> usize {
-        if self.coordinates.len() == 3 { 2 } else { 0 }
     }
     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
         let [a, b, c, d] = self.lengths;
@@ -324,19 +315,12 @@ fn a_four_bar_that_cannot_close_is_an_assembly_error() {
 #[test]
 fn redundant_constraints_are_resolved_and_contradictory_ones_named() {
     struct Parallelogram {
-        coordinates: Vec<Coordinate>,
-        bodies: Vec<Body>,
+        description: Description,
         contradict: bool,
     }
     impl Mechanism for Parallelogram {
-        fn coordinates(&self) -> &[Coordinate] {
-            &self.coordinates
-        }
-        fn bodies(&self) -> &[Body] {
-            &self.bodies
-        }
-        fn gravity(&self) -> f64 {
-            G
+        fn description(&self) -> &Description {
+            &self.description
         }
         // Three unit cranks from (0, 0), (1, 0), (2, 0) at angles q0, q1, q2; a coupler (a
         // point mass) at the tip of the first one. Loops: tip1 − tip0 = (1, 0), tip2 − tip0 = (2, 0).
@@ -344,9 +328,6 @@ fn redundant_constraints_are_resolved_and_contradictory_ones_named() {
             p[0] = Pose::point(q[0].cos(), q[0].sin());
             p[1] = Pose::point(q[1].cos() + 1.0, q[1].sin());
             p[2] = Pose::point(q[2].cos() + 2.0, q[2].sin());
-        }
-        fn holonomic_constraints(&self) -> usize {
-            4
         }
         // A torque of 2 N m on the first crank only: the links must carry it to the others.
         fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], _qdot: &[S], force: &mut [S]) -> bool {
@@ -364,8 +345,18 @@ fn redundant_constraints_are_resolved_and_contradictory_ones_named() {
     }
     let model = |contradict| {
         Model::new(Parallelogram {
-            coordinates: vec![Coordinate::angle("q0"), Coordinate::angle("q1"), Coordinate::angle("q2")],
-            bodies: vec![Body::point("a", 1.0), Body::point("b", 2.0), Body::point("c", 0.5)],
+            description: Description::new()
+                .angle("q0")
+                .angle("q1")
+                .angle("q2")
+                .point("a", 1.0)
+                .point("b", 2.0)
+                .point("c", 0.5)
+                .gravity(G)
+                .constraint("Φ1")
+                .constraint("Φ2")
+                .constraint("Φ3")
+                .constraint("Φ4"),
             contradict,
         })
         .expect("valid")
@@ -432,30 +423,27 @@ fn redundant_constraints_are_resolved_and_contradictory_ones_named() {
 #[test]
 fn a_velocity_constraint_holds_and_does_no_work() {
     struct Sleigh {
-        coordinates: [Coordinate; 3],
-        bodies: [Body; 1],
+        description: Description,
         a: f64,
     }
     impl Mechanism for Sleigh {
-        fn coordinates(&self) -> &[Coordinate] {
-            &self.coordinates
-        }
-        fn bodies(&self) -> &[Body] {
-            &self.bodies
+        fn description(&self) -> &Description {
+            &self.description
         }
         fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
             p[0] = Pose::new(q[0], q[1], q[2]);
-        }
-        fn velocity_constraints(&self) -> usize {
-            1
         }
         fn velocity_constraint<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S], r: &mut [S]) {
             r[0] = -q[2].sin() * qdot[0] + q[2].cos() * qdot[1] + qdot[2] * self.a;
         }
     }
     let sleigh = Sleigh {
-        coordinates: [Coordinate::length("x"), Coordinate::length("y"), Coordinate::angle("φ")],
-        bodies: [Body::rigid("sleigh", 1.0, 0.1)],
+        description: Description::new()
+            .length("x")
+            .length("y")
+            .angle("φ")
+            .rigid("sleigh", 1.0, 0.1)
+            .velocity_constraint("A1"),
         a: 0.5,
     };
     let model = Model::new(sleigh).expect("valid");

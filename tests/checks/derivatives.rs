@@ -73,7 +73,7 @@ impl MechanismVisitor for FiniteDifferences<'_> {
                     let total = lagrange::potential_energy(&model, ws, s.t, q).expect("valid");
                     let p = poses(&model, s.t, q);
                     let gravity: f64 = (0..model.bodies().len())
-                        .map(|b| model.mechanism().bodies()[b].mass * model.gravity() * p[3 * b + 1])
+                        .map(|b| model.mechanism().description().bodies[b].mass * model.gravity() * p[3 * b + 1])
                         .sum();
                     total - gravity
                 };

@@ -332,7 +332,7 @@ fn a_driven_four_bar_without_free_coordinates_is_a_mechanism() {
     let crank = GraphJoint::revolute("θ2", GROUND, [0.0, 0.0], "crank", [-0.5, 0.0]);
     let graph = four_bar(crank.driven(Profile { constant: 1.0, rate: 2.0, ..Profile::default() }));
     let mechanism = GraphMechanism::new(graph.clone()).unwrap();
-    assert_eq!(lagrange::Mechanism::coordinates(&mechanism).len(), 2);
+    assert_eq!(lagrange::Mechanism::description(&mechanism).coordinates.len(), 2);
     let guess = State::new(0.0, [-0.5, 1.5], [0.0, 0.0]);
     let scene = lagrange_scenes::GraphScene::new(graph.clone(), guess).expect("a driven four-bar is a scene");
     let initial =

@@ -12,10 +12,10 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[&[&str]] = &[
     &["error", "linalg", "pose", "scalar", "seed", "state"],
     &["mechanism", "tree"],
-    &["probe", "graph"],
+    &["passes", "probe", "graph"],
     // The model builds the sparse structure of its constrained solve at construction.
     &["model", "eom", "workspace"],
-    &["dynamics"],
+    &["ode"],
     &["integrate"],
     &["system"],
     // What most programs import: re-exports from every layer below.

@@ -266,7 +266,7 @@ fn bodies_and_trees_with_bad_masses_or_lengths_are_rejected_by_name() {
                 9.81,
             )
             .expect("valid");
-            let model = no_panic("model", || Model::new(BadBodies { tree, bodies: bodies.clone() }));
+            let model = no_panic("model", || Model::new(BadBodies::new(tree, bodies.clone())));
             assert!(
                 matches!(model, Err(Error::InvalidParameter { ref name, .. }) if name.ends_with("of rod")),
                 "m = {mass}, I = {inertia}: {:?}",
@@ -279,18 +279,21 @@ fn bodies_and_trees_with_bad_masses_or_lengths_are_rejected_by_name() {
 /// A pendulum whose mechanism reports other (bad) bodies than its tree.
 struct BadBodies {
     tree: Tree,
-    bodies: Vec<Body>,
+    description: lagrange::Description,
+}
+
+impl BadBodies {
+    /// The tree's coordinates with `bodies` instead of the tree's, under gravity 9.81.
+    fn new(tree: Tree, bodies: Vec<Body>) -> Self {
+        let coordinates = lagrange::Mechanism::description(&tree).coordinates.clone();
+        let description = lagrange::Description { coordinates, bodies, gravity: 9.81, ..Default::default() };
+        Self { tree, description }
+    }
 }
 
 impl lagrange::Mechanism for BadBodies {
-    fn coordinates(&self) -> &[lagrange::Coordinate] {
-        lagrange::Mechanism::coordinates(&self.tree)
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        9.81
+    fn description(&self) -> &lagrange::Description {
+        &self.description
     }
     fn poses<S: lagrange::Scalar>(&self, t: S, q: &[S], world_from_body: &mut [lagrange::Pose<S>]) {
         self.tree.poses(t, q, world_from_body);

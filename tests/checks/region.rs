@@ -3,13 +3,19 @@
 //! the scenes declare theirs; tolerances that cannot give a meaningful result are refused.
 
 use lagrange::integrate::MIN_RELATIVE_TOLERANCE;
-use lagrange::{Bounds, Described, Error, Method, Model, Output, Pose, Poses, Scalar, State, Tolerances};
+use lagrange::{Bounds, Description, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances};
 use lagrange_scenes::find;
 
 /// A free particle in plane polar coordinates `q = (r, θ)`: `r > 0` is its region.
-struct Polar;
+struct Polar {
+    description: Description,
+}
 
-impl Poses for Polar {
+impl Mechanism for Polar {
+    fn description(&self) -> &Description {
+        &self.description
+    }
+
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0] * q[1].cos(), q[0] * q[1].sin());
     }
@@ -20,8 +26,8 @@ impl Poses for Polar {
     }
 }
 
-fn polar() -> Model<Described<Polar>> {
-    Model::new(Described::new(Polar).length("r").angle("θ").point("particle", 1.0)).expect("valid")
+fn polar() -> Model<Polar> {
+    Model::new(Polar { description: Description::new().length("r").angle("θ").point("particle", 1.0) }).expect("valid")
 }
 
 fn every_method() -> [Method; 5] {
@@ -89,13 +95,20 @@ fn an_initial_state_outside_the_region_is_refused_before_any_step() {
 /// Without a declared region nothing is checked: the same motion runs through r = 0.
 #[test]
 fn without_a_region_nothing_is_checked() {
-    struct Unbounded;
-    impl Poses for Unbounded {
+    struct Unbounded {
+        description: Description,
+    }
+    impl Mechanism for Unbounded {
+        fn description(&self) -> &Description {
+            &self.description
+        }
         fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
             p[0] = Pose::point(q[0] * q[1].cos(), q[0] * q[1].sin());
         }
     }
-    let model = Model::new(Described::new(Unbounded).length("r").angle("θ").point("particle", 1.0)).expect("valid");
+    let model =
+        Model::new(Unbounded { description: Description::new().length("r").angle("θ").point("particle", 1.0) })
+            .expect("valid");
     assert!(!model.has_admissible_region());
     assert_eq!(Bounds::check(&model, 0.0, &[-1.0, 0.0], &[0.0, 0.0]), Ok(false));
     let run = lagrange::simulate(

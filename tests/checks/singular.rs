@@ -87,7 +87,7 @@ fn parallelogram_chain(n: usize, x0: f64) -> JointGraph {
 
 /// Every crank hanging down, crank 0 turning at `speed`, assembled with crank 0 held.
 fn hanging(model: &Model<GraphMechanism>, speed: f64) -> State {
-    let coordinates = lagrange::Mechanism::coordinates(model.mechanism());
+    let coordinates = &lagrange::Mechanism::description(model.mechanism()).coordinates;
     let crank = |name: &str| name.starts_with('θ');
     let q = coordinates
         .iter()
@@ -99,7 +99,8 @@ fn hanging(model: &Model<GraphMechanism>, speed: f64) -> State {
 
 /// The largest angle between two cranks (the coordinates `θk`) over a run.
 fn crank_spread<M: lagrange::Mechanism>(model: &Model<M>, run: &lagrange::Trajectory) -> f64 {
-    let cranks: Vec<usize> = lagrange::Mechanism::coordinates(model.mechanism())
+    let cranks: Vec<usize> = lagrange::Mechanism::description(model.mechanism())
+        .coordinates
         .iter()
         .enumerate()
         .filter(|(_, c)| c.name.starts_with('θ'))

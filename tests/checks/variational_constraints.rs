@@ -4,7 +4,8 @@
 
 use lagrange::integrate::{Variational, run};
 use lagrange::{
-    Body, Coordinate, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances, Trajectory, assemble,
+    Body, Coordinate, Description, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances,
+    Trajectory, assemble,
 };
 
 const G: f64 = 9.81;
@@ -19,26 +20,16 @@ fn largest_violation(run: &Trajectory) -> [f64; 2] {
 
 /// A pendulum bob in Cartesian coordinates `q = (x, y)` tied to the circle `x² + y² = l²`.
 struct CartesianPendulum {
-    coordinates: [Coordinate; 2],
-    bodies: [Body; 1],
+    description: Description,
     length: f64,
 }
 
 impl Mechanism for CartesianPendulum {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        G
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], q[1]);
-    }
-    fn holonomic_constraints(&self) -> usize {
-        1
     }
     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
         phi[0] = q[0] * q[0] + q[1] * q[1] - self.length * self.length;
@@ -46,11 +37,17 @@ impl Mechanism for CartesianPendulum {
 }
 
 /// The pendulum in its angle from the downward vertical.
-struct AnglePendulum(f64);
+struct AnglePendulum {
+    description: Description,
+    length: f64,
+}
 
-impl lagrange::Poses for AnglePendulum {
+impl Mechanism for AnglePendulum {
+    fn description(&self) -> &Description {
+        &self.description
+    }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
-        p[0] = Pose::point(q[0].sin() * self.0, -q[0].cos() * self.0);
+        p[0] = Pose::point(q[0].sin() * self.length, -q[0].cos() * self.length);
     }
 }
 
@@ -66,8 +63,7 @@ fn variational<M: Mechanism>(model: &Model<M>, initial: &State, t_end: f64, dt: 
 /// Crank-rocker four-bar (ground O2 = 0, O4 = (d, 0); crank a, coupler b, rocker c; uniform
 /// rods) in its three absolute angles with two loop constraints.
 struct FourBar {
-    coordinates: Vec<Coordinate>,
-    bodies: Vec<Body>,
+    description: Description,
     lengths: [f64; 4],
 }
 
@@ -75,23 +71,20 @@ impl FourBar {
     fn new(lengths: [f64; 4], masses: [f64; 3]) -> Self {
         let [a, b, c, _] = lengths;
         let rod = |name: &str, m: f64, l: f64| Body::rigid(name, m, m * l * l / 12.0);
-        Self {
+        let description = Description {
             coordinates: vec![Coordinate::angle("θ2"), Coordinate::angle("θ3"), Coordinate::angle("θ4")],
             bodies: vec![rod("crank", masses[0], a), rod("coupler", masses[1], b), rod("rocker", masses[2], c)],
-            lengths,
-        }
+            gravity: G,
+            constraints: vec!["Φ1".to_string(), "Φ2".to_string()],
+            ..Description::default()
+        };
+        Self { description, lengths }
     }
 }
 
 impl Mechanism for FourBar {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        G
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         let [a, b, c, d] = self.lengths;
@@ -100,9 +93,6 @@ impl Mechanism for FourBar {
         p[0] = Pose::new(theta2.cos() * (a / 2.0), theta2.sin() * (a / 2.0), theta2);
         p[1] = Pose::new(ax + theta3.cos() * (b / 2.0), ay + theta3.sin() * (b / 2.0), theta3);
         p[2] = Pose::new(theta4.cos() * (c / 2.0) + d, theta4.sin() * (c / 2.0), theta4);
-    }
-    fn holonomic_constraints(&self) -> usize {
-        2
     }
     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
         let [a, b, c, d] = self.lengths;
@@ -124,23 +114,16 @@ fn four_bar() -> (Model<FourBar>, State) {
 /// A knife edge (Chaplygin sleigh, no gravity): the velocity constraint
 /// `−sin φ ẋ + cos φ ẏ + a φ̇ = 0` keeps the point `C + a e` moving along `e`.
 struct Sleigh {
-    coordinates: [Coordinate; 3],
-    bodies: [Body; 1],
+    description: Description,
     a: f64,
 }
 
 impl Mechanism for Sleigh {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::new(q[0], q[1], q[2]);
-    }
-    fn velocity_constraints(&self) -> usize {
-        1
     }
     fn velocity_constraint<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S], r: &mut [S]) {
         r[0] = -q[2].sin() * qdot[0] + q[2].cos() * qdot[1] + qdot[2] * self.a;
@@ -149,8 +132,12 @@ impl Mechanism for Sleigh {
 
 fn sleigh() -> Model<Sleigh> {
     Model::new(Sleigh {
-        coordinates: [Coordinate::length("x"), Coordinate::length("y"), Coordinate::angle("φ")],
-        bodies: [Body::rigid("sleigh", 1.0, 0.1)],
+        description: Description::new()
+            .length("x")
+            .length("y")
+            .angle("φ")
+            .rigid("sleigh", 1.0, 0.1)
+            .velocity_constraint("A1"),
         a: 0.5,
     })
     .expect("valid")
@@ -170,15 +157,15 @@ fn sleigh() -> Model<Sleigh> {
 fn cartesian_and_angle_pendulums_are_second_order_and_on_the_circle() {
     let (mass, length) = (1.0, 1.0);
     let model = Model::new(CartesianPendulum {
-        coordinates: [Coordinate::length("x"), Coordinate::length("y")],
-        bodies: [Body::point("bob", mass)],
+        description: Description::new().length("x").length("y").point("bob", mass).gravity(G).constraint("Φ1"),
         length,
     })
     .expect("valid");
     let theta0: f64 = 0.5;
     let initial = State::new(0.0, [length * theta0.sin(), -length * theta0.cos()], [0.0, 0.0]);
-    let angle = Model::new(lagrange::Described::new(AnglePendulum(length)).angle("θ").point("bob", mass).gravity(G))
-        .expect("valid");
+    let angle =
+        Model::new(AnglePendulum { description: Description::new().angle("θ").point("bob", mass).gravity(G), length })
+            .expect("valid");
     let angle_initial = State::new(0.0, [theta0], [0.0]);
     let t_end = 2.0;
     let exact = lagrange::simulate(
@@ -344,28 +331,18 @@ fn sleigh_by_discrete_lagrange_dalembert_is_second_order() {
 /// tips, four loop equations of which two are redundant on the parallelogram; a torque of
 /// 2 N m on the first crank. The contradicting variant adds `t²` to the fourth row.
 struct Parallelogram {
-    coordinates: Vec<Coordinate>,
-    bodies: Vec<Body>,
+    description: Description,
     contradict: bool,
 }
 
 impl Mechanism for Parallelogram {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        G
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0].cos(), q[0].sin());
         p[1] = Pose::point(q[1].cos() + 1.0, q[1].sin());
         p[2] = Pose::point(q[2].cos() + 2.0, q[2].sin());
-    }
-    fn holonomic_constraints(&self) -> usize {
-        4
     }
     fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], _qdot: &[S], force: &mut [S]) -> bool {
         force[0] += S::from(2.0);
@@ -381,8 +358,18 @@ impl Mechanism for Parallelogram {
 
 fn parallelogram(contradict: bool) -> Model<Parallelogram> {
     Model::new(Parallelogram {
-        coordinates: vec![Coordinate::angle("q0"), Coordinate::angle("q1"), Coordinate::angle("q2")],
-        bodies: vec![Body::point("a", 1.0), Body::point("b", 2.0), Body::point("c", 0.5)],
+        description: Description::new()
+            .angle("q0")
+            .angle("q1")
+            .angle("q2")
+            .point("a", 1.0)
+            .point("b", 2.0)
+            .point("c", 0.5)
+            .gravity(G)
+            .constraint("Φ1")
+            .constraint("Φ2")
+            .constraint("Φ3")
+            .constraint("Φ4"),
         contradict,
     })
     .expect("valid")

@@ -279,7 +279,7 @@ pub enum Error {
         t: f64,
         /// Coordinates.
         q: Vec<f64>,
-        /// The names of the contradicting constraints ([`Mechanism::constraint_name`](crate::Mechanism::constraint_name)).
+        /// The names of the contradicting constraints ([`Description::constraint_name`](crate::Description::constraint_name)).
         constraints: Vec<String>,
         /// The dependent row's residual after elimination.
         residual: f64,

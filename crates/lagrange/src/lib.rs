@@ -21,16 +21,16 @@
 //!
 //! # The short form: a double pendulum
 //!
-//! Only the physics is code: the poses, in a [`Poses`] implementation; [`Described`] adds the
-//! names, masses and gravity (the longer form, a type implementing [`Mechanism`] with its own
-//! accessors, is below).
+//! The data — coordinates, bodies, gravity — is a plain value, a [`Description`]; only the
+//! physics is code: the poses, in a [`Mechanism`] implementation that holds the description.
 //!
 //! ```
-//! use lagrange::{Described, Model, Pose, Poses, Scalar, accelerations};
+//! use lagrange::{Description, Mechanism, Model, Pose, Scalar, accelerations};
 //!
-//! struct DoublePendulum { l1: f64, l2: f64 }
+//! struct DoublePendulum { description: Description, l1: f64, l2: f64 }
 //!
-//! impl Poses for DoublePendulum {
+//! impl Mechanism for DoublePendulum {
+//!     fn description(&self) -> &Description { &self.description }
 //!     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 //!         let (x1, y1) = (q[0].sin() * self.l1, -q[0].cos() * self.l1);
 //!         world_from_body[0] = Pose::point(x1, y1);
@@ -39,8 +39,8 @@
 //! }
 //!
 //! let (m1, m2, l1, l2, g) = (1.0, 2.0, 1.0, 0.5, 9.81);
-//! let pendulum = Described::new(DoublePendulum { l1, l2 }).angle("θ1").angle("θ2");
-//! let model = Model::new(pendulum.point("bob 1", m1).point("bob 2", m2).gravity(g))?;
+//! let description = Description::new().angle("θ1").angle("θ2").point("bob 1", m1).point("bob 2", m2).gravity(g);
+//! let model = Model::new(DoublePendulum { description, l1, l2 })?;
 //! let mut ws = model.workspace();
 //! let (q, qdot) = ([0.4_f64, -0.3], [0.0_f64, 0.0]);
 //! let qddot = accelerations(&model, &mut ws, 0.0, &q, &qdot)?;
@@ -55,15 +55,13 @@
 //! # Example: the pendulum on a movable support (docs/scenes.md#cart_pendulum)
 //!
 //! ```
-//! use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, accelerations};
+//! use lagrange::{Body, Coordinate, Description, Mechanism, Model, Pose, Scalar, accelerations};
 //!
 //! /// Cart of mass M on a rail, bob of mass m on a rod of length r; q = (X, θ).
-//! struct CartPendulum { bodies: [Body; 2], coordinates: [Coordinate; 2], r: f64 }
+//! struct CartPendulum { description: Description, r: f64 }
 //!
 //! impl Mechanism for CartPendulum {
-//!     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
-//!     fn bodies(&self) -> &[Body] { &self.bodies }
-//!     fn gravity(&self) -> f64 { 9.81 }
+//!     fn description(&self) -> &Description { &self.description }
 //!     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 //!         let (x, theta) = (q[0], q[1]);
 //!         world_from_body[0] = Pose::point(x, S::zero());
@@ -72,11 +70,14 @@
 //! }
 //!
 //! let (cart_mass, bob_mass, r) = (2.0, 1.0, 1.5);
-//! let model = Model::new(CartPendulum {
-//!     bodies: [Body::point("cart", cart_mass), Body::point("bob", bob_mass)],
-//!     coordinates: [Coordinate::length("X"), Coordinate::angle("θ")],
-//!     r,
-//! })?;
+//! // The description as a struct literal (the double pendulum above chains its methods).
+//! let description = Description {
+//!     coordinates: vec![Coordinate::length("X"), Coordinate::angle("θ")],
+//!     bodies: vec![Body::point("cart", cart_mass), Body::point("bob", bob_mass)],
+//!     gravity: 9.81,
+//!     ..Description::default()
+//! };
+//! let model = Model::new(CartPendulum { description, r })?;
 //! let mut ws = model.workspace();
 //! let (q, qdot) = ([0.0_f64, 0.3], [0.0_f64, 0.5]);
 //! let qddot = accelerations(&model, &mut ws, 0.0, &q, &qdot)?;
@@ -97,15 +98,13 @@
 //! returns [`Error::LostDerivative`] when that happens).
 //!
 //! ```
-//! use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, accelerations};
+//! use lagrange::{Description, Mechanism, Model, Pose, Scalar, accelerations};
 //!
 //! /// A pendulum (bob on a rod of length r) whose pivot is driven, x_p = A sin(ω t); q = (θ).
-//! struct Driven { bodies: [Body; 1], coordinates: [Coordinate; 1], r: f64, a: f64, omega: f64 }
+//! struct Driven { description: Description, r: f64, a: f64, omega: f64 }
 //!
 //! impl Mechanism for Driven {
-//!     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
-//!     fn bodies(&self) -> &[Body] { &self.bodies }
-//!     fn gravity(&self) -> f64 { 9.81 }
+//!     fn description(&self) -> &Description { &self.description }
 //!     fn poses<S: Scalar>(&self, t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 //!         let pivot = (t * self.omega).sin() * self.a;
 //!         world_from_body[0] = Pose::point(pivot + q[0].sin() * self.r, -q[0].cos() * self.r);
@@ -113,11 +112,8 @@
 //! }
 //!
 //! let (r, a, omega) = (1.2, 0.1, 3.0);
-//! let model = Model::new(Driven {
-//!     bodies: [Body::point("bob", 0.5)],
-//!     coordinates: [Coordinate::angle("θ")],
-//!     r, a, omega,
-//! })?;
+//! let description = Description::new().angle("θ").point("bob", 0.5).gravity(9.81);
+//! let model = Model::new(Driven { description, r, a, omega })?;
 //! let mut ws = model.workspace();
 //! let (t, theta) = (0.4_f64, 0.3_f64);
 //! let qddot = accelerations(&model, &mut ws, t, &[theta], &[0.0])?;
@@ -167,9 +163,9 @@
 //! # Constraints among the coordinates: closed loops and rolling
 //!
 //! Coordinates may be related by holonomic constraints `Φ(t, q) = 0`
-//! ([`Mechanism::holonomic_constraints`], [`Mechanism::constraints`]: a four-bar's loop, a bob
-//! on a circle) and by velocity constraints `A(t, q) q̇ + b(t, q) = 0`
-//! ([`Mechanism::velocity_constraints`], [`Mechanism::velocity_constraint`]: a knife edge,
+//! (named in [`Description::constraints`], written by [`Mechanism::constraints`]: a four-bar's
+//! loop, a bob on a circle) and by velocity constraints `A(t, q) q̇ + b(t, q) = 0`
+//! ([`Description::velocity_constraints`], [`Mechanism::velocity_constraint`]: a knife edge,
 //! rolling). The engine then solves `M q̈ + Gᵀ λ = f`, `G q̈ = −γ` with `G = [Φ_q; A]` and `γ` the
 //! constraints' convective term, by the Schur complement on the factor of `M`;
 //! [`constraint_multipliers`] gives `λ` (`−Gᵀ λ` is the generalized constraint force), [`assemble`]
@@ -177,23 +173,24 @@
 //! constraints (docs/method.md#constraints).
 //!
 //! ```
-//! use lagrange::{Described, Model, Pose, Poses, Scalar, State, accelerations, assemble, constraint_multipliers};
+//! use lagrange::{Description, Mechanism, Model, Pose, Scalar, State, accelerations, assemble, constraint_multipliers};
 //!
 //! /// A bob at (x, y) held on the circle x² + y² = l² (a pendulum in Cartesian coordinates).
-//! struct Bob { l: f64 }
+//! struct Bob { description: Description, l: f64 }
 //!
-//! impl Poses for Bob {
+//! impl Mechanism for Bob {
+//!     fn description(&self) -> &Description { &self.description }
 //!     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 //!         world_from_body[0] = Pose::point(q[0], q[1]);
 //!     }
-//!     fn holonomic_constraints(&self) -> usize { 1 }
 //!     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
 //!         phi[0] = q[0] * q[0] + q[1] * q[1] - self.l * self.l;
 //!     }
 //! }
 //!
 //! let (m, l, g) = (1.0, 2.0, 9.81);
-//! let model = Model::new(Described::new(Bob { l }).length("x").length("y").point("bob", m).gravity(g))?;
+//! let description = Description::new().length("x").length("y").point("bob", m).gravity(g).constraint("on the circle");
+//! let model = Model::new(Bob { description, l })?;
 //! // A rough start, moved onto the circle with x held.
 //! let state = assemble(&model, &State::new(0.0, [1.0, -1.5], [0.5, 0.0]), &[true, false])?;
 //! let theta = state.q[0].atan2(-state.q[1]);
@@ -228,6 +225,11 @@
 //!
 //! # Layout
 //!
+//! A user writes at most three traits: [`Mechanism`] (the physics of a body description, beside
+//! its data, a [`Description`]) or [`Lagrangian`] (a raw `L`), and uses [`Scalar`] to write them
+//! once for every number type. The rest — [`Equations`], [`Dynamics`], [`System`] — are the
+//! engine's layers, implemented by the models.
+//!
 //! Model, state, workspace and algorithms are kept apart (as in Pinocchio and MuJoCo):
 //! [`Model`] is what the user describes, validated and immutable; [`State`] is `(t, q, q̇)`;
 //! [`Workspace`] holds every buffer an evaluation needs, allocated once; the algorithms are free
@@ -257,6 +259,7 @@ pub mod graph;
 mod mechanism;
 pub mod tree;
 
+mod passes;
 mod probe;
 
 mod model;
@@ -264,7 +267,7 @@ mod model;
 mod eom;
 mod workspace;
 
-mod dynamics;
+mod ode;
 
 pub mod integrate;
 
@@ -275,7 +278,8 @@ mod test_support;
 
 /// What most programs using the engine import: `use lagrange::prelude::*;`.
 ///
-/// A mechanism's description ([`Mechanism`], [`Body`], [`Coordinate`], [`Pose`], [`Scalar`]),
+/// A mechanism's data and physics ([`Description`], [`Mechanism`], [`Body`], [`Coordinate`],
+/// [`Pose`], [`Scalar`]),
 /// the validated [`Model`] and its [`State`], the evaluations ([`accelerations`],
 /// [`total_energy`], [`assemble`]) and the integrators ([`simulate`], [`Method`], [`Output`],
 /// [`Tolerances`]), with the [`Error`] they return.
@@ -283,18 +287,16 @@ mod test_support;
 /// ```
 /// use lagrange::prelude::*;
 ///
-/// struct Pendulum { bodies: [Body; 1], coordinates: [Coordinate; 1] }
+/// struct Pendulum { description: Description }
 ///
 /// impl Mechanism for Pendulum {
-///     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
-///     fn bodies(&self) -> &[Body] { &self.bodies }
-///     fn gravity(&self) -> f64 { 9.81 }
+///     fn description(&self) -> &Description { &self.description }
 ///     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
 ///         world_from_body[0] = Pose::point(q[0].sin(), -q[0].cos());
 ///     }
 /// }
 ///
-/// let model = Model::new(Pendulum { bodies: [Body::point("bob", 1.0)], coordinates: [Coordinate::angle("θ")] })?;
+/// let model = Model::new(Pendulum { description: Description::new().angle("θ").point("bob", 1.0).gravity(9.81) })?;
 /// let run = simulate(&model, &State::new(0.0, [0.1], [0.0]), 1.0, Method::Rk4 { dt: 1e-3 }, &Output::Ends)?;
 /// assert!((run.q(1)[0] - 0.1 * 9.81_f64.sqrt().cos()).abs() < 1e-3);
 /// # Ok::<(), lagrange::Error>(())
@@ -302,11 +304,11 @@ mod test_support;
 pub mod prelude {
     pub use crate::integrate::{Method, Output, Tolerances, simulate};
     pub use crate::{
-        Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, State, accelerations, assemble, total_energy,
+        Body, Coordinate, Description, Error, Mechanism, Model, Pose, Scalar, State, accelerations, assemble,
+        total_energy,
     };
 }
 
-pub use dynamics::Dynamics;
 pub use eom::constraints::{assemble, constraint_multipliers, project};
 pub use eom::energy::{kinetic_energy, potential_energy, total_energy};
 pub use eom::equations::{Equations, accelerations, energy_function, lagrangian, mass_matrix, momenta};
@@ -316,9 +318,10 @@ pub use eom::reactions::reaction_forces;
 pub use error::{Derived, Error, Stage};
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
 pub use mechanism::{
-    Body, Bounds, Coordinate, CoordinateKind, Described, Lagrangian, LagrangianFunction, Loads, Mechanism, Poses, Side,
+    Body, Bounds, Coordinate, CoordinateKind, Description, Lagrangian, LagrangianFunction, Loads, Mechanism, Side,
 };
 pub use model::Model;
+pub use ode::Dynamics;
 pub use pose::Pose;
 pub use scalar::Scalar;
 pub use state::State;

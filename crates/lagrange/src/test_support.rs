@@ -5,11 +5,12 @@
 //! trait from the one under test. These stay minimal (no parameters, no closed forms beyond
 //! the one each test needs).
 
-use crate::{Body, Coordinate, Described, Lagrangian, Mechanism, Pose, Poses, Scalar};
+use crate::{Body, Coordinate, Description, Lagrangian, Mechanism, Pose, Scalar};
 
-/// Pendulum on a cart (docs/scenes.md#cart_pendulum): q = (X, θ), in the short form.
-#[derive(Clone, Copy, Debug)]
+/// Pendulum on a cart (docs/scenes.md#cart_pendulum): q = (X, θ).
+#[derive(Clone, Debug)]
 pub(crate) struct Cart {
+    pub description: Description,
     pub cart: f64,
     pub bob: f64,
     pub r: f64,
@@ -17,17 +18,13 @@ pub(crate) struct Cart {
 }
 
 /// The cart pendulum: cart of mass `cart`, bob of mass `bob` on a rod `r`, `g = 9.81`.
-pub(crate) fn cart(cart: f64, bob: f64, r: f64) -> Described<Cart> {
-    let poses = Cart { cart, bob, r, g: 9.81 };
-    poses.with_poses(poses)
+pub(crate) fn cart(cart: f64, bob: f64, r: f64) -> Cart {
+    let g = 9.81;
+    let description = Description::new().length("X").angle("θ").point("cart", cart).point("bob", bob).gravity(g);
+    Cart { description, cart, bob, r, g }
 }
 
 impl Cart {
-    /// The cart pendulum's names, masses and gravity around other `poses`.
-    pub(crate) fn with_poses<P: Poses>(&self, poses: P) -> Described<P> {
-        Described::new(poses).length("X").angle("θ").point("cart", self.cart).point("bob", self.bob).gravity(self.g)
-    }
-
     /// The closed form of docs/scenes.md#cart_pendulum.
     pub(crate) fn closed_form(&self, q: &[f64], v: &[f64]) -> [f64; 2] {
         let (big, m, r, g) = (self.cart, self.bob, self.r, self.g);
@@ -37,7 +34,10 @@ impl Cart {
     }
 }
 
-impl Poses for Cart {
+impl Mechanism for Cart {
+    fn description(&self) -> &Description {
+        &self.description
+    }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
         p[1] = Pose::point(q[0] + q[1].sin() * self.r, -q[1].cos() * self.r);
@@ -49,8 +49,7 @@ impl Poses for Cart {
 /// matrix. With `A = 0` ([`Spring::new`]) the damped harmonic oscillator.
 #[derive(Clone, Debug)]
 pub(crate) struct Spring {
-    pub bodies: [Body; 1],
-    pub coordinates: [Coordinate; 1],
+    pub description: Description,
     pub k: f64,
     pub c: f64,
     pub amplitude: f64,
@@ -59,7 +58,8 @@ pub(crate) struct Spring {
 impl Spring {
     /// `m ẍ = −k x − c ẋ`.
     pub(crate) fn new(m: f64, k: f64, c: f64) -> Self {
-        Self { bodies: [Body::point("mass", m)], coordinates: [Coordinate::length("x")], k, c, amplitude: 0.0 }
+        let description = Description::new().length("x").point("mass", m).with_constant_mass_matrix();
+        Self { description, k, c, amplitude: 0.0 }
     }
 
     /// A stiff spring whose anchor moves slowly, undamped: from `x = 0`,
@@ -71,17 +71,14 @@ impl Spring {
 
     /// `ω²/(ω² − 1) A`: the amplitude of the slow solution.
     pub(crate) fn slow_amplitude(&self) -> f64 {
-        let omega2 = self.k / self.bodies[0].mass;
+        let omega2 = self.k / self.description.bodies[0].mass;
         self.amplitude * omega2 / (omega2 - 1.0)
     }
 }
 
 impl Mechanism for Spring {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
@@ -95,9 +92,6 @@ impl Mechanism for Spring {
             return false;
         }
         force[0] -= qdot[0] * self.c;
-        true
-    }
-    fn constant_mass_matrix(&self) -> bool {
         true
     }
 }
@@ -152,10 +146,8 @@ impl Range for Rng {
 /// downward vertical, poses written by hand (as the scenes do), declaring its [`Tree`].
 #[derive(Clone, Debug)]
 pub(crate) struct RodChain {
-    pub bodies: Vec<Body>,
-    pub coordinates: Vec<Coordinate>,
+    pub description: Description,
     pub lengths: Vec<f64>,
-    pub g: f64,
     pub tree: crate::Tree,
 }
 
@@ -183,19 +175,14 @@ impl RodChain {
             .collect();
         let tree = crate::Tree::new(joints, bodies.clone(), g).expect("valid tree");
         let coordinates = (0..masses.len()).map(|i| Coordinate::angle(format!("θ{i}"))).collect();
-        Self { bodies, coordinates, lengths: lengths.to_vec(), g, tree }
+        let description = Description { coordinates, bodies, gravity: g, ..Description::default() };
+        Self { description, lengths: lengths.to_vec(), tree }
     }
 }
 
 impl Mechanism for RodChain {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        self.g
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         let (mut x, mut y) = (S::zero(), S::zero());
@@ -214,9 +201,9 @@ impl Mechanism for RodChain {
 /// A pendulum (point bob `m` on a rod `r`) whose pivot is driven horizontally,
 /// `x_p = A sin(ω t)`, with a torsional spring `V = ½ k θ²` and viscous damping `Q = −c θ̇`:
 /// every optional term at once (time-dependent poses, a potential, a velocity-dependent force),
-/// in the short form.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct Driven {
+    pub description: Description,
     pub m: f64,
     pub r: f64,
     pub amplitude: f64,
@@ -226,27 +213,22 @@ pub(crate) struct Driven {
 }
 
 /// The driven pendulum with its defaults ([`Driven::new`]).
-pub(crate) fn driven() -> Described<Driven> {
-    Driven::new().described()
+pub(crate) fn driven() -> Driven {
+    Driven::new()
 }
 
 impl Driven {
     pub(crate) fn new() -> Self {
-        Self { m: 0.7, r: 1.3, amplitude: 0.2, omega: 2.5, k: 3.0, c: 0.4 }
-    }
-
-    /// The driven pendulum's names, mass and gravity around other `poses`.
-    pub(crate) fn with_poses<P: Poses>(&self, poses: P) -> Described<P> {
-        Described::new(poses).angle("θ").point("bob", self.m).gravity(9.81)
-    }
-
-    /// As a mechanism.
-    pub(crate) fn described(self) -> Described<Self> {
-        self.with_poses(self)
+        let m = 0.7;
+        let description = Description::new().angle("θ").point("bob", m).gravity(9.81);
+        Self { description, m, r: 1.3, amplitude: 0.2, omega: 2.5, k: 3.0, c: 0.4 }
     }
 }
 
-impl Poses for Driven {
+impl Mechanism for Driven {
+    fn description(&self) -> &Description {
+        &self.description
+    }
     fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
         let pivot = (t * self.omega).sin() * self.amplitude;
         p[0] = Pose::point(pivot + q[0].sin() * self.r, -q[0].cos() * self.r);

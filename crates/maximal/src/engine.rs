@@ -88,8 +88,8 @@ pub struct BodyState {
 }
 
 /// A scene running in a maximal-coordinate engine. Bodies are in the order of the reduced
-/// scene's `Mechanism::bodies`, so that generalized coordinates and constraint forces can be
-/// read back and compared.
+/// scene's bodies (its `Mechanism::description`), so that generalized coordinates and
+/// constraint forces can be read back and compared.
 pub trait MaximalSimulation {
     /// Which engine.
     fn engine(&self) -> Engine;

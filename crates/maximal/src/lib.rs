@@ -88,7 +88,7 @@ pub fn build_graph(
     // A state outside the graph's region (a spring of natural length l₀ > 0 whose ends meet)
     // is named here, not met as a NaN force at the first step.
     let mut bounds = lagrange::Bounds::new();
-    if initial.q.len() == lagrange::Mechanism::coordinates(&mechanism).len()
+    if initial.q.len() == lagrange::Mechanism::description(&mechanism).coordinates.len()
         && lagrange::Mechanism::admissible(&mechanism, initial.t, &initial.q, &initial.qdot, &mut bounds)
         && let Some(error) = bounds.error(initial.t)
     {

@@ -57,7 +57,7 @@ trait ReducedPoses: Send + Sync {
 
 impl<M: Mechanism + Send + Sync> ReducedPoses for M {
     fn bodies(&self) -> Vec<Body> {
-        Mechanism::bodies(self).to_vec()
+        Mechanism::description(self).bodies.clone()
     }
 
     fn body_states(&self, state: &State) -> Result<Vec<BodyState>, Error> {
@@ -122,9 +122,10 @@ impl ReadBack {
 
     /// The read-back of a resolved joint graph.
     pub fn graph(mechanism: Arc<GraphMechanism>) -> Self {
-        let bodies = Mechanism::bodies(&*mechanism).to_vec();
-        let gravity = Mechanism::gravity(&*mechanism);
-        let angles = Mechanism::coordinates(&*mechanism).iter().map(|c| c.kind == CoordinateKind::Angle).collect();
+        let description = Mechanism::description(&*mechanism);
+        let bodies = description.bodies.clone();
+        let gravity = description.gravity;
+        let angles = description.coordinates.iter().map(|c| c.kind == CoordinateKind::Angle).collect();
         Self(Arc::new(Resolved { bodies, gravity, angles, map: Map::Graph(mechanism) }))
     }
 
@@ -251,12 +252,12 @@ pub fn graph_body_states(mechanism: &GraphMechanism, state: &State) -> Result<Ve
 /// The body states of mechanism `m` at `state`: poses `p_b(q, t)` and velocities
 /// `ṗ_b = J_b q̇ + ∂p_b/∂t` (one dual pass along `(q̇, 1)`).
 fn states_of<M: Mechanism>(m: &M, state: &State) -> Result<Vec<BodyState>, Error> {
-    let n = m.coordinates().len();
+    let n = m.description().coordinates.len();
     if state.q.len() != n || state.qdot.len() != n {
         return Err(Error::DimensionMismatch { what: "state", expected: n, got: state.q.len() });
     }
     let q: Vec<Dual64> = state.q.iter().zip(&state.qdot).map(|(q, v)| Dual64::new(*q, *v)).collect();
-    let mut poses = vec![Pose::<Dual64>::default(); m.bodies().len()];
+    let mut poses = vec![Pose::<Dual64>::default(); m.description().bodies.len()];
     m.poses(Dual64::new(state.t, 1.0), &q, &mut poses);
     Ok(poses
         .iter()
@@ -280,7 +281,7 @@ pub fn graph_generalized(mechanism: &GraphMechanism, bodies: &[BodyState]) -> (V
             )
         })
         .collect();
-    let mut q = vec![Dual64::from(0.0); mechanism.coordinates().len()];
+    let mut q = vec![Dual64::from(0.0); mechanism.description().coordinates.len()];
     mechanism.coordinates_of(&poses, &mut q);
     (q.iter().map(|v| v.re).collect(), q.iter().map(|v| v.eps).collect())
 }

@@ -5,10 +5,10 @@
 
 use crate::linkage::{LinkBody, Linkage, Point};
 use crate::params::{param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::graph::{self, ForceElement, GROUND, GraphJoint, JointGraph, Profile};
-use lagrange::{Body, Coordinate, Error, Loads, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Error, Loads, Mechanism, Pose, Scalar, State};
 
 /// The consistent initial angles `(β, Θ, γ, Φ, δ, Ω, ε)` at `t = 0` (at rest), as published
 /// with the test problem (docs/scenes.md#andrews_squeezer).
@@ -157,19 +157,30 @@ scene_params! {
     /// Andrews' squeezer with every parameter of the test problem, in its order.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 7] = ["β", "Θ", "γ", "Φ", "δ", "Ω", "ε"].map(Coordinate::angle),
-        bodies: [Body; 7] = [
-            Body::rigid("K1", m1, i1),
-            Body::rigid("K2", m2, i2),
-            Body::rigid("K3", m3, i3),
-            Body::rigid("K4", m4, i4),
-            Body::rigid("K5", m5, i5),
-            Body::rigid("K6", m6, i6),
-            Body::rigid("K7", m7, i7),
-        ],
+        description: Description = Description {
+            coordinates: ["β", "Θ", "γ", "Φ", "δ", "Ω", "ε"].map(Coordinate::angle).to_vec(),
+            bodies: vec![
+                Body::rigid("K1", m1, i1),
+                Body::rigid("K2", m2, i2),
+                Body::rigid("K3", m3, i3),
+                Body::rigid("K4", m4, i4),
+                Body::rigid("K5", m5, i5),
+                Body::rigid("K6", m6, i6),
+                Body::rigid("K7", m7, i7),
+            ],
+            constraints: (0..6).map(constraint_name).collect(),
+            ..Description::default()
+        },
         initial: [f64; 7] = INITIAL_ANGLES,
     }
     finish = AndrewsSqueezer::assembled;
+}
+
+/// The name of loop-closure row `i` (0 to 5) of [`Mechanism::constraints`]: the test problem's
+/// `g1` … `g6`, `E` through K3, K4, K6, each x then y.
+fn constraint_name(i: usize) -> String {
+    let through = ["K3", "K4", "K6"][i / 2];
+    format!("g{}: E through {through} ({})", i + 1, ["x", "y"][i % 2])
 }
 
 /// Unit coefficient vectors of the body angles in `q`.
@@ -365,7 +376,9 @@ impl AndrewsSqueezer {
 }
 
 impl Mechanism for AndrewsSqueezer {
-    fields!(coordinates, bodies);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     /// The centres of mass and angles of K1 … K7 (docs/scenes.md#andrews_squeezer).
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
@@ -405,10 +418,6 @@ impl Mechanism for AndrewsSqueezer {
         Some(stretch * stretch * (0.5 * self.c0))
     }
 
-    fn holonomic_constraints(&self) -> usize {
-        6
-    }
-
     /// The test problem's `g(1..6)`: `E − (B + ss e⊥(γ))`, `E − (G + e e⊥(Φ + δ))`,
     /// `E − (H + zf e(Ω + ε))`, each x then y.
     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
@@ -422,11 +431,6 @@ impl Mechanism for AndrewsSqueezer {
             phi[2 * i] = end[0] - p[0];
             phi[2 * i + 1] = end[1] - p[1];
         }
-    }
-
-    fn constraint_name(&self, i: usize) -> String {
-        let through = ["K3", "K4", "K6"][i / 2];
-        format!("g{}: E through {through} ({})", i + 1, ["x", "y"][i % 2])
     }
 
     /// The driving torque `mom` on K1 (none when `mom = 0`).

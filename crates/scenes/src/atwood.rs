@@ -2,11 +2,10 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
 use lagrange::graph::{GROUND, GraphJoint, JointGraph};
-use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Description, Mechanism, Pose, Scalar, State};
 use std::f64::consts::PI;
 
 scene_params! {
@@ -33,12 +32,17 @@ scene_params! {
     /// length `l` and gravity `g`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 1] = [Coordinate::length("x")],
-        bodies: [Body; 3] = [
-            Body::point("mass 1", mass_1),
-            Body::point("mass 2", mass_2),
-            Body::rigid("pulley", 0.0, pulley_inertia),
-        ],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("x")],
+            bodies: vec![
+                Body::point("mass 1", mass_1),
+                Body::point("mass 2", mass_2),
+                Body::rigid("pulley", 0.0, pulley_inertia),
+            ],
+            gravity,
+            constant_mass_matrix: true,
+            ..Description::default()
+        },
     }
 }
 
@@ -63,7 +67,9 @@ impl Atwood {
 }
 
 impl Mechanism for Atwood {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, a) = (q[0], self.pulley_radius);
@@ -78,10 +84,6 @@ impl Mechanism for Atwood {
     fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
         bounds.at_least("rope to m1, x", q[0], 0.0);
         bounds.at_least("rope to m2, l − πa − x", self.rope_length - PI * self.pulley_radius - q[0], 0.0);
-        true
-    }
-
-    fn constant_mass_matrix(&self) -> bool {
         true
     }
 }

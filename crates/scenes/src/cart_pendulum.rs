@@ -3,11 +3,11 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::tree::{Joint, Parent, Tree};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Error, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A cart of mass `M` at `(X, 0)` on a horizontal rail, and a bob of mass `m` on a massless rod
@@ -43,15 +43,19 @@ scene_params! {
     /// As [`new`](Self::new), with a compound bob of inertia `I_b` about its centre.
     pub fn with_bob_inertia;
     derived {
-        coordinates: [Coordinate; 2] = [Coordinate::length("X"), Coordinate::angle("θ")],
-        bodies: [Body; 2] = [Body::point("cart", cart_mass), Body::rigid("bob", bob_mass, bob_inertia)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("X"), Coordinate::angle("θ")],
+            bodies: vec![Body::point("cart", cart_mass), Body::rigid("bob", bob_mass, bob_inertia)],
+            gravity,
+            ..Description::default()
+        },
         // The cart slides along the rail; the bob hangs a rod length below the cart's centre.
         tree: Tree = {
             let joints = vec![
                 Joint::prismatic("X", Parent::Ground, [0.0, 0.0], [1.0, 0.0], [0.0, 0.0]),
                 Joint::absolute_revolute("θ", Parent::Body(0), [0.0, 0.0], [0.0, rod_length]),
             ];
-            Tree::new(joints, bodies.to_vec(), gravity)?
+            Tree::new(joints, description.bodies.clone(), gravity)?
         },
     }
 }
@@ -137,7 +141,9 @@ impl CartPendulum {
 }
 
 impl Mechanism for CartPendulum {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (cart_x, theta) = (q[0], q[1]);

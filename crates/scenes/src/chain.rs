@@ -1,11 +1,11 @@
 //! A hanging chain of `N` uniform rigid links (beyond the lecture).
 
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, SceneType};
 use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::tree::{Joint, Parent, Tree};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Description, Error, Mechanism, Pose, Scalar, State};
 use nalgebra::{DMatrix, DVector};
 
 scene_params! {
@@ -116,15 +116,11 @@ impl Chain {
 }
 
 impl Mechanism for Chain {
-    fn coordinates(&self) -> &[Coordinate] {
-        self.tree.coordinates()
+    /// The tree's: its joints' coordinates, its bodies, gravity `g`.
+    fn description(&self) -> &Description {
+        self.tree.description()
     }
 
-    fn bodies(&self) -> &[Body] {
-        self.tree.bodies()
-    }
-
-    fields!(gravity);
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (length, half) = (self.link_length, 0.5 * self.link_length);
         let (mut pivot_x, mut pivot_y) = (S::zero(), S::zero());
@@ -175,7 +171,7 @@ impl SceneType for Chain {
         let names: Vec<String> = graph.bodies.iter().map(|b| b.name.clone()).collect();
         for (i, name) in names.iter().enumerate() {
             let (parent, anchor) = if i == 0 { (GROUND, [0.0, 0.0]) } else { (names[i - 1].as_str(), [0.0, -half]) };
-            let coordinate = lagrange::Mechanism::coordinates(self)[i].name.clone();
+            let coordinate = self.tree.description().coordinates[i].name.clone();
             graph = graph
                 .with_joint(GraphJoint::revolute(coordinate, parent, anchor, name.as_str(), [0.0, half]).absolute());
         }
@@ -260,7 +256,7 @@ mod tests {
     #[test]
     fn link_count_is_validated_and_names_the_coordinates() {
         let chain = Chain::new(3, 1.0, 1.0, 9.81).unwrap();
-        let names: Vec<&str> = chain.coordinates().iter().map(|c| c.name.as_str()).collect();
+        let names: Vec<&str> = chain.description().coordinates.iter().map(|c| c.name.as_str()).collect();
         assert_eq!(names, ["θ1", "θ2", "θ3"]);
         for links in [0, 257] {
             let result = Chain::new(links, 1.0, 1.0, 9.81);

@@ -9,7 +9,7 @@ use crate::params::{GRAVITY, param_table, scene_params};
 use crate::scene::{body_scene, delegate_mechanism};
 use crate::{Conserved, Domain, SceneType};
 use lagrange::graph::JointGraph;
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Coordinate, Description, Mechanism, Pose, Scalar, State};
 use std::f64::consts::FRAC_PI_3;
 
 /// `[a, b, c, d]`: crank, coupler, rocker, ground (m). `a + b = c + d = 4`; the crank is the
@@ -257,7 +257,13 @@ impl ChangePointFourBar {
 
     /// The same linkage in its crank angle alone, on the analytic branch ([`ChangePointCrank`]).
     pub fn crank_model(&self) -> ChangePointCrank {
-        ChangePointCrank { scene: self.clone(), coordinates: [Coordinate::angle("θ2")] }
+        let description = Description {
+            coordinates: vec![Coordinate::angle("θ2")],
+            bodies: self.four_bar.description().bodies.clone(),
+            gravity: self.gravity,
+            ..Description::default()
+        };
+        ChangePointCrank { scene: self.clone(), description }
     }
 }
 
@@ -306,20 +312,13 @@ impl SceneType for ChangePointFourBar {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChangePointCrank {
     scene: ChangePointFourBar,
-    coordinates: [Coordinate; 1],
+    /// `θ2` alone; the four-bar's bodies and the scene's gravity, no constraints.
+    description: Description,
 }
 
 impl Mechanism for ChangePointCrank {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        self.scene.four_bar.bodies()
-    }
-
-    fn gravity(&self) -> f64 {
-        self.scene.gravity
+    fn description(&self) -> &Description {
+        &self.description
     }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {

@@ -3,9 +3,9 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Mechanism, Pose, Scalar, State};
 
 /// Gauss–Legendre points per panel of the position quadrature in [`ChaplyginSleigh::exact_solution`].
 const QUADRATURE_POINTS: usize = 12;
@@ -31,8 +31,12 @@ scene_params! {
     /// A sleigh with mass `m`, inertia `I` and knife-edge offset `a`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 3] = [Coordinate::length("x"), Coordinate::length("y"), Coordinate::angle("φ")],
-        bodies: [Body; 1] = [Body::rigid("sleigh", mass, inertia)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("x"), Coordinate::length("y"), Coordinate::angle("φ")],
+            bodies: vec![Body::rigid("sleigh", mass, inertia)],
+            velocity_constraints: vec!["knife edge: v_P · n = 0".into()],
+            ..Description::default()
+        },
     }
 }
 
@@ -119,24 +123,18 @@ impl ChaplyginSleigh {
 }
 
 impl Mechanism for ChaplyginSleigh {
-    fields!(coordinates, bodies);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         world_from_body[0] = Pose::new(q[0], q[1], q[2]);
-    }
-
-    fn velocity_constraints(&self) -> usize {
-        1
     }
 
     /// `v_P · n = −sinφ ẋ + cosφ ẏ + a φ̇`.
     fn velocity_constraint<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S], residual: &mut [S]) {
         let (sin, cos) = q[2].sin_cos();
         residual[0] = -sin * qdot[0] + cos * qdot[1] + qdot[2] * self.offset;
-    }
-
-    fn constraint_name(&self, _i: usize) -> String {
-        "knife edge: v_P · n = 0".into()
     }
 }
 

@@ -3,7 +3,7 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::{fields, raw_scene};
+use crate::scene::raw_scene;
 use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::{Coordinate, Lagrangian, Scalar, State};
 
@@ -72,7 +72,9 @@ impl ChargedParticle {
 }
 
 impl Lagrangian for ChargedParticle {
-    fields!(coordinates);
+    fn coordinates(&self) -> &[Coordinate] {
+        &self.coordinates
+    }
 
     fn lagrangian<S: Scalar>(&self, _t: S, q: &[S], qdot: &[S]) -> S {
         let (x, y, vx, vy) = (q[0], q[1], qdot[0], qdot[1]);

@@ -2,11 +2,10 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
 use crate::{Domain, SceneType};
 use lagrange::graph::{GROUND, GraphJoint, JointGraph};
-use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Description, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A fixed upper pulley whose rope (length `l`) carries `m1` on one end and a movable pulley on
@@ -34,8 +33,13 @@ scene_params! {
     /// pulley mass `m_p` and gravity `g`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 2] = [Coordinate::length("x"), Coordinate::length("x'")],
-        bodies: [Body; 4] = [Body::point("mass 1", mass_1), Body::point("mass 2", mass_2), Body::point("mass 3", mass_3), Body::point("movable pulley", lower_pulley_mass)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("x"), Coordinate::length("x'")],
+            bodies: vec![Body::point("mass 1", mass_1), Body::point("mass 2", mass_2), Body::point("mass 3", mass_3), Body::point("movable pulley", lower_pulley_mass)],
+            gravity,
+            constant_mass_matrix: true,
+            ..Description::default()
+        },
     }
 }
 
@@ -84,7 +88,9 @@ impl DoubleAtwood {
 }
 
 impl Mechanism for DoubleAtwood {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_prime) = (q[0], q[1]);
@@ -103,10 +109,6 @@ impl Mechanism for DoubleAtwood {
         bounds.at_least("upper rope to the pulley, l − x", self.rope_length - x, 0.0);
         bounds.at_least("lower rope to m2, x'", x_prime, 0.0);
         bounds.at_least("lower rope to m3, l' − x'", self.lower_rope_length - x_prime, 0.0);
-        true
-    }
-
-    fn constant_mass_matrix(&self) -> bool {
         true
     }
 }

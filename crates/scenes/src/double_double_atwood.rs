@@ -2,11 +2,10 @@
 //! lecture's homework remark).
 
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene, hang_at_depths};
 use crate::{Domain, SceneType};
 use lagrange::graph::{GROUND, GraphJoint, JointGraph};
-use lagrange::{Body, Bounds, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Description, Error, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A fixed upper pulley whose rope (length `l`) carries movable pulley A (depth `x`) and
@@ -40,15 +39,20 @@ scene_params! {
     /// The machine with the parameters in [`PARAMS`]' order.
     fn with_values;
     derived {
-        coordinates: [Coordinate; 3] = [Coordinate::length("x"), Coordinate::length("x'"), Coordinate::length("x''")],
-        bodies: [Body; 6] = [
-            Body::point("pulley A", pulley_a_mass),
-            Body::point("pulley B", pulley_b_mass),
-            Body::point("mass 2", mass_2),
-            Body::point("mass 3", mass_3),
-            Body::point("mass 4", mass_4),
-            Body::point("mass 5", mass_5),
-        ],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("x"), Coordinate::length("x'"), Coordinate::length("x''")],
+            bodies: vec![
+                Body::point("pulley A", pulley_a_mass),
+                Body::point("pulley B", pulley_b_mass),
+                Body::point("mass 2", mass_2),
+                Body::point("mass 3", mass_3),
+                Body::point("mass 4", mass_4),
+                Body::point("mass 5", mass_5),
+            ],
+            gravity,
+            constant_mass_matrix: true,
+            ..Description::default()
+        },
     }
 }
 
@@ -116,7 +120,9 @@ fn det3(m: [[f64; 3]; 3]) -> f64 {
 }
 
 impl Mechanism for DoubleDoubleAtwood {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_b, x_a) = (q[0], q[1], q[2]);
@@ -145,10 +151,6 @@ impl Mechanism for DoubleDoubleAtwood {
         bounds.at_least("B's rope to m3, l' − x'", self.rope_length_b - x_b, 0.0);
         bounds.at_least("A's rope to m4, x''", x_a, 0.0);
         bounds.at_least("A's rope to m5, l'' − x''", self.rope_length_a - x_a, 0.0);
-        true
-    }
-
-    fn constant_mass_matrix(&self) -> bool {
         true
     }
 }
@@ -189,7 +191,7 @@ impl SceneType for DoubleDoubleAtwood {
     /// (`x''`) and `m5` (coupled: `l'' − x''`).
     fn joint_graph(&self) -> Option<JointGraph> {
         let (o, down) = ([0.0, 0.0], [0.0, -1.0]);
-        let names: Vec<String> = lagrange::Mechanism::bodies(self).iter().map(|b| b.name.clone()).collect();
+        let names: Vec<String> = self.description.bodies.iter().map(|b| b.name.clone()).collect();
         let [a, b, m2, m3, m4, m5] = [0, 1, 2, 3, 4, 5].map(|i| names[i].as_str());
         Some(
             crate::scene::graph_of(Self::ID, self)

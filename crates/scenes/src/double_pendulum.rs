@@ -2,11 +2,11 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, SceneType};
 use lagrange::graph::{GROUND, GraphJoint, JointGraph};
 use lagrange::tree::{Joint, Parent, Tree};
-use lagrange::{Body, Coordinate, Error, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Error, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// Bob 1 (mass `m1`) at `(l1 sinθ₁, −l1 cosθ₁)` on a massless rod from the origin, bob 2 (mass
@@ -55,15 +55,19 @@ scene_params! {
     /// As [`new`](Self::new), with compound bobs of inertias `I1`, `I2` about their centres.
     pub fn with_inertia;
     derived {
-        coordinates: [Coordinate; 2] = [Coordinate::angle("θ1"), Coordinate::angle("θ2")],
-        bodies: [Body; 2] = [Body::rigid("bob 1", mass_1, inertia_1), Body::rigid("bob 2", mass_2, inertia_2)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::angle("θ1"), Coordinate::angle("θ2")],
+            bodies: vec![Body::rigid("bob 1", mass_1, inertia_1), Body::rigid("bob 2", mass_2, inertia_2)],
+            gravity,
+            ..Description::default()
+        },
         // Each bob a rod length below its pivot: the origin, then bob 1's centre.
         tree: Tree = {
             let joints = vec![
                 Joint::absolute_revolute("θ1", Parent::Ground, [0.0, 0.0], [0.0, length_1]),
                 Joint::absolute_revolute("θ2", Parent::Body(0), [0.0, 0.0], [0.0, length_2]),
             ];
-            Tree::new(joints, bodies.to_vec(), gravity)?
+            Tree::new(joints, description.bodies.clone(), gravity)?
         },
     }
 }
@@ -152,7 +156,9 @@ impl DoublePendulum {
 }
 
 impl Mechanism for DoublePendulum {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (theta_1, theta_2) = (q[0], q[1]);

@@ -2,9 +2,9 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A bob of mass `m` on a massless rod of length `l` whose support moves as `(A sin ωt, 0)`:
@@ -26,8 +26,12 @@ scene_params! {
     /// gravity `g`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 1] = [Coordinate::angle("θ")],
-        bodies: [Body; 1] = [Body::point("bob", mass)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::angle("θ")],
+            bodies: vec![Body::point("bob", mass)],
+            gravity,
+            ..Description::default()
+        },
     }
 }
 
@@ -49,7 +53,9 @@ impl DrivenPendulum {
 }
 
 impl Mechanism for DrivenPendulum {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let theta = q[0];

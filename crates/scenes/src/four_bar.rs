@@ -4,10 +4,10 @@
 
 use crate::linkage::{LinkBody, Linkage, Point, solve2};
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::graph::{ForceElement, GROUND, GraphJoint, JointGraph, Profile};
-use lagrange::{Body, Coordinate, Error, Loads, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Error, Loads, Mechanism, Pose, Scalar, State};
 use std::f64::consts::FRAC_PI_3;
 
 scene_params! {
@@ -39,20 +39,30 @@ scene_params! {
     }
     /// A four-bar linkage with link lengths `a`, `b`, `c`, `d`, masses `m2`, `m3`, `m4`, gravity
     /// `g` and crank torque `τ`; the links must close at some crank angle (the default state
-    /// starts at `θ2 = π/3` where they close there, else where [`starting_angle`] says).
+    /// starts at `θ2 = π/3` where they close there, else at the crank angle in `(0, π)` that puts
+    /// `|O4 − A|` in the middle of the range the coupler and rocker span).
     pub fn new;
     derived {
         start: f64 = starting_angle([crank, coupler, rocker, ground])?,
-        coordinates: [Coordinate; 3] = [Coordinate::angle("θ2"), Coordinate::angle("θ3"), Coordinate::angle("θ4")],
-        bodies: [Body; 3] = rods([crank, coupler, rocker], [mass_2, mass_3, mass_4]),
+        description: Description = Description {
+            coordinates: vec![Coordinate::angle("θ2"), Coordinate::angle("θ3"), Coordinate::angle("θ4")],
+            bodies: rods([crank, coupler, rocker], [mass_2, mass_3, mass_4]),
+            gravity,
+            constraints: vec!["loop closure at B (x)".into(), "loop closure at B (y)".into()],
+            ..Description::default()
+        },
         linkage: Linkage = linkage([crank, coupler, rocker, ground], [mass_2, mass_3, mass_4], gravity, torque),
     }
 }
 
 /// The three links as uniform rods (`I = m L²/12`), in the order crank, coupler, rocker.
-fn rods(lengths: [f64; 3], masses: [f64; 3]) -> [Body; 3] {
+fn rods(lengths: [f64; 3], masses: [f64; 3]) -> Vec<Body> {
     let rod = |name: &str, m: f64, l: f64| Body::rigid(name, m, m * l * l / 12.0);
-    [rod("crank", masses[0], lengths[0]), rod("coupler", masses[1], lengths[1]), rod("rocker", masses[2], lengths[2])]
+    vec![
+        rod("crank", masses[0], lengths[0]),
+        rod("coupler", masses[1], lengths[1]),
+        rod("rocker", masses[2], lengths[2]),
+    ]
 }
 
 /// The hand-coded linkage of the closed form: the three rods' centres and angles, the loop
@@ -186,7 +196,13 @@ impl FourBar {
 
     /// The same linkage in its crank angle alone ([`FourBarCrank`]).
     pub fn crank_model(&self) -> FourBarCrank {
-        FourBarCrank { scene: self.clone(), coordinates: [Coordinate::angle("θ2")] }
+        let description = Description {
+            coordinates: vec![Coordinate::angle("θ2")],
+            bodies: self.description.bodies.clone(),
+            gravity: self.gravity,
+            ..Description::default()
+        };
+        FourBarCrank { scene: self.clone(), description }
     }
 }
 
@@ -201,14 +217,12 @@ fn four_bar_poses<S: Scalar>(lengths: [f64; 4], theta: [S; 3], world_from_body: 
 }
 
 impl Mechanism for FourBar {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         four_bar_poses(self.lengths(), [q[0], q[1], q[2]], world_from_body);
-    }
-
-    fn holonomic_constraints(&self) -> usize {
-        2
     }
 
     /// `A + b e(θ3) − O4 − c e(θ4) = 0`, x then y.
@@ -216,10 +230,6 @@ impl Mechanism for FourBar {
         let [a, b, c, d] = self.lengths();
         phi[0] = q[0].cos() * a + q[1].cos() * b - q[2].cos() * c - d;
         phi[1] = q[0].sin() * a + q[1].sin() * b - q[2].sin() * c;
-    }
-
-    fn constraint_name(&self, i: usize) -> String {
-        ["loop closure at B (x)", "loop closure at B (y)"][i].into()
     }
 
     /// The torque `τ` on the crank (none when `τ = 0`).
@@ -251,8 +261,8 @@ impl SceneType for FourBar {
         qddot.copy_from_slice(&self.closed_form_with_multipliers(q, qdot).0);
     }
 
-    /// `θ2 = π/3` (or, for links that do not close there, the angle [`starting_angle`]
-    /// gives), `θ̇2 = 6 rad/s`, the rest from [`FourBar::state_at`].
+    /// `θ2 = π/3` (or, for links that do not close there, the crank angle in `(0, π)` that puts
+    /// `|O4 − A|` in the middle of the range the coupler and rocker span), `θ̇2 = 6 rad/s`, the rest from [`FourBar::state_at`].
     fn default_state(&self) -> State {
         self.state_at(0.0, self.start, 6.0)
     }
@@ -300,7 +310,8 @@ impl SceneType for FourBar {
 #[derive(Clone, Debug, PartialEq)]
 pub struct FourBarCrank {
     scene: FourBar,
-    coordinates: [Coordinate; 1],
+    /// `θ2` alone; the scene's bodies and gravity, no constraints.
+    description: Description,
 }
 
 impl FourBarCrank {
@@ -311,16 +322,8 @@ impl FourBarCrank {
 }
 
 impl Mechanism for FourBarCrank {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.scene.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.scene.gravity
+    fn description(&self) -> &Description {
+        &self.description
     }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {

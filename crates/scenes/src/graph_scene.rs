@@ -4,7 +4,7 @@
 
 use crate::{Conserved, Domain, ParamSpec, Params, Scene};
 use lagrange::graph::{GraphMechanism, JointGraph};
-use lagrange::{Buffered, Coordinate, Error, Mechanism, Model, State, System};
+use lagrange::{Buffered, Coordinate, Error, Model, State, System};
 use std::sync::RwLock;
 
 /// A [`JointGraph`] with a default state, as a [`Scene`]: its id is the graph's name, its
@@ -63,7 +63,7 @@ impl GraphScene {
         if initial.q.len() != n || initial.qdot.len() != n {
             return Err(Error::DimensionMismatch { what: "initial state", expected: n, got: initial.q.len() });
         }
-        let initial = if model.mechanism().holonomic_constraints() > 0 {
+        let initial = if !model.description().constraints.is_empty() {
             // The first coordinate is held where it is free to be; where the loops fix every
             // coordinate (a structure, a mechanism its drives move) none is.
             let mut held = vec![false; n];

@@ -2,10 +2,10 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, SceneType};
 use lagrange::graph::{ForceElement, GROUND, GraphJoint, JointGraph};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A mass `m` at `(x, 0)` on a spring of stiffness `k`, `V = ½ k x²`, with an optional
@@ -22,8 +22,12 @@ scene_params! {
     /// An oscillator with mass `m`, stiffness `k` and damping `c`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 1] = [Coordinate::length("x")],
-        bodies: [Body; 1] = [Body::point("mass", mass)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("x")],
+            bodies: vec![Body::point("mass", mass)],
+            constant_mass_matrix: true,
+            ..Description::default()
+        },
     }
 }
 
@@ -83,7 +87,9 @@ impl HarmonicOscillator {
 }
 
 impl Mechanism for HarmonicOscillator {
-    fields!(coordinates, bodies);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         world_from_body[0] = Pose::point(q[0], S::zero());
@@ -101,10 +107,6 @@ impl Mechanism for HarmonicOscillator {
             return false;
         }
         force[0] -= qdot[0] * self.damping;
-        true
-    }
-
-    fn constant_mass_matrix(&self) -> bool {
         true
     }
 }

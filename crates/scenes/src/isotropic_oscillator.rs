@@ -3,9 +3,9 @@
 
 use crate::checks::fixed;
 use crate::params::{param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, Invariant, SceneType};
-use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Description, Mechanism, Pose, Scalar, State};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 scene_params! {
@@ -20,8 +20,11 @@ scene_params! {
     /// An isotropic oscillator with mass `m` and stiffness `k`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 2] = [Coordinate::length("r"), Coordinate::angle("θ")],
-        bodies: [Body; 1] = [Body::point("particle", mass)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("r"), Coordinate::angle("θ")],
+            bodies: vec![Body::point("particle", mass)],
+            ..Description::default()
+        },
     }
 }
 
@@ -99,7 +102,9 @@ fn cartesian(q: &[f64], qdot: &[f64]) -> ([f64; 2], [f64; 2]) {
 }
 
 impl Mechanism for IsotropicOscillator {
-    fields!(coordinates, bodies);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);

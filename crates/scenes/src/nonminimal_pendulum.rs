@@ -3,9 +3,9 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A bob of mass `m` at `(x, y)`, the coordinates themselves, held on the circle of radius
@@ -24,8 +24,13 @@ scene_params! {
     /// A Cartesian pendulum with mass `m`, rod length `l` and gravity `g`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 2] = [Coordinate::length("x"), Coordinate::length("y")],
-        bodies: [Body; 1] = [Body::point("bob", mass)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("x"), Coordinate::length("y")],
+            bodies: vec![Body::point("bob", mass)],
+            gravity,
+            constraints: vec!["rod: x² + y² = l²".into()],
+            ..Description::default()
+        },
     }
 }
 
@@ -76,23 +81,17 @@ impl NonminimalPendulum {
 }
 
 impl Mechanism for NonminimalPendulum {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         world_from_body[0] = Pose::point(q[0], q[1]);
     }
 
-    fn holonomic_constraints(&self) -> usize {
-        1
-    }
-
     /// `Φ = x² + y² − l²`.
     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
         phi[0] = q[0] * q[0] + q[1] * q[1] - self.length * self.length;
-    }
-
-    fn constraint_name(&self, _i: usize) -> String {
-        "rod: x² + y² = l²".into()
     }
 }
 

@@ -240,7 +240,7 @@ mod tests {
     #[test]
     fn the_pins_on_the_next_crank_close_the_loops() {
         let s = chain(3);
-        let names: Vec<&str> = s.coordinates().iter().map(|c| c.name.as_str()).collect();
+        let names: Vec<&str> = s.description().coordinates.iter().map(|c| c.name.as_str()).collect();
         assert_eq!(names, ["θ0", "φ0", "θ1", "φ1", "θ2", "φ2", "θ3"]);
         let closing: Vec<&str> = s
             .mechanism
@@ -251,8 +251,8 @@ mod tests {
             .map(|(_, joint)| joint.name.as_str())
             .collect();
         assert_eq!(closing, ["B1", "B2", "B3"]);
-        assert_eq!(s.holonomic_constraints(), 6);
-        let bodies: Vec<&str> = s.bodies().iter().map(|b| b.name.as_str()).collect();
+        assert_eq!(s.description().constraints.len(), 6);
+        let bodies: Vec<&str> = s.description().bodies.iter().map(|b| b.name.as_str()).collect();
         assert_eq!(bodies, ["crank 0", "coupler 0", "crank 1", "coupler 1", "crank 2", "coupler 2", "crank 3"]);
     }
 

@@ -148,12 +148,25 @@ pub(crate) fn pendulum(omega_squared: f64, psi: f64, rate: f64, t: f64) -> (f64,
 mod tests {
     use super::*;
     use crate::testing::assert_close;
-    use lagrange::{Described, Method, Model, Output, Pose, Poses, Scalar, State, Tolerances, simulate};
+    use lagrange::{Description, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances, simulate};
 
     /// A point bob on a massless rod of length 1 under gravity `ω²`: `ψ̈ = −ω² sin ψ`.
-    struct Bob;
+    struct Bob {
+        description: Description,
+    }
 
-    impl Poses for Bob {
+    impl Bob {
+        /// The bob (1 kg) at angle `ψ` under gravity `ω²`.
+        fn new(omega_squared: f64) -> Self {
+            Bob { description: Description::new().angle("ψ").point("bob", 1.0).gravity(omega_squared) }
+        }
+    }
+
+    impl Mechanism for Bob {
+        fn description(&self) -> &Description {
+            &self.description
+        }
+
         fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
             world_from_body[0] = Pose::point(q[0].sin(), -q[0].cos());
         }
@@ -219,7 +232,7 @@ mod tests {
     #[test]
     fn matches_a_tight_numerical_integration_over_20_seconds() {
         for (omega_squared, psi, rate) in cases().into_iter().take(5) {
-            let model = Model::new(Described::new(Bob).angle("ψ").point("bob", 1.0).gravity(omega_squared)).unwrap();
+            let model = Model::new(Bob::new(omega_squared)).unwrap();
             let method = Method::Dop853 { tol: Tolerances::uniform(1e-14) };
             let run = simulate(&model, &State::new(0.0, [psi], [rate]), 20.0, method, &Output::Every(0.5)).unwrap();
             let mut worst: f64 = 0.0;

@@ -3,10 +3,10 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::uniform_acceleration::uniformly_accelerated;
 use crate::{Conserved, Domain, SceneType};
-use lagrange::{Body, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Mechanism, Pose, Scalar, State};
 use std::f64::consts::FRAC_PI_2;
 
 scene_params! {
@@ -30,8 +30,13 @@ scene_params! {
     /// A disc of mass `m` and radius `R` on an incline of angle `α` under gravity `g`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 2] = [Coordinate::length("s"), Coordinate::angle("φ")],
-        bodies: [Body; 1] = [Body::rigid("disc", mass, 0.5 * mass * radius * radius)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("s"), Coordinate::angle("φ")],
+            bodies: vec![Body::rigid("disc", mass, 0.5 * mass * radius * radius)],
+            gravity,
+            velocity_constraints: vec!["rolling: ṡ = R φ̇".into()],
+            ..Description::default()
+        },
     }
 }
 
@@ -71,24 +76,18 @@ impl RollingDisc {
 }
 
 impl Mechanism for RollingDisc {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (sin, cos) = self.incline.sin_cos();
         world_from_body[0] = Pose::new(-q[0] * cos, -q[0] * sin, q[1]);
     }
 
-    fn velocity_constraints(&self) -> usize {
-        1
-    }
-
     /// `ṡ − R φ̇`.
     fn velocity_constraint<S: Scalar>(&self, _t: S, _q: &[S], qdot: &[S], residual: &mut [S]) {
         residual[0] = qdot[0] - qdot[1] * self.radius;
-    }
-
-    fn constraint_name(&self, _i: usize) -> String {
-        "rolling: ṡ = R φ̇".into()
     }
 }
 

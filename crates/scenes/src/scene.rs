@@ -85,7 +85,7 @@ pub trait Scene: Send + Sync {
     fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error>;
 
     /// The scene's constants of the motion for these parameters, in closed form, each with
-    /// why it is conserved (empty for a driven or damped scene); see [`SceneType::conserved`].
+    /// why it is conserved (empty for a driven or damped scene); see [`SceneType::conserves_energy`].
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid parameters.
@@ -212,15 +212,6 @@ macro_rules! closed_form {
     };
 }
 
-/// The accessors of a [`Mechanism`](lagrange::Mechanism) or [`Lagrangian`](lagrange::Lagrangian)
-/// that return the scene's fields of the same names (`coordinates`, `bodies`, `gravity`).
-macro_rules! fields {
-    ($($field:ident),*) => { $($crate::scene::fields!(@$field);)* };
-    (@coordinates) => { fn coordinates(&self) -> &[lagrange::Coordinate] { &self.coordinates } };
-    (@bodies) => { fn bodies(&self) -> &[lagrange::Body] { &self.bodies } };
-    (@gravity) => { fn gravity(&self) -> f64 { self.gravity } };
-}
-
 /// The engine-facing methods of a [`SceneType`] that is a [`Mechanism`](lagrange::Mechanism), and
 /// its closed form from `closed_form_accelerations(q, q̇)` unless told `engine` (the scene then
 /// writes [`SceneType::closed_form`] itself).
@@ -231,7 +222,7 @@ macro_rules! body_scene {
     };
     (engine) => {
         fn generalized_coordinates(&self) -> &[lagrange::Coordinate] {
-            lagrange::Mechanism::coordinates(self)
+            &lagrange::Mechanism::description(self).coordinates
         }
 
         fn into_system(self) -> Result<Box<dyn lagrange::System>, lagrange::Error> {
@@ -270,16 +261,8 @@ macro_rules! raw_scene {
 macro_rules! delegate_mechanism {
     ($scene:ty, $field:ident) => {
         impl lagrange::Mechanism for $scene {
-            fn coordinates(&self) -> &[lagrange::Coordinate] {
-                lagrange::Mechanism::coordinates(&self.$field)
-            }
-
-            fn bodies(&self) -> &[lagrange::Body] {
-                lagrange::Mechanism::bodies(&self.$field)
-            }
-
-            fn gravity(&self) -> f64 {
-                lagrange::Mechanism::gravity(&self.$field)
+            fn description(&self) -> &lagrange::Description {
+                lagrange::Mechanism::description(&self.$field)
             }
 
             fn poses<S: lagrange::Scalar>(&self, t: S, q: &[S], world_from_body: &mut [lagrange::Pose<S>]) {
@@ -314,28 +297,12 @@ macro_rules! delegate_mechanism {
                 lagrange::Mechanism::admissible(&self.$field, t, q, qdot, bounds)
             }
 
-            fn holonomic_constraints(&self) -> usize {
-                lagrange::Mechanism::holonomic_constraints(&self.$field)
-            }
-
             fn constraints<S: lagrange::Scalar>(&self, t: S, q: &[S], phi: &mut [S]) {
                 lagrange::Mechanism::constraints(&self.$field, t, q, phi);
             }
 
-            fn velocity_constraints(&self) -> usize {
-                lagrange::Mechanism::velocity_constraints(&self.$field)
-            }
-
             fn velocity_constraint<S: lagrange::Scalar>(&self, t: S, q: &[S], qdot: &[S], residual: &mut [S]) {
                 lagrange::Mechanism::velocity_constraint(&self.$field, t, q, qdot, residual);
-            }
-
-            fn constraint_name(&self, i: usize) -> String {
-                lagrange::Mechanism::constraint_name(&self.$field, i)
-            }
-
-            fn constant_mass_matrix(&self) -> bool {
-                lagrange::Mechanism::constant_mass_matrix(&self.$field)
             }
 
             fn tree(&self) -> Option<&lagrange::tree::Tree> {
@@ -345,7 +312,7 @@ macro_rules! delegate_mechanism {
     };
 }
 
-pub(crate) use {body_scene, closed_form, delegate_mechanism, fields, raw_scene};
+pub(crate) use {body_scene, closed_form, delegate_mechanism, raw_scene};
 
 impl<T: SceneType> ClosedForm for T {
     fn closed_form_into(&self, t: f64, q: &[f64], qdot: &[f64], qddot: &mut [f64]) {
@@ -471,9 +438,10 @@ pub fn ids() -> Vec<&'static str> {
 /// An empty joint graph named `id` with the bodies (names, masses, inertias) and gravity of
 /// `mechanism`, for a scene's [`SceneType::joint_graph`].
 pub(crate) fn graph_of<M: lagrange::Mechanism>(id: &str, mechanism: &M) -> JointGraph {
-    let mut graph = JointGraph::new(id, mechanism.gravity());
-    graph.bodies = mechanism
-        .bodies()
+    let description = mechanism.description();
+    let mut graph = JointGraph::new(id, description.gravity);
+    graph.bodies = description
+        .bodies
         .iter()
         .map(|b| lagrange::graph::GraphBody::rigid(b.name.clone(), b.mass, b.inertia))
         .collect();

@@ -4,10 +4,10 @@
 
 use crate::linkage::{LinkBody, Linkage, Point};
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, Invariant, SceneType};
 use lagrange::graph::{ForceElement, GROUND, GraphJoint, JointGraph, Profile};
-use lagrange::{Body, Coordinate, Error, Loads, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Coordinate, Description, Error, Loads, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A slider-crank: crank pivoted at the origin, length `r`, a uniform rod of mass `m_c`
@@ -40,13 +40,18 @@ scene_params! {
     pub fn new;
     derived {
         _rod_longer: () = check_rod(crank, rod)?,
-        coordinates: [Coordinate; 3] = [Coordinate::angle("φ"), Coordinate::angle("ψ"), Coordinate::length("x")],
-        bodies: [Body; 3] = [
-            Body::rigid("crank", crank_mass, crank_mass * crank * crank / 12.0 + flywheel),
-            Body::rigid("rod", rod_mass, rod_mass * rod * rod / 12.0),
-            Body::point("slider", slider_mass),
-        ],
-        linkage: Linkage = linkage(crank, rod, &bodies, gravity, torque),
+        description: Description = Description {
+            coordinates: vec![Coordinate::angle("φ"), Coordinate::angle("ψ"), Coordinate::length("x")],
+            bodies: vec![
+                Body::rigid("crank", crank_mass, crank_mass * crank * crank / 12.0 + flywheel),
+                Body::rigid("rod", rod_mass, rod_mass * rod * rod / 12.0),
+                Body::point("slider", slider_mass),
+            ],
+            gravity,
+            constraints: vec!["rod end at the slider (x)".into(), "rod end at the slider (y)".into()],
+            ..Description::default()
+        },
+        linkage: Linkage = linkage(crank, rod, &description.bodies, gravity, torque),
     }
 }
 
@@ -63,7 +68,7 @@ fn check_rod(crank: f64, rod: f64) -> Result<(), Error> {
 }
 
 /// The hand-coded linkage of the closed form.
-fn linkage(r: f64, l: f64, bodies: &[Body; 3], gravity: f64, torque: f64) -> Linkage {
+fn linkage(r: f64, l: f64, bodies: &[Body], gravity: f64, torque: f64) -> Linkage {
     let (kphi, kpsi) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
     let body = |b: &Body, centre: Point, angle: [f64; 3]| LinkBody {
         mass: b.mass,
@@ -127,7 +132,13 @@ impl SliderCrank {
 
     /// The same mechanism in its crank angle alone ([`SliderCrankCrank`]).
     pub fn crank_model(&self) -> SliderCrankCrank {
-        SliderCrankCrank { scene: self.clone(), coordinates: [Coordinate::angle("φ")] }
+        let description = Description {
+            coordinates: vec![Coordinate::angle("φ")],
+            bodies: self.description.bodies.clone(),
+            gravity: self.gravity,
+            ..Description::default()
+        };
+        SliderCrankCrank { scene: self.clone(), description }
     }
 }
 
@@ -141,14 +152,12 @@ fn slider_crank_poses<S: Scalar>(r: f64, l: f64, q: [S; 3], world_from_body: &mu
 }
 
 impl Mechanism for SliderCrank {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         slider_crank_poses(self.crank, self.rod, [q[0], q[1], q[2]], world_from_body);
-    }
-
-    fn holonomic_constraints(&self) -> usize {
-        2
     }
 
     /// `P + l e(ψ) − (x, 0) = 0`, x then y.
@@ -156,10 +165,6 @@ impl Mechanism for SliderCrank {
         let (r, l) = (self.crank, self.rod);
         phi[0] = q[0].cos() * r + q[1].cos() * l - q[2];
         phi[1] = q[0].sin() * r + q[1].sin() * l;
-    }
-
-    fn constraint_name(&self, i: usize) -> String {
-        ["rod end at the slider (x)", "rod end at the slider (y)"][i].into()
     }
 
     /// The torque `τ` on the crank (none when `τ = 0`).
@@ -237,7 +242,8 @@ impl SceneType for SliderCrank {
 #[derive(Clone, Debug, PartialEq)]
 pub struct SliderCrankCrank {
     scene: SliderCrank,
-    coordinates: [Coordinate; 1],
+    /// `φ` alone; the scene's bodies and gravity, no constraints.
+    description: Description,
 }
 
 impl SliderCrankCrank {
@@ -248,16 +254,8 @@ impl SliderCrankCrank {
 }
 
 impl Mechanism for SliderCrankCrank {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.scene.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.scene.gravity
+    fn description(&self) -> &Description {
+        &self.description
     }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {

@@ -2,9 +2,9 @@
 
 use crate::checks::fixed;
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::{body_scene, fields};
+use crate::scene::body_scene;
 use crate::{Conserved, Domain, SceneType};
-use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Description, Mechanism, Pose, Scalar, State};
 
 scene_params! {
     /// A bob of mass `m` at `(r sinθ, −r cosθ)` on a massless spring (stiffness `k`, rest length
@@ -23,8 +23,12 @@ scene_params! {
     /// A spring pendulum with mass `m`, stiffness `k`, rest length `L0` and gravity `g`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 2] = [Coordinate::length("r"), Coordinate::angle("θ")],
-        bodies: [Body; 1] = [Body::point("bob", mass)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("r"), Coordinate::angle("θ")],
+            bodies: vec![Body::point("bob", mass)],
+            gravity,
+            ..Description::default()
+        },
     }
 }
 
@@ -46,7 +50,9 @@ impl SpringPendulum {
 }
 
 impl Mechanism for SpringPendulum {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (r, theta) = (q[0], q[1]);

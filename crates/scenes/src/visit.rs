@@ -68,7 +68,7 @@ mod tests {
         type Output = (usize, bool);
 
         fn visit<M: Mechanism + ClosedForm + Clone + Send + Sync + 'static>(self, mechanism: M) -> (usize, bool) {
-            (mechanism.coordinates().len(), Model::new(mechanism).is_ok())
+            (mechanism.description().dof(), Model::new(mechanism).is_ok())
         }
     }
 

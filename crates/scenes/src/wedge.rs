@@ -1,11 +1,10 @@
 //! Block sliding on a movable frictionless wedge (docs/scenes.md#wedge; the lecture (docs/scenes.md#the-lecture)).
 
 use crate::params::{GRAVITY, param_table, scene_params};
-use crate::scene::fields;
 use crate::uniform_acceleration::{ConstantForce, constant_force_scene};
 use crate::{Domain, SceneType};
 use lagrange::graph::{GROUND, GraphJoint, JointGraph};
-use lagrange::{Body, Bounds, Coordinate, Mechanism, Pose, Scalar, State};
+use lagrange::{Body, Bounds, Coordinate, Description, Mechanism, Pose, Scalar, State};
 use std::f64::consts::FRAC_PI_2;
 
 scene_params! {
@@ -29,8 +28,13 @@ scene_params! {
     /// gravity `g`.
     pub fn new;
     derived {
-        coordinates: [Coordinate; 2] = [Coordinate::length("x"), Coordinate::length("x'")],
-        bodies: [Body; 2] = [Body::point("wedge", wedge_mass), Body::point("block", block_mass)],
+        description: Description = Description {
+            coordinates: vec![Coordinate::length("x"), Coordinate::length("x'")],
+            bodies: vec![Body::point("wedge", wedge_mass), Body::point("block", block_mass)],
+            gravity,
+            constant_mass_matrix: true,
+            ..Description::default()
+        },
     }
 }
 
@@ -55,7 +59,9 @@ impl Wedge {
 }
 
 impl Mechanism for Wedge {
-    fields!(coordinates, bodies, gravity);
+    fn description(&self) -> &Description {
+        &self.description
+    }
 
     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
         let (x, x_prime) = (q[0], q[1]);
@@ -71,10 +77,6 @@ impl Mechanism for Wedge {
     fn admissible(&self, _t: f64, q: &[f64], _qdot: &[f64], bounds: &mut Bounds) -> bool {
         bounds.at_least("block on the incline x'", q[1], 0.0);
         bounds.at_most("block on the incline x'", q[1], self.incline_length);
-        true
-    }
-
-    fn constant_mass_matrix(&self) -> bool {
         true
     }
 }

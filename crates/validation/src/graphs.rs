@@ -61,7 +61,7 @@ fn springs(rng: &mut Rng, graph: JointGraph) -> JointGraph {
 
 /// A random state of `mechanism`: coordinates in `[−0.5, 0.5]`, rates in `[−0.5, 0.5]`.
 fn random_state(rng: &mut Rng, mechanism: &GraphMechanism) -> State {
-    let n = mechanism.coordinates().len();
+    let n = mechanism.description().coordinates.len();
     let q: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
     let qdot: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
     State::new(0.0, q, qdot)

@@ -584,7 +584,6 @@ fn position_scale<M: Mechanism>(model: &Model<M>, poses: &mut [crate::Pose<f64>]
     model.mechanism.poses(t, q, poses);
     let bodies = poses.iter().fold(0.0_f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
     let lengths = model
-        .mechanism
         .coordinates()
         .iter()
         .zip(q)
@@ -658,56 +657,7 @@ pub(crate) fn project_holding<M: Mechanism>(
             _ => min_norm_step(b, n, rows, rhs, held, weight),
         };
         if m > 0 {
-            let (mut iterations, mut previous) = (0, f64::INFINITY);
-            evaluate_at(&mut b, &mut sb, q);
-            loop {
-                let (worst, value) = largest(&b.residual);
-                if !value.is_finite() {
-                    return Err(crate::eom::non_finite(Stage::Constraints, t, q));
-                }
-                if value <= POSITION_TOLERANCE * scale
-                    || iterations > 0 && value > 0.5 * previous && value <= ROUNDOFF_BAND * POSITION_TOLERANCE * scale
-                {
-                    // Converged, or stalled at the round-off of Φ.
-                    break;
-                }
-                previous = value;
-                if iterations == ASSEMBLY_ITERATIONS {
-                    return Err(Error::AssemblyFailed {
-                        t,
-                        constraint: model.mechanism.constraint_name(worst),
-                        residual: value,
-                        iterations,
-                    });
-                }
-                // Smallest step: Δq = −Gᵀ (G Gᵀ)⁻¹ Φ over the free coordinates.
-                step(&mut b, &mut sb, m, Rhs::Residual);
-                // Damped where the linear model does not hold: no angle turned by more than
-                // MAX_TURN, then halved until ‖Φ‖₂ falls. Near the constraints (every projection
-                // after an integration step) the full step is taken at no extra cost.
-                let norm = l2(&b.residual);
-                let turn = model
-                    .mechanism
-                    .coordinates()
-                    .iter()
-                    .zip(&b.step)
-                    .filter(|(c, _)| c.kind == CoordinateKind::Angle)
-                    .fold(0.0_f64, |a, (_, d)| a.max(d.abs()));
-                let mut fraction = if turn > MAX_TURN { MAX_TURN / turn } else { 1.0 };
-                b.start.copy_from_slice(q);
-                for halving in 0..=HALVINGS {
-                    for ((qi, start), d) in q.iter_mut().zip(&b.start).zip(&b.step) {
-                        *qi = start - fraction * d;
-                    }
-                    evaluate_at(&mut b, &mut sb, q);
-                    let trial = l2(&b.residual);
-                    if trial < norm || largest(&b.residual).1 <= POSITION_TOLERANCE * scale || halving == HALVINGS {
-                        break;
-                    }
-                    fraction *= 0.5;
-                }
-                iterations += 1;
-            }
+            correct_positions(model, t, q, scale, (&mut b, &mut sb), &mut evaluate_at, &step)?;
         }
         // Velocities: one exact linear step onto G q̇ + Φ_t = 0 and A q̇ + b = 0. The holonomic
         // rows (G and Φ̇) are those of the last Gauss–Newton evaluation, at the final q.
@@ -733,6 +683,77 @@ pub(crate) fn project_holding<M: Mechanism>(
     result
 }
 
+/// The Gauss–Newton iteration of a projection on the positions: smallest steps
+/// (`step(…, Rhs::Residual)`) onto `Φ(t, q) = 0`, damped where the linear model does not hold,
+/// until `max |Φ|` is below [`POSITION_TOLERANCE`]` · scale` or stalls at its round-off
+/// ([`ROUNDOFF_BAND`]). `evaluate_at` refreshes `Φ` and `G` at a trial `q`.
+fn correct_positions<M: Mechanism>(
+    model: &Model<M>,
+    t: f64,
+    q: &mut [f64],
+    scale: f64,
+    (b, sb): (&mut ConstraintBuffers<f64>, &mut Option<SparseBuffers<f64>>),
+    evaluate_at: &mut impl FnMut(&mut ConstraintBuffers<f64>, &mut Option<SparseBuffers<f64>>, &[f64]),
+    step: &impl Fn(&mut ConstraintBuffers<f64>, &mut Option<SparseBuffers<f64>>, usize, Rhs),
+) -> Result<(), Error> {
+    let m = model.constraint_counts.0;
+    let (mut iterations, mut previous) = (0, f64::INFINITY);
+    evaluate_at(b, sb, q);
+    loop {
+        let (worst, value) = largest(&b.residual);
+        if !value.is_finite() {
+            return Err(crate::eom::non_finite(Stage::Constraints, t, q));
+        }
+        if value <= POSITION_TOLERANCE * scale
+            || iterations > 0 && value > 0.5 * previous && value <= ROUNDOFF_BAND * POSITION_TOLERANCE * scale
+        {
+            // Converged, or stalled at the round-off of Φ.
+            break;
+        }
+        previous = value;
+        if iterations == ASSEMBLY_ITERATIONS {
+            return Err(Error::AssemblyFailed {
+                t,
+                constraint: model.mechanism.description().constraint_name(worst).to_string(),
+                residual: value,
+                iterations,
+            });
+        }
+        // Smallest step: Δq = −Gᵀ (G Gᵀ)⁻¹ Φ over the free coordinates.
+        step(b, sb, m, Rhs::Residual);
+        // Damped where the linear model does not hold: no angle turned by more than
+        // MAX_TURN, then halved until ‖Φ‖₂ falls. Near the constraints (every projection
+        // after an integration step) the full step is taken at no extra cost.
+        let norm = l2(&b.residual);
+        let turn = largest_turn(model, &b.step);
+        let mut fraction = if turn > MAX_TURN { MAX_TURN / turn } else { 1.0 };
+        b.start.copy_from_slice(q);
+        for halving in 0..=HALVINGS {
+            for ((qi, start), d) in q.iter_mut().zip(&b.start).zip(&b.step) {
+                *qi = start - fraction * d;
+            }
+            evaluate_at(b, sb, q);
+            let trial = l2(&b.residual);
+            if trial < norm || largest(&b.residual).1 <= POSITION_TOLERANCE * scale || halving == HALVINGS {
+                break;
+            }
+            fraction *= 0.5;
+        }
+        iterations += 1;
+    }
+    Ok(())
+}
+
+/// The largest turn `|Δq_j|` over the angle coordinates of a step.
+fn largest_turn<M: Mechanism>(model: &Model<M>, step: &[f64]) -> f64 {
+    model
+        .coordinates()
+        .iter()
+        .zip(step)
+        .filter(|(c, _)| c.kind == CoordinateKind::Angle)
+        .fold(0.0_f64, |a, (_, d)| a.max(d.abs()))
+}
+
 /// The error of a projection after a step that moved the state beyond [`JUMP`].
 fn jump_check<M: Mechanism>(
     model: &Model<M>,
@@ -741,7 +762,7 @@ fn jump_check<M: Mechanism>(
     (q, qdot): (&[f64], &[f64]),
     scale: f64,
 ) -> Result<(), Error> {
-    let coordinates = model.mechanism.coordinates();
+    let coordinates = &model.mechanism.description().coordinates;
     for (j, coordinate) in coordinates.iter().enumerate() {
         let moved = (q[j] - b.position_before[j]).abs();
         let limit = if coordinate.kind == CoordinateKind::Angle { JUMP } else { JUMP * scale };
@@ -879,7 +900,8 @@ pub(crate) fn violation<M: Mechanism>(
 /// far off, `α` keeps every angle's turn within half a radian and is halved until `‖Φ‖₂`
 /// falls), then one step `q̇ ← q̇ − M⁻¹ Gᵀ (G M⁻¹ Gᵀ)⁻¹ r` with `r` the velocity residuals
 /// `G q̇ + Φ_t` and `A q̇ + b`. Both solves are shifted and refined as the accelerations' are
-/// ([`REGULARIZATION`]). A model without constraints is left as it is. The integrators call
+/// (a shift of `1e-10` of the mean diagonal of `G M⁻¹ Gᵀ`, docs/method.md#constraints). A model
+/// without constraints is left as it is. The integrators call
 /// it after every step.
 ///
 /// # Errors

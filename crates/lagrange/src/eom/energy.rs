@@ -21,7 +21,7 @@ pub fn kinetic_energy<M: Mechanism, S: Scalar>(
 
 fn kinetic_from_velocity<M: Mechanism, S: Scalar>(model: &Model<M>, ws: &Workspace<S>) -> S {
     let mut kinetic = S::zero();
-    for b in 0..model.bodies().len() {
+    for b in 0..model.description().bodies.len() {
         let v = &ws.velocity[3 * b..3 * b + 3];
         kinetic += (v[0] * v[0] + v[1] * v[1]) * (0.5 * model.mass[b]) + v[2] * v[2] * (0.5 * model.inertia[b]);
     }
@@ -38,7 +38,7 @@ pub fn potential_energy<M: Mechanism, S: Scalar>(
     check_state(model.n, t, q, None)?;
     kinematics::position_pass(model, ws, t, q);
     let mut potential = S::zero();
-    for b in 0..model.bodies().len() {
+    for b in 0..model.description().bodies.len() {
         potential += ws.position[3 * b + 1] * (model.mass[b] * model.gravity);
     }
     if model.has_potential {
@@ -78,7 +78,7 @@ pub(crate) fn momenta<'w, M: Mechanism, S: Scalar>(
     kinematics::jacobian_pass(model, ws, t, q, false);
     kinematics::velocity_pass(model, ws, t, q, qdot);
     ws.momenta.fill(S::zero());
-    for b in 0..model.bodies().len() {
+    for b in 0..model.description().bodies.len() {
         let (m, inertia) = (model.mass[b], model.inertia[b]);
         let (vx, vy, va) = (ws.velocity[3 * b] * m, ws.velocity[3 * b + 1] * m, ws.velocity[3 * b + 2] * inertia);
         for j in 0..n {

@@ -365,7 +365,7 @@ impl<M: Mechanism> Equations for Model<M> {
     }
 
     fn bodies(&self) -> &[Body] {
-        self.mechanism.bodies()
+        &self.mechanism.description().bodies
     }
 
     fn constraint_counts(&self) -> (usize, usize) {
@@ -404,7 +404,7 @@ impl<M: Mechanism> Equations for Model<M> {
     }
 
     fn name_constraint(&self, i: usize) -> String {
-        self.mechanism.constraint_name(i)
+        self.mechanism.description().constraint_name(i).to_string()
     }
 
     fn eval_step_constraint_rows(

@@ -5,7 +5,7 @@ use crate::mechanism::Mechanism;
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::workspace::Workspace;
-use crate::{probe, seed};
+use crate::{passes, seed};
 use num_dual::Dual;
 
 /// Fill `ws.position`, `ws.jacobian` and — with `potential` and a model that has one —
@@ -38,7 +38,7 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
         ..
     } = ws;
     if n < LANES_FROM {
-        probe::jacobian_columns(&model.mechanism, q_dual, poses_dual, t, q, |j, q_dual, poses, t_dual| {
+        passes::jacobian_columns(&model.mechanism, q_dual, poses_dual, t, q, |j, q_dual, poses, t_dual| {
             // Column j of J; the poses themselves once.
             for (b, pose) in poses.iter().enumerate() {
                 jacobian[3 * b * n + j] = pose.x.eps;
@@ -58,7 +58,7 @@ pub(crate) fn jacobian_pass<M: Mechanism, S: Scalar>(
         });
         return;
     }
-    probe::jacobian_chunks(&model.mechanism, q_lanes, poses_lanes, t, q, |j0, width, q_lanes, poses, t_lanes| {
+    passes::jacobian_chunks(&model.mechanism, q_lanes, poses_lanes, t, q, |j0, width, q_lanes, poses, t_lanes| {
         // The chunk's columns of J; the poses themselves once.
         for (b, pose) in poses.iter().enumerate() {
             for k in 0..width {
@@ -96,7 +96,7 @@ pub(crate) fn velocity_pass<M: Mechanism, S: Scalar>(
     q: &[S],
     qdot: &[S],
 ) {
-    probe::moving_poses(&model.mechanism, &mut ws.q_dual2, &mut ws.poses_dual2, t, q, qdot);
+    passes::moving_poses(&model.mechanism, &mut ws.q_dual2, &mut ws.poses_dual2, t, q, qdot);
     for (b, pose) in ws.poses_dual2.iter().enumerate() {
         ws.velocity[3 * b] = pose.x.v1;
         ws.velocity[3 * b + 1] = pose.y.v1;

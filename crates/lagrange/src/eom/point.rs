@@ -23,19 +23,17 @@ pub struct PointMotion {
 /// `t(s) = t + s`, with `q̈` the model's accelerations (constraints included).
 ///
 /// ```
-/// use lagrange::{Body, Coordinate, Mechanism, Model, Pose, Scalar, point_motion};
+/// use lagrange::{Description, Mechanism, Model, Pose, Scalar, point_motion};
 ///
 /// // A pendulum of length 1 m: its bob at θ = 0 (hanging), swinging at 2 rad/s.
-/// struct Pendulum([Coordinate; 1], [Body; 1]);
+/// struct Pendulum(Description);
 /// impl Mechanism for Pendulum {
-///     fn coordinates(&self) -> &[Coordinate] { &self.0 }
-///     fn bodies(&self) -> &[Body] { &self.1 }
-///     fn gravity(&self) -> f64 { 9.81 }
+///     fn description(&self) -> &Description { &self.0 }
 ///     fn poses<S: Scalar>(&self, _t: S, q: &[S], out: &mut [Pose<S>]) {
 ///         out[0] = Pose::point(q[0].sin(), -q[0].cos());
 ///     }
 /// }
-/// let model = Model::new(Pendulum([Coordinate::angle("θ")], [Body::point("bob", 1.0)]))?;
+/// let model = Model::new(Pendulum(Description::new().angle("θ").point("bob", 1.0).gravity(9.81)))?;
 /// let mut ws = model.workspace();
 /// let bob = point_motion(&model, &mut ws, "bob", [0.0, 0.0], 0.0, &[0.0], &[2.0])?;
 /// assert!((bob.velocity[0] - 2.0).abs() < 1e-15); // v = ℓ θ̇
@@ -55,7 +53,7 @@ pub fn point_motion<M: Mechanism>(
     q: &[f64],
     qdot: &[f64],
 ) -> Result<PointMotion, Error> {
-    let bodies = model.mechanism().bodies();
+    let bodies = model.bodies();
     let Some(b) = bodies.iter().position(|candidate| candidate.name == body) else {
         let names: Vec<&str> = bodies.iter().map(|candidate| candidate.name.as_ref()).collect();
         return Err(Error::InvalidParameter {

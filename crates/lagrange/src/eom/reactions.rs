@@ -42,7 +42,7 @@ pub fn reaction_forces<'w, M: Mechanism, S: Scalar>(
     if model.has_potential {
         super::kinematics::position_pass(model, ws, t, q);
         let t_dual = Dual::from_re(t);
-        for r in 0..3 * model.bodies().len() {
+        for r in 0..3 * model.description().bodies.len() {
             let (b, c) = (r / 3, r % 3);
             let set = |pose: &mut crate::Pose<Dual<S>>, eps: S| match c {
                 0 => pose.x.eps = eps,
@@ -57,7 +57,7 @@ pub fn reaction_forces<'w, M: Mechanism, S: Scalar>(
         }
     }
     // R_b = D_b (J_b q̈ + γ_b) − F_b + ∂V/∂p_b.
-    for r in 0..3 * model.bodies().len() {
+    for r in 0..3 * model.description().bodies.len() {
         let (b, c) = (r / 3, r % 3);
         let mut accel = ws.convective[r];
         for j in 0..n {

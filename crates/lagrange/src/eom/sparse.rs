@@ -130,114 +130,14 @@ impl SparseStructure {
     /// state (a pattern that the probe states did not reveal): the dense path then serves.
     pub(crate) fn new<M: Mechanism>(mechanism: &M, tree: &Tree, m: usize, probes: &ProbeStates) -> Option<Self> {
         let n = tree.len();
-        let parent: Vec<usize> = tree.links().iter().map(|l| l.parent.unwrap_or(NONE)).collect();
-        let mut depth = vec![0; n];
-        for i in 0..n {
-            if parent[i] != NONE {
-                depth[i] = depth[parent[i]] + 1;
-            }
-        }
-        let mut offset = vec![0; n + 1];
-        for i in 0..n {
-            offset[i + 1] = offset[i] + depth[i] + 1;
-        }
+        let (parent, depth, offset) = tree_layout(tree);
         let max_depth: usize = depth.iter().copied().max().unwrap_or(0);
         let pose_passes = (max_depth + 1).div_ceil(CHUNK);
-        // Pattern of G: the union of its nonzeros at the probe states.
-        let mut pattern = vec![false; m * n];
-        let (mut q_lanes, mut phi_lanes) = (vec![Lanes::from_re(0.0); n], vec![Lanes::from_re(0.0); m]);
-        let (mut dense, mut residual) = (vec![0.0; m * n], vec![0.0; m]);
-        for k in 0..probes.len() {
-            let (q, _, t) = probes.state(k);
-            crate::eom::constraints::holonomic_chunks(
-                mechanism,
-                &mut q_lanes,
-                &mut phi_lanes,
-                &mut dense,
-                &mut residual,
-                t,
-                q,
-            );
-            for (p, g) in pattern.iter_mut().zip(&dense) {
-                *p |= *g != 0.0;
-            }
-        }
-        let mut g_start = vec![0];
-        let mut g_column = Vec::new();
-        for r in 0..m {
-            g_column.extend((0..n).filter(|&j| pattern[r * n + j]));
-            g_start.push(g_column.len());
-        }
-        // Greedy colouring of the columns: a column takes the smallest colour none of the
-        // columns sharing a row with it has.
-        let mut rows_of = vec![Vec::new(); n];
-        for r in 0..m {
-            for &j in &g_column[g_start[r]..g_start[r + 1]] {
-                rows_of[j].push(r);
-            }
-        }
-        let mut colour = vec![NONE; n];
-        let mut taken = Vec::new();
-        for j in 0..n {
-            if rows_of[j].is_empty() {
-                continue;
-            }
-            taken.clear();
-            for &r in &rows_of[j] {
-                taken.extend(g_column[g_start[r]..g_start[r + 1]].iter().map(|&k| colour[k]).filter(|&c| c != NONE));
-            }
-            colour[j] = (0..).find(|c| !taken.contains(c)).unwrap_or(0);
-        }
-        let colours = colour.iter().filter(|&&c| c != NONE).map(|&c| c + 1).max().unwrap_or(0);
+        let (g_start, g_column) = jacobian_pattern(mechanism, n, m, probes);
+        let (colour, colours) = colour_columns(n, &g_start, &g_column);
         let constraint_passes = colours.div_ceil(CHUNK);
-        // Reaches: the ancestors of each row's columns, descending.
-        let mut reach_start = vec![0];
-        let mut reach = Vec::new();
-        let mut mark = vec![false; n];
-        for r in 0..m {
-            let from = reach.len();
-            for &j in &g_column[g_start[r]..g_start[r + 1]] {
-                let mut a = j;
-                while a != NONE && !mark[a] {
-                    mark[a] = true;
-                    reach.push(a);
-                    a = parent[a];
-                }
-            }
-            reach[from..].sort_unstable_by(|a, b| b.cmp(a));
-            for &a in &reach[from..] {
-                mark[a] = false;
-            }
-            reach_start.push(reach.len());
-        }
-        // Overlapping pairs and the envelope of S.
-        let mut rows_reaching = vec![Vec::new(); n];
-        for r in 0..m {
-            for &a in &reach[reach_start[r]..reach_start[r + 1]] {
-                rows_reaching[a].push(r);
-            }
-        }
-        let (mut pair_start, mut pair, mut first, mut env_start) = (vec![0], Vec::new(), Vec::new(), vec![0]);
-        let mut seen = vec![false; m];
-        for r in 0..m {
-            let from = pair.len();
-            for &a in &reach[reach_start[r]..reach_start[r + 1]] {
-                for &s in &rows_reaching[a] {
-                    if s <= r && !seen[s] {
-                        seen[s] = true;
-                        pair.push(s);
-                    }
-                }
-            }
-            pair[from..].sort_unstable();
-            for &s in &pair[from..] {
-                seen[s] = false;
-            }
-            pair_start.push(pair.len());
-            let f = pair[from..].first().copied().unwrap_or(r).min(r);
-            first.push(f);
-            env_start.push(env_start[r] + r - f + 1);
-        }
+        let (reach_start, reach) = reaches(&parent, &g_start, &g_column);
+        let (pair_start, pair, first, env_start) = overlaps(n, &reach_start, &reach);
         let structure = Self {
             parent,
             depth,
@@ -289,7 +189,7 @@ impl SparseStructure {
             compressed.push((terms.clone().sum::<f64>(), terms.map(f64::abs).sum::<f64>()));
         }
         // Pose Jacobian: only the components that carry mass enter M.
-        let bodies = mechanism.bodies();
+        let bodies = &mechanism.description().bodies;
         let mut poses = vec![Pose::<Dual64>::default(); n];
         mechanism.poses(Dual64::from_re(t), &q_dual, &mut poses);
         for body in 0..n {
@@ -739,6 +639,142 @@ fn solve_envelope<S: Scalar>(
             residual[i] = right[i] - product[i];
         }
     }
+}
+
+/// Each body's parent (`NONE`: the ground), depth below the ground, and the offset of its
+/// ancestor list in a flat array of `Σ (depth + 1)` entries.
+fn tree_layout(tree: &Tree) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+    let n = tree.len();
+    let parent: Vec<usize> = tree.links().iter().map(|l| l.parent.unwrap_or(NONE)).collect();
+    let mut depth = vec![0; n];
+    for i in 0..n {
+        if parent[i] != NONE {
+            depth[i] = depth[parent[i]] + 1;
+        }
+    }
+    let mut offset = vec![0; n + 1];
+    for i in 0..n {
+        offset[i + 1] = offset[i] + depth[i] + 1;
+    }
+    (parent, depth, offset)
+}
+
+/// The pattern of `G` (`m × n`), compressed by rows: the union of its nonzeros at the probe
+/// states, as row starts and column indices.
+fn jacobian_pattern<M: Mechanism>(mechanism: &M, n: usize, m: usize, probes: &ProbeStates) -> (Vec<usize>, Vec<usize>) {
+    // Pattern of G: the union of its nonzeros at the probe states.
+    let mut pattern = vec![false; m * n];
+    let (mut q_lanes, mut phi_lanes) = (vec![Lanes::from_re(0.0); n], vec![Lanes::from_re(0.0); m]);
+    let (mut dense, mut residual) = (vec![0.0; m * n], vec![0.0; m]);
+    for k in 0..probes.len() {
+        let (q, _, t) = probes.state(k);
+        crate::eom::constraints::holonomic_chunks(
+            mechanism,
+            &mut q_lanes,
+            &mut phi_lanes,
+            &mut dense,
+            &mut residual,
+            t,
+            q,
+        );
+        for (p, g) in pattern.iter_mut().zip(&dense) {
+            *p |= *g != 0.0;
+        }
+    }
+    let mut g_start = vec![0];
+    let mut g_column = Vec::new();
+    for r in 0..m {
+        g_column.extend((0..n).filter(|&j| pattern[r * n + j]));
+        g_start.push(g_column.len());
+    }
+    (g_start, g_column)
+}
+
+/// A greedy colouring of the columns of `G`: a column takes the smallest colour none of the
+/// columns sharing a row with it has (`NONE` for a column in no row); returns the colours and
+/// their number.
+fn colour_columns(n: usize, g_start: &[usize], g_column: &[usize]) -> (Vec<usize>, usize) {
+    let m = g_start.len() - 1;
+    let mut rows_of = vec![Vec::new(); n];
+    for r in 0..m {
+        for &j in &g_column[g_start[r]..g_start[r + 1]] {
+            rows_of[j].push(r);
+        }
+    }
+    let mut colour = vec![NONE; n];
+    let mut taken = Vec::new();
+    for j in 0..n {
+        if rows_of[j].is_empty() {
+            continue;
+        }
+        taken.clear();
+        for &r in &rows_of[j] {
+            taken.extend(g_column[g_start[r]..g_start[r + 1]].iter().map(|&k| colour[k]).filter(|&c| c != NONE));
+        }
+        colour[j] = (0..).find(|c| !taken.contains(c)).unwrap_or(0);
+    }
+    let colours = colour.iter().filter(|&&c| c != NONE).map(|&c| c + 1).max().unwrap_or(0);
+    (colour, colours)
+}
+
+/// Each row's reach: the ancestors of its columns, descending, compressed by rows.
+fn reaches(parent: &[usize], g_start: &[usize], g_column: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let (n, m) = (parent.len(), g_start.len() - 1);
+    let mut reach_start = vec![0];
+    let mut reach = Vec::new();
+    let mut mark = vec![false; n];
+    for r in 0..m {
+        let from = reach.len();
+        for &j in &g_column[g_start[r]..g_start[r + 1]] {
+            let mut a = j;
+            while a != NONE && !mark[a] {
+                mark[a] = true;
+                reach.push(a);
+                a = parent[a];
+            }
+        }
+        reach[from..].sort_unstable_by(|a, b| b.cmp(a));
+        for &a in &reach[from..] {
+            mark[a] = false;
+        }
+        reach_start.push(reach.len());
+    }
+    (reach_start, reach)
+}
+
+/// The pairs of rows whose reaches overlap (each row with the earlier rows it meets, ascending,
+/// compressed by rows), each row's first such row, and the envelope of the Schur complement.
+#[allow(clippy::type_complexity)]
+fn overlaps(n: usize, reach_start: &[usize], reach: &[usize]) -> (Vec<usize>, Vec<usize>, Vec<usize>, Vec<usize>) {
+    let m = reach_start.len() - 1;
+    let mut rows_reaching = vec![Vec::new(); n];
+    for r in 0..m {
+        for &a in &reach[reach_start[r]..reach_start[r + 1]] {
+            rows_reaching[a].push(r);
+        }
+    }
+    let (mut pair_start, mut pair, mut first, mut env_start) = (vec![0], Vec::new(), Vec::new(), vec![0]);
+    let mut seen = vec![false; m];
+    for r in 0..m {
+        let from = pair.len();
+        for &a in &reach[reach_start[r]..reach_start[r + 1]] {
+            for &s in &rows_reaching[a] {
+                if s <= r && !seen[s] {
+                    seen[s] = true;
+                    pair.push(s);
+                }
+            }
+        }
+        pair[from..].sort_unstable();
+        for &s in &pair[from..] {
+            seen[s] = false;
+        }
+        pair_start.push(pair.len());
+        let f = pair[from..].first().copied().unwrap_or(r).min(r);
+        first.push(f);
+        env_start.push(env_start[r] + r - f + 1);
+    }
+    (pair_start, pair, first, env_start)
 }
 
 #[cfg(test)]

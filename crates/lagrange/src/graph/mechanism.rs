@@ -7,7 +7,7 @@ use super::invalid;
 use super::spanning::{self, Ends, Orientation};
 use crate::mechanism::Loads;
 use crate::tree::{AngleReference, Joint, Parent, Tree};
-use crate::{Body, Bounds, Coordinate, Error, Mechanism, Pose, Scalar};
+use crate::{Body, Bounds, Coordinate, Description, Error, Mechanism, Pose, Scalar};
 use num_dual::Dual;
 
 /// How far a prismatic axis may be from unit length (relative).
@@ -98,8 +98,8 @@ pub(crate) enum Element {
 #[derive(Clone, Debug, PartialEq)]
 pub struct GraphMechanism {
     graph: JointGraph,
-    bodies: Vec<Body>,
-    coordinates: Vec<Coordinate>,
+    /// Coordinates, bodies, gravity and the loop-closing joints' constraint rows.
+    description: Description,
     /// The joint of each coordinate.
     coordinate_joints: Vec<usize>,
     joints: Vec<ResolvedJoint>,
@@ -107,8 +107,6 @@ pub struct GraphMechanism {
     order: Vec<(usize, usize)>,
     /// The tree joints from the ground to each body, in order.
     paths: Vec<Vec<usize>>,
-    rows: usize,
-    row_names: Vec<String>,
     elements: Vec<Element>,
     tree: Option<Tree>,
     has_potential: bool,
@@ -162,7 +160,7 @@ impl GraphMechanism {
                 "has no free coordinate: every tree joint is fixed, driven or coupled".into(),
             ));
         }
-        let (rows, row_names) = number_rows(&graph, &in_tree, &coupled, &mut joints);
+        let row_names = number_rows(&graph, &in_tree, &coupled, &mut joints);
         let elements = resolve_forces(&graph)?;
         let has_potential = elements.iter().any(|e| matches!(e, Element::Spring { .. } | Element::JointSpring { .. }));
         let has_loads = elements.iter().any(|e| {
@@ -171,15 +169,19 @@ impl GraphMechanism {
                 Element::Damper { .. } | Element::JointDamper { .. } | Element::Torque { .. } | Element::Force { .. }
             )
         });
-        let mut mechanism = Self {
-            bodies,
+        let description = Description {
             coordinates,
+            bodies,
+            gravity: graph.gravity,
+            constraints: row_names,
+            ..Description::default()
+        };
+        let mut mechanism = Self {
+            description,
             coordinate_joints,
             joints,
             order,
             paths,
-            rows,
-            row_names,
             elements,
             tree: None,
             has_potential,
@@ -194,16 +196,16 @@ impl GraphMechanism {
     /// (or the ground) by a coordinate joint whose coordinate is `q_b`, in any order that lists
     /// parents first.
     fn articulated_tree(&self) -> Result<Option<Tree>, Error> {
-        if self.coordinates.len() != self.bodies.len() {
+        if self.description.coordinates.len() != self.description.bodies.len() {
             return Ok(None);
         }
         // Each body's tree joint; the bodies must be listed parents first (any such order:
         // the forward kinematics' own order is breadth first, a chain listed as written is not).
-        let mut joint_of = vec![usize::MAX; self.bodies.len()];
+        let mut joint_of = vec![usize::MAX; self.description.bodies.len()];
         for &(j, body) in &self.order {
             joint_of[body] = j;
         }
-        let mut tree_joints = Vec::with_capacity(self.bodies.len());
+        let mut tree_joints = Vec::with_capacity(self.description.bodies.len());
         for (b, &j) in joint_of.iter().enumerate() {
             let joint = &self.joints[j];
             let spec = &self.graph.joints[j];
@@ -234,7 +236,7 @@ impl GraphMechanism {
             };
             tree_joints.push(tree_joint);
         }
-        Tree::new(tree_joints, self.bodies.clone(), self.graph.gravity).map(Some)
+        Tree::new(tree_joints, self.description.bodies.clone(), self.graph.gravity).map(Some)
     }
 
     /// The description this model was resolved from.
@@ -480,7 +482,7 @@ impl GraphMechanism {
     /// motion its drives prescribe — valid mechanisms, whose coordinates follow from the
     /// constraints alone.
     pub fn degrees_of_freedom(&self, t: f64, q: &[f64]) -> usize {
-        let (n, m) = (self.coordinates.len(), self.rows);
+        let (n, m) = (self.description.coordinates.len(), self.description.constraints.len());
         if m == 0 {
             return n;
         }
@@ -544,16 +546,8 @@ impl GraphMechanism {
 }
 
 impl Mechanism for GraphMechanism {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.graph.gravity
+    fn description(&self) -> &Description {
+        &self.description
     }
 
     /// Forward kinematics along the spanning tree, from the ground outwards.
@@ -579,7 +573,7 @@ impl Mechanism for GraphMechanism {
             static POSES: std::cell::RefCell<Vec<Pose<f64>>> = const { std::cell::RefCell::new(Vec::new()) };
         }
         POSES.with_borrow_mut(|poses| {
-            poses.resize(self.bodies.len(), Pose::new(0.0, 0.0, 0.0));
+            poses.resize(self.description.bodies.len(), Pose::new(0.0, 0.0, 0.0));
             self.poses(t, q, poses);
             for (i, length) in self.spring_lengths(poses) {
                 if length > 0.0 {
@@ -619,19 +613,11 @@ impl Mechanism for GraphMechanism {
         true
     }
 
-    fn holonomic_constraints(&self) -> usize {
-        self.rows
-    }
-
     fn constraints<S: Scalar>(&self, t: S, q: &[S], phi: &mut [S]) {
         let coordinate = |i: usize| q[i];
         for (j, joint) in self.joints.iter().enumerate().filter(|(_, joint)| !joint.tree) {
             self.closing_rows(j, t, &coordinate, &mut phi[joint.first_row..]);
         }
-    }
-
-    fn constraint_name(&self, i: usize) -> String {
-        self.row_names.get(i).cloned().unwrap_or_else(|| format!("Φ{}", i + 1))
     }
 
     fn tree(&self) -> Option<&Tree> {
@@ -861,14 +847,13 @@ fn number_rows(
     in_tree: &[bool],
     coupled: &[Option<Coupling>],
     joints: &mut [ResolvedJoint],
-) -> (usize, Vec<String>) {
-    let mut rows = 0;
+) -> Vec<String> {
     let mut row_names = Vec::new();
     for (j, joint) in graph.joints.iter().enumerate() {
         if in_tree[j] {
             continue;
         }
-        joints[j].first_row = rows;
+        joints[j].first_row = row_names.len();
         let mut name = |what: &str| row_names.push(format!("{} ({what})", joint.name));
         match joint.kind {
             JointType::Revolute => ["x", "y"].iter().for_each(|w| name(w)),
@@ -882,9 +867,8 @@ fn number_rows(
             joints[j].value = JointValue::Coupled { source, ratio, offset };
             name("coupling");
         }
-        rows = row_names.len();
     }
-    (rows, row_names)
+    row_names
 }
 
 /// The force elements with their bodies and joints resolved to indices, once their values

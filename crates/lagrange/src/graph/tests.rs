@@ -17,7 +17,7 @@ fn double_rod() -> JointGraph {
 }
 
 fn poses(mechanism: &GraphMechanism, t: f64, q: &[f64]) -> Vec<Pose<f64>> {
-    let mut out = vec![Pose::default(); mechanism.bodies().len()];
+    let mut out = vec![Pose::default(); mechanism.description().bodies.len()];
     mechanism.poses(t, q, &mut out);
     out
 }
@@ -89,8 +89,8 @@ fn loops_give_named_constraints_that_vanish_when_assembled() {
         .with_joint(GraphJoint::revolute("θ4", GROUND, [2.0, 0.0], "rocker", [-1.0, 0.0]))
         .with_joint(GraphJoint::revolute("B", "coupler", [1.0, 0.0], "rocker", [1.0, 0.0]).closing());
     let mechanism = GraphMechanism::new(graph).unwrap();
-    assert_eq!(mechanism.holonomic_constraints(), 2);
-    assert_eq!(mechanism.constraint_name(1), "B (y)");
+    assert_eq!(mechanism.description().constraints.len(), 2);
+    assert_eq!(mechanism.description().constraint_name(1), "B (y)");
     let model = Model::new(mechanism).unwrap();
     let state = model.assemble(&State::new(0.0, [1.0, 0.5, 1.5], [2.0, 0.0, 0.0]), &[true, false, false]).unwrap();
     let mut phi = [1.0; 2];
@@ -235,7 +235,7 @@ fn driven_and_coupled_joints_follow_their_laws() {
         .with_joint(GraphJoint::revolute("g", "support", [1.0, 0.0], "gear", [0.0; 2]))
         .with_coupling("g", "w", -2.0, 0.1);
     let mechanism = GraphMechanism::new(graph).unwrap();
-    assert_eq!(mechanism.coordinates().len(), 1);
+    assert_eq!(mechanism.description().coordinates.len(), 1);
     assert!(mechanism.is_rheonomic());
     let t = 0.4;
     let p = poses(&mechanism, t, &[0.3]);
@@ -256,7 +256,7 @@ fn a_rigid_loop_has_no_degree_of_freedom() {
         .with_joint(GraphJoint::fixed("weld", "arm", [0.0, -0.5], "bar", [0.0, 0.5], 0.0))
         .with_joint(GraphJoint::fixed("bolt", "bar", [0.0, -0.5], GROUND, [0.0, -2.0], 0.0).closing());
     let mechanism = GraphMechanism::new(graph).unwrap();
-    assert_eq!(mechanism.coordinates().len(), 1);
+    assert_eq!(mechanism.description().coordinates.len(), 1);
     assert_eq!(mechanism.degrees_of_freedom(0.0, &[0.0]), 0);
     // A structure is a valid mechanism: it stays where the constraints put it.
     let model = Model::new(mechanism).unwrap();
@@ -301,7 +301,7 @@ fn a_redundant_loop_row_does_not_lock_the_parallelogram() {
         .with_joint(GraphJoint::revolute("θ3", GROUND, [1.0, 0.0], "third", [-0.5, 0.0]))
         .with_joint(GraphJoint::revolute("C", "coupler", [0.0, 0.0], "third", [0.5, 0.0]));
     let mechanism = GraphMechanism::new(graph).unwrap();
-    assert_eq!((mechanism.coordinates().len(), mechanism.holonomic_constraints()), (4, 4));
+    assert_eq!((mechanism.description().coordinates.len(), mechanism.description().constraints.len()), (4, 4));
     for theta in [-std::f64::consts::FRAC_PI_2, -1.0, 0.4, 2.5] {
         assert_eq!(mechanism.degrees_of_freedom(0.0, &[theta, -theta, theta, theta]), 1, "θ = {theta}");
     }

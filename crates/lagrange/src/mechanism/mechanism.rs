@@ -1,7 +1,7 @@
 //! What a user writes: coordinates, bodies, and where each body is as a function of them.
 
-use super::Bounds;
 use super::loads::Loads;
+use super::{Bounds, Description};
 use crate::pose::Pose;
 use crate::scalar::Scalar;
 use crate::tree::Tree;
@@ -70,24 +70,18 @@ impl Body {
 
 /// A planar mechanism in generalized coordinates, as the lecture sets it up.
 ///
-/// The user chooses independent coordinates `q`, names the bodies, and writes each body's pose
-/// `(x_b, y_b, φ_b)` as a function of `(q, t)` **once**, generic over the scalar, so that the
-/// engine can differentiate it exactly. Gravity `g` acts along −y on every body. An extra
+/// The user chooses coordinates `q` and names the bodies in a [`Description`] (the data), and
+/// writes each body's pose `(x_b, y_b, φ_b)` as a function of `(q, t)` **once**, generic over the
+/// scalar, so that the engine can differentiate it exactly (the physics, this trait). Gravity `g` acts along −y on every body. An extra
 /// potential `V(t, q, poses)` and non-conservative generalized forces `Q(t, q, q̇)` are optional.
 ///
 /// The engine ([`Model`](crate::Model)) derives `T`, `V`, `L = T − V` and Lagrange's equations
 /// `M(q, t) q̈ = Σ_b J_bᵀ (F_b − D_b γ_b) − ∂V/∂q + Q` from these functions.
 pub trait Mechanism {
-    /// The generalized coordinates, in the order of `q`.
-    fn coordinates(&self) -> &[Coordinate];
-
-    /// The bodies, in the order in which [`poses`](Self::poses) writes them.
-    fn bodies(&self) -> &[Body];
-
-    /// Gravitational acceleration `g` (m/s²) along −y. Default: none.
-    fn gravity(&self) -> f64 {
-        0.0
-    }
+    /// The mechanism's data: coordinates, bodies, gravity, constraint names
+    /// ([`Description`]). Build it once (e.g. in the mechanism's constructor) and return a
+    /// reference to it.
+    fn description(&self) -> &Description;
 
     /// Write `world_from_body[b]`, the pose of every body, at time `t` and coordinates `q`.
     ///
@@ -129,15 +123,13 @@ pub trait Mechanism {
     /// [`reaction_forces`](crate::reaction_forces) subtracts them.
     ///
     /// ```
-    /// use lagrange::{Body, Coordinate, Loads, Mechanism, Model, Pose, Scalar, accelerations};
+    /// use lagrange::{Description, Loads, Mechanism, Model, Pose, Scalar, accelerations};
     ///
     /// /// A pendulum (bob of mass m on a rod of length r) pushed sideways by a constant force F.
-    /// struct Pushed { bodies: [Body; 1], coordinates: [Coordinate; 1], r: f64, push: f64 }
+    /// struct Pushed { description: Description, r: f64, push: f64 }
     ///
     /// impl Mechanism for Pushed {
-    ///     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
-    ///     fn bodies(&self) -> &[Body] { &self.bodies }
-    ///     fn gravity(&self) -> f64 { 9.81 }
+    ///     fn description(&self) -> &Description { &self.description }
     ///     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
     ///         world_from_body[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
     ///     }
@@ -150,9 +142,8 @@ pub trait Mechanism {
     /// }
     ///
     /// let (m, r, push, theta) = (0.5, 1.2, 2.0, 0.3_f64);
-    /// let model = Model::new(Pushed {
-    ///     bodies: [Body::point("bob", m)], coordinates: [Coordinate::angle("θ")], r, push,
-    /// })?;
+    /// let description = Description::new().angle("θ").point("bob", m).gravity(9.81);
+    /// let model = Model::new(Pushed { description, r, push })?;
     /// let mut ws = model.workspace();
     /// let qddot = accelerations(&model, &mut ws, 0.0, &[theta], &[0.0])?;
     /// // m r² θ̈ = −m g r sinθ + F r cosθ.
@@ -188,14 +179,13 @@ pub trait Mechanism {
     /// (docs/method.md#admissible-regions).
     ///
     /// ```
-    /// use lagrange::{Body, Bounds, Coordinate, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, simulate};
+    /// use lagrange::{Bounds, Description, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, simulate};
     ///
     /// /// A particle in plane polar coordinates q = (r, θ), no force: the model breaks at r = 0.
-    /// struct Polar { bodies: [Body; 1], coordinates: [Coordinate; 2] }
+    /// struct Polar { description: Description }
     ///
     /// impl Mechanism for Polar {
-    ///     fn coordinates(&self) -> &[Coordinate] { &self.coordinates }
-    ///     fn bodies(&self) -> &[Body] { &self.bodies }
+    ///     fn description(&self) -> &Description { &self.description }
     ///     fn poses<S: Scalar>(&self, _t: S, q: &[S], world_from_body: &mut [Pose<S>]) {
     ///         world_from_body[0] = Pose::point(q[0] * q[1].cos(), q[0] * q[1].sin());
     ///     }
@@ -205,10 +195,7 @@ pub trait Mechanism {
     ///     }
     /// }
     ///
-    /// let model = Model::new(Polar {
-    ///     bodies: [Body::point("particle", 1.0)],
-    ///     coordinates: [Coordinate::length("r"), Coordinate::angle("θ")],
-    /// })?;
+    /// let model = Model::new(Polar { description: Description::new().length("r").angle("θ").point("particle", 1.0) })?;
     /// // Straight at the origin at 1 m/s from r = 1: steps of 0.3 s would carry it through r = 0
     /// // (at t = 1) into r < 0, where the coordinates no longer describe the particle.
     /// let initial = State::new(0.0, [1.0, 0.0], [-1.0, 0.0]);
@@ -227,15 +214,8 @@ pub trait Mechanism {
         false
     }
 
-    /// The number `m` of holonomic constraints `Φ(t, q) = 0` among the coordinates (closed
-    /// kinematic loops, a Cartesian coordinate tied to a circle). Default 0: the coordinates
-    /// are independent. Like every count, it must not depend on the state.
-    fn holonomic_constraints(&self) -> usize {
-        0
-    }
-
-    /// Write the residuals `Φ(t, q)` of the [`holonomic_constraints`](Self::holonomic_constraints)
-    /// into `phi` (`m` entries). Generic over the scalar like [`poses`](Self::poses): the engine
+    /// Write the residuals `Φ(t, q)` of the holonomic constraints that the description names
+    /// ([`Description::constraints`]) into `phi` (`m` entries, in that order). Generic over the scalar like [`poses`](Self::poses): the engine
     /// differentiates it exactly, `G = ∂Φ/∂q` by first-order dual passes and the convective
     /// term `γ = d²/ds² Φ(t + s, q + s q̇)` by one second-order pass. Never called when the
     /// count is 0.
@@ -243,33 +223,12 @@ pub trait Mechanism {
         let _ = (t, q, phi);
     }
 
-    /// The number `k` of velocity (non-holonomic) constraints `A(t, q) q̇ + b(t, q) = 0`
-    /// (a knife edge, rolling). Default 0.
-    fn velocity_constraints(&self) -> usize {
-        0
-    }
-
-    /// Write the residuals `A(t, q) q̇ + b(t, q)` of the
-    /// [`velocity_constraints`](Self::velocity_constraints) into `residual` (`k` entries). They
+    /// Write the residuals `A(t, q) q̇ + b(t, q)` of the velocity constraints that the
+    /// description names ([`Description::velocity_constraints`]) into `residual` (`k` entries). They
     /// must be linear (affine) in `q̇`, which [`Model::new`](crate::Model::new) checks at its
     /// probe states. Never called when the count is 0.
     fn velocity_constraint<S: Scalar>(&self, t: S, q: &[S], qdot: &[S], residual: &mut [S]) {
         let _ = (t, q, qdot, residual);
-    }
-
-    /// The name of constraint `i` for messages: holonomic constraints first (`0 ≤ i < m`),
-    /// then velocity constraints. Default: `Φ1`, `Φ2`, … and `A1`, `A2`, ….
-    fn constraint_name(&self, i: usize) -> String {
-        let m = self.holonomic_constraints();
-        if i < m { format!("Φ{}", i + 1) } else { format!("A{}", i - m + 1) }
-    }
-
-    /// Declare that every pose is affine in `q` with constant coefficients and independent of
-    /// `t` (Atwood machines, wedge, oscillator). Then `M` is constant and the convective term
-    /// vanishes: the engine factors `M` once and skips the convective pass.
-    /// [`Model::new`](crate::Model::new) checks the declaration at probe states.
-    fn constant_mass_matrix(&self) -> bool {
-        false
     }
 
     /// Describe the mechanism as a planar kinematic [`Tree`] (body `i` hung from an earlier

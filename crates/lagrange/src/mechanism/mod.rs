@@ -1,14 +1,14 @@
-//! What a user writes: coordinates, bodies and their poses ([`Mechanism`]), or a Lagrangian
+//! What a user writes: the data ([`Description`]) and the poses ([`Mechanism`]), or a Lagrangian
 //! ([`Lagrangian`]); below the probes and the [`Model`](crate::Model) that check and prepare them.
 
-mod described;
+mod description;
 mod lagrangian;
 mod loads;
 #[allow(clippy::module_inception)]
 mod mechanism;
 mod region;
 
-pub use described::{Described, Poses};
+pub use description::Description;
 pub use lagrangian::{Lagrangian, LagrangianFunction};
 pub use loads::Loads;
 pub(crate) use loads::project;

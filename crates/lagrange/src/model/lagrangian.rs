@@ -25,7 +25,7 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
     type Scratch<S: Scalar> = BodyScratch<S>;
 
     fn coordinates(&self) -> &[Coordinate] {
-        self.mechanism.coordinates()
+        &self.mechanism.description().coordinates
     }
 
     fn constraint_counts(&self) -> (usize, usize) {
@@ -33,7 +33,7 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
     }
 
     fn scratch<S: Scalar>(&self) -> BodyScratch<S> {
-        let (n, b, zero) = (self.n, self.bodies().len(), S::zero());
+        let (n, b, zero) = (self.n, self.description().bodies.len(), S::zero());
         let sized = |len: usize| if self.has_applied { vec![zero; len] } else { Vec::new() };
         BodyScratch {
             q: vec![Dual::from_re(zero); n],
@@ -80,7 +80,7 @@ impl<M: Mechanism> LagrangianFunction for Model<M> {
         let has_force = self.has_force && self.mechanism.generalized_force(t, q, qdot, force);
         if self.has_applied {
             let BodyScratch { q: q_dual, poses, jacobian, real_poses, wrench, applied } = scratch;
-            crate::probe::applied_force(&self.mechanism, (q_dual, poses), (jacobian, real_poses, wrench), t, q, qdot);
+            crate::passes::applied_force(&self.mechanism, (q_dual, poses), (jacobian, real_poses, wrench), t, q, qdot);
             crate::mechanism::project(jacobian, wrench, self.n, applied);
             for (f, a) in force.iter_mut().zip(applied.iter()) {
                 *f += *a;

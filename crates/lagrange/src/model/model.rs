@@ -1,7 +1,7 @@
 //! The validated, immutable model built from a user's [`Mechanism`].
 
 use crate::error::Error;
-use crate::mechanism::{Body, Bounds, Coordinate, Loads, Mechanism};
+use crate::mechanism::{Body, Bounds, Coordinate, Description, Loads, Mechanism};
 use crate::pose::Pose;
 use crate::probe::{self, ConstantTerms, ProbeStates};
 use crate::tree::Tree;
@@ -16,7 +16,7 @@ use crate::tree::Tree;
 /// # Which algorithm computes `q̈`
 ///
 /// [`accelerations`](crate::accelerations) picks, once and for all at construction:
-/// 1. a declared constant mass matrix ([`Mechanism::constant_mass_matrix`]): the stored factor;
+/// 1. a declared constant mass matrix ([`Description::constant_mass_matrix`]): the stored factor;
 /// 2. a declared kinematic tree ([`Mechanism::tree`]): the articulated-body algorithm, `O(n)`
 ///    ([`uses_tree_path`](Self::uses_tree_path));
 /// 3. otherwise: assembly of `M` and `f` from the pose Jacobian and an LDLᵀ solve, `O(n³)`.
@@ -79,22 +79,9 @@ impl<M: Mechanism> Model<M> {
     }
 
     fn build(mechanism: M, use_tree: bool) -> Result<Self, Error> {
-        let n = mechanism.coordinates().len();
-        let bodies = mechanism.bodies();
-        if n == 0 {
-            return Err(invalid("coordinates", 0.0, "a mechanism needs at least one coordinate"));
-        }
-        if bodies.is_empty() {
-            return Err(invalid("bodies", 0.0, "a mechanism needs at least one body"));
-        }
-        for Body { name, mass, inertia } in bodies {
-            check_non_negative(&format!("mass of {name}"), *mass)?;
-            check_non_negative(&format!("inertia of {name}"), *inertia)?;
-        }
-        let gravity = mechanism.gravity();
-        if !gravity.is_finite() {
-            return Err(invalid("g", gravity, "must be finite"));
-        }
+        let description = mechanism.description();
+        check_description(description)?;
+        let (n, bodies, gravity) = (description.coordinates.len(), &description.bodies, description.gravity);
         let mut model = Model {
             n,
             mass: bodies.iter().map(|b| b.mass).collect(),
@@ -108,32 +95,19 @@ impl<M: Mechanism> Model<M> {
             cyclic: vec![false; n],
             autonomous: false,
             tree: None,
-            constraint_counts: (mechanism.holonomic_constraints(), mechanism.velocity_constraints()),
+            constraint_counts: description.constraint_counts(),
             sparse: None,
             mechanism,
         };
         let probes = ProbeStates::new(n);
         probe::check_poses(&model.mechanism, &probes)?;
-        // Ask once which optional terms exist.
-        let (q, qdot, t) = probes.state(0);
-        let mut poses = vec![Pose::<f64>::default(); model.bodies().len()];
-        model.mechanism.poses(t, q, &mut poses);
-        model.has_potential = model.mechanism.potential(t, q, &poses).is_some();
-        let mut force = vec![0.0; n];
-        model.has_force = model.mechanism.generalized_force(t, q, qdot, &mut force);
-        let mut wrench = vec![0.0; 3 * model.bodies().len()];
-        let mut loads = Loads::new(&poses, &mut wrench);
-        model.has_applied = model.mechanism.applied_forces(t, q, qdot, &poses, &mut loads);
-        if let Some(body) = loads.bad_body() {
-            return Err(invalid("applied force", body as f64, "names a body the mechanism does not have"));
-        }
-        model.has_region = model.mechanism.admissible(t, q, qdot, &mut Bounds::new());
+        model.ask_optional_terms(&probes)?;
         let constraint_structure = if model.is_constrained() {
             Some(probe::check_constraints(&model.mechanism, model.constraint_counts, &probes)?)
         } else {
             None
         };
-        if model.mechanism.constant_mass_matrix() {
+        if model.mechanism.description().constant_mass_matrix {
             model.constant = Some(probe::constant_terms(&model.mechanism, &probes)?);
         }
         if use_tree && let Some(tree) = model.mechanism.tree() {
@@ -162,6 +136,25 @@ impl<M: Mechanism> Model<M> {
         Ok(model)
     }
 
+    /// Ask once, at the first probe state, which optional terms the mechanism has: a potential,
+    /// generalized forces, applied forces (on bodies it has), an admissible region.
+    fn ask_optional_terms(&mut self, probes: &ProbeStates) -> Result<(), Error> {
+        let (q, qdot, t) = probes.state(0);
+        let mut poses = vec![Pose::<f64>::default(); self.description().bodies.len()];
+        self.mechanism.poses(t, q, &mut poses);
+        self.has_potential = self.mechanism.potential(t, q, &poses).is_some();
+        let mut force = vec![0.0; self.n];
+        self.has_force = self.mechanism.generalized_force(t, q, qdot, &mut force);
+        let mut wrench = vec![0.0; 3 * self.description().bodies.len()];
+        let mut loads = Loads::new(&poses, &mut wrench);
+        self.has_applied = self.mechanism.applied_forces(t, q, qdot, &poses, &mut loads);
+        if let Some(body) = loads.bad_body() {
+            return Err(invalid("applied force", body as f64, "names a body the mechanism does not have"));
+        }
+        self.has_region = self.mechanism.admissible(t, q, qdot, &mut Bounds::new());
+        Ok(())
+    }
+
     /// The user's mechanism.
     pub fn mechanism(&self) -> &M {
         &self.mechanism
@@ -174,12 +167,17 @@ impl<M: Mechanism> Model<M> {
 
     /// The bodies, in the order of the poses (`bodies().len()` is `B`).
     pub fn bodies(&self) -> &[Body] {
-        self.mechanism.bodies()
+        &self.mechanism.description().bodies
     }
 
     /// The generalized coordinates.
     pub fn coordinates(&self) -> &[Coordinate] {
-        self.mechanism.coordinates()
+        &self.mechanism.description().coordinates
+    }
+
+    /// The mechanism's data: coordinates, bodies, gravity, constraint names.
+    pub fn description(&self) -> &Description {
+        self.mechanism.description()
     }
 
     /// Gravitational acceleration along −y.
@@ -230,8 +228,8 @@ impl<M: Mechanism> Model<M> {
         self.tree.is_some()
     }
 
-    /// Whether the coordinates are related by constraints ([`Mechanism::holonomic_constraints`],
-    /// [`Mechanism::velocity_constraints`]).
+    /// Whether the coordinates are related by constraints ([`Description::constraints`],
+    /// [`Description::velocity_constraints`]).
     pub fn is_constrained(&self) -> bool {
         self.constraint_counts != (0, 0)
     }
@@ -259,6 +257,25 @@ impl<M: Mechanism> Model<M> {
     pub fn conserves_energy(&self) -> bool {
         self.autonomous && !self.has_force && !self.has_applied
     }
+}
+
+/// The description's own checks: at least one coordinate and one body, finite non-negative
+/// masses and inertias, finite gravity.
+fn check_description(description: &Description) -> Result<(), Error> {
+    if description.coordinates.is_empty() {
+        return Err(invalid("coordinates", 0.0, "a mechanism needs at least one coordinate"));
+    }
+    if description.bodies.is_empty() {
+        return Err(invalid("bodies", 0.0, "a mechanism needs at least one body"));
+    }
+    for Body { name, mass, inertia } in &description.bodies {
+        check_non_negative(&format!("mass of {name}"), *mass)?;
+        check_non_negative(&format!("inertia of {name}"), *inertia)?;
+    }
+    if !description.gravity.is_finite() {
+        return Err(invalid("g", description.gravity, "must be finite"));
+    }
+    Ok(())
 }
 
 fn invalid(name: &str, value: f64, why: &str) -> Error {

@@ -1,22 +1,25 @@
 //! Construction turns silent wrong answers into typed errors.
 
 use crate::test_support::{Driven, cart, driven};
-use crate::{Coordinate, Derived, Error, Model, Pose, Poses, Scalar};
+use crate::{Coordinate, Derived, Description, Error, Mechanism, Model, Pose, Scalar};
 
 /// The cart pendulum's poses, forgetting the cart.
 #[derive(Debug)]
-struct WithoutCart(f64);
+struct WithoutCart(Description, f64);
 
-impl Poses for WithoutCart {
+impl Mechanism for WithoutCart {
+    fn description(&self) -> &Description {
+        &self.0
+    }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
-        p[1] = Pose::point(q[0] + q[1].sin() * self.0, -q[1].cos() * self.0);
+        p[1] = Pose::point(q[0] + q[1].sin() * self.1, -q[1].cos() * self.1);
     }
 }
 
 #[test]
 fn a_body_the_poses_forget_is_an_error_naming_it() {
     let whole = cart(2.0, 1.0, 1.5);
-    let error = Model::new(whole.poses().with_poses(WithoutCart(1.5))).unwrap_err();
+    let error = Model::new(WithoutCart(whole.description.clone(), 1.5)).unwrap_err();
     assert!(matches!(&error, Error::UnwrittenPose { body, component: "x", .. } if body == "cart"), "{error}");
     assert!(error.to_string().contains("body `cart`"), "{error}");
     // The whole mechanism is fine.
@@ -30,7 +33,10 @@ struct ReadsRealPart {
     time: bool,
 }
 
-impl Poses for ReadsRealPart {
+impl Mechanism for ReadsRealPart {
+    fn description(&self) -> &Description {
+        &self.driven.description
+    }
     fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
         let d = &self.driven;
         let pivot =
@@ -43,13 +49,13 @@ impl Poses for ReadsRealPart {
 #[test]
 fn poses_that_read_the_real_part_are_an_error_naming_body_component_and_variable() {
     let d = Driven::new();
-    let error = Model::new(d.with_poses(ReadsRealPart { driven: d, time: true })).unwrap_err();
+    let error = Model::new(ReadsRealPart { driven: d.clone(), time: true }).unwrap_err();
     assert!(
         matches!(&error, Error::LostDerivative { of: Derived::Pose { body, component: "x" }, variable, exact, .. }
             if body == "bob" && variable == "t" && *exact == 0.0),
         "{error}"
     );
-    let error = Model::new(d.with_poses(ReadsRealPart { driven: d, time: false })).unwrap_err();
+    let error = Model::new(ReadsRealPart { driven: d, time: false }).unwrap_err();
     assert!(
         matches!(&error, Error::LostDerivative { of: Derived::Pose { body, component: "x" }, variable, .. }
             if body == "bob" && variable == "θ"),
@@ -62,12 +68,15 @@ fn poses_that_read_the_real_part_are_an_error_naming_body_component_and_variable
 /// The cart pendulum's poses with the pendulum's angle read as a constant in the bob's `y`
 /// only (its `x` keeps the derivative): one dropped entry among four.
 #[derive(Debug)]
-struct CartDropsAngleInY(f64);
+struct CartDropsAngleInY(Description, f64);
 
-impl Poses for CartDropsAngleInY {
+impl Mechanism for CartDropsAngleInY {
+    fn description(&self) -> &Description {
+        &self.0
+    }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
-        p[1] = Pose::point(q[0] + q[1].sin() * self.0, -S::from(q[1].re().cos()) * self.0);
+        p[1] = Pose::point(q[0] + q[1].sin() * self.1, -S::from(q[1].re().cos()) * self.1);
     }
 }
 
@@ -77,7 +86,7 @@ impl Poses for CartDropsAngleInY {
 #[test]
 fn one_lost_entry_among_several_coordinates_is_named() {
     let whole = cart(2.0, 1.0, 1.5);
-    let error = Model::new(whole.poses().with_poses(CartDropsAngleInY(1.5))).unwrap_err();
+    let error = Model::new(CartDropsAngleInY(whole.description.clone(), 1.5)).unwrap_err();
     assert!(
         matches!(&error, Error::LostDerivative { of: Derived::Pose { body, component: "y" }, variable, .. }
             if body == "bob" && variable == "θ"),
@@ -112,7 +121,7 @@ fn a_negative_definite_raw_lagrangian_is_refused_at_construction_as_indefinite()
 #[test]
 fn the_energy_function_and_the_total_energy_differ_for_a_rheonomic_mechanism() {
     // The driven pendulum without its spring and damper: h = T + V − ẋ_p m r θ̇ cosθ − m ẋ_p².
-    let model = Model::new(Driven { k: 0.0, c: 0.0, ..Driven::new() }.described()).unwrap();
+    let model = Model::new(Driven { k: 0.0, c: 0.0, ..Driven::new() }).unwrap();
     let mut ws = model.workspace();
     let (t, q, qdot) = (0.3, [0.4], [0.7]);
     let h = crate::energy_function(&model, &mut ws, t, &q, &qdot).unwrap();

@@ -5,11 +5,11 @@
 use crate::error::{Derived, Error, Stage, bad_pivot, non_finite};
 use crate::linalg::{self, size::Dynamic};
 use crate::mechanism::{LagrangianFunction, Mechanism};
+use crate::passes::{jacobian_columns, moving_poses};
 use crate::pose::Pose;
 use crate::seed;
-use crate::seed::{CHUNK, Lanes};
 use crate::tree::Tree;
-use num_dual::{Dual, Dual2, Dual64};
+use num_dual::{Dual2, Dual64};
 
 /// A few fixed, generic states `(q, q̇, t)`: away from 0 and from special angles, so that an
 /// identity that holds at all of them holds structurally (it is evaluated exactly by AD).
@@ -103,95 +103,11 @@ pub(crate) struct ConstantTerms {
     pub gravity_force: Vec<f64>,
 }
 
-/// The pose Jacobian column by column: `n` first-order dual passes of the poses at `(q, t)`,
-/// pass `j` with `q_j` seeded; `column(j, seeded q, seeded poses)` reads each. The one
-/// Jacobian pass of the engine (the evaluation stage `eom::kinematics` runs it too).
-pub(crate) fn jacobian_columns<M: Mechanism, S: crate::scalar::Scalar>(
-    mechanism: &M,
-    q_dual: &mut [Dual<S>],
-    poses: &mut [Pose<Dual<S>>],
-    t: S,
-    q: &[S],
-    mut column: impl FnMut(usize, &[Dual<S>], &[Pose<Dual<S>>], Dual<S>),
-) {
-    let t_dual = Dual::from_re(t);
-    seed::constant(q_dual, q);
-    for j in 0..q.len() {
-        q_dual[j].eps = S::one();
-        mechanism.poses(t_dual, q_dual, poses);
-        column(j, q_dual, poses, t_dual);
-        q_dual[j].eps = S::zero();
-    }
-}
-
-/// The pose Jacobian in chunks of [`CHUNK`] columns: one vector-dual pass of the poses per
-/// chunk, the chunk's coordinates `q_{j0} … q_{j0+w−1}` seeded in lanes `0 … w−1`;
-/// `chunk(j0, w, seeded q, seeded poses, t)` reads lane `k` as column `j0 + k` ([`lane`]).
-/// Every sine and cosine of the user's poses is evaluated once per chunk instead of once per
-/// column, which is most of the cost of a column pass.
-pub(crate) fn jacobian_chunks<M: Mechanism, S: crate::scalar::Scalar>(
-    mechanism: &M,
-    q_lanes: &mut [Lanes<S>],
-    poses: &mut [Pose<Lanes<S>>],
-    t: S,
-    q: &[S],
-    mut chunk: impl FnMut(usize, usize, &[Lanes<S>], &[Pose<Lanes<S>>], Lanes<S>),
-) {
-    let t_lanes = Lanes::from_re(t);
-    let n = q.len();
-    for j0 in (0..n).step_by(CHUNK) {
-        let width = seed::chunk(q_lanes, q, j0);
-        mechanism.poses(t_lanes, q_lanes, poses);
-        chunk(j0, width, q_lanes, poses, t_lanes);
-    }
-}
-
-/// The pose Jacobian (3B × n), the poses and the applied body wrenches (3B) at `(t, q, q̇)`, in
-/// the caller's buffers (the Lagrangian-function view of a model: variational integrator, raw
-/// path over a model); `Q = Jᵀ w` is the caller's product.
-pub(crate) fn applied_force<M: Mechanism, S: crate::scalar::Scalar>(
-    mechanism: &M,
-    (q_dual, poses_dual): (&mut [Dual<S>], &mut [Pose<Dual<S>>]),
-    (jacobian, poses, wrench): (&mut [S], &mut [Pose<S>], &mut [S]),
-    t: S,
-    q: &[S],
-    qdot: &[S],
-) {
-    let n = q.len();
-    jacobian_columns(mechanism, q_dual, poses_dual, t, q, |j, _, seeded, _| {
-        for (b, pose) in seeded.iter().enumerate() {
-            jacobian[3 * b * n + j] = pose.x.eps;
-            jacobian[(3 * b + 1) * n + j] = pose.y.eps;
-            jacobian[(3 * b + 2) * n + j] = pose.angle.eps;
-            if j == 0 {
-                poses[b] = Pose::new(pose.x.re, pose.y.re, pose.angle.re);
-            }
-        }
-    });
-    wrench.fill(S::zero());
-    let mut loads = crate::mechanism::Loads::new(poses, wrench);
-    mechanism.applied_forces(t, q, qdot, poses, &mut loads);
-}
-
-/// Poses moving along `(q̇, 1)`: one second-order dual pass; `v1` parts are the body
-/// velocities `ṗ = J q̇ + ∂p/∂t`, `v2` parts the convective accelerations `γ = p̈ − J q̈`.
-pub(crate) fn moving_poses<M: Mechanism, S: crate::scalar::Scalar>(
-    mechanism: &M,
-    q_dual2: &mut [Dual2<S>],
-    poses: &mut [Pose<Dual2<S>>],
-    t: S,
-    q: &[S],
-    qdot: &[S],
-) {
-    seed::along2(q_dual2, q, qdot);
-    mechanism.poses(Dual2::new(t, S::one(), S::zero()), q_dual2, poses);
-}
-
 /// `J` (3B × n, body-major rows) of `mechanism` at `(q, t)`, in `f64`.
 fn jacobian<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], jacobian: &mut [f64]) {
     let n = q.len();
     let mut q_dual = vec![Dual64::from_re(0.0); n];
-    let mut poses = vec![Pose::default(); mechanism.bodies().len()];
+    let mut poses = vec![Pose::default(); mechanism.description().bodies.len()];
     jacobian_columns(mechanism, &mut q_dual, &mut poses, t, q, |j, _, poses, _| {
         for (b, pose) in poses.iter().enumerate() {
             jacobian[3 * b * n + j] = pose.x.eps;
@@ -204,7 +120,7 @@ fn jacobian<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], jacobian: &mut [f64]
 /// Body velocities and convective accelerations (3B each) of `mechanism` at `(q, q̇, t)`.
 fn velocities<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], qdot: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let mut q_dual2 = vec![Dual2::from_re(0.0); q.len()];
-    let mut poses = vec![Pose::default(); mechanism.bodies().len()];
+    let mut poses = vec![Pose::default(); mechanism.description().bodies.len()];
     moving_poses(mechanism, &mut q_dual2, &mut poses, t, q, qdot);
     let velocity = poses.iter().flat_map(|p| [p.x.v1, p.y.v1, p.angle.v1]).collect();
     let convective = poses.iter().flat_map(|p| [p.x.v2, p.y.v2, p.angle.v2]).collect();
@@ -214,7 +130,7 @@ fn velocities<M: Mechanism>(mechanism: &M, t: f64, q: &[f64], qdot: &[f64]) -> (
 /// Check a declared constant mass matrix at the probe states and compute its terms.
 pub(crate) fn constant_terms<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> Result<ConstantTerms, Error> {
     let n = probes.n;
-    let bodies = mechanism.bodies();
+    let bodies = &mechanism.description().bodies;
     let mut jac = vec![0.0; 3 * bodies.len() * n];
     let mut reference: Option<Vec<f64>> = None;
     for k in 0..probes.len() {
@@ -253,9 +169,10 @@ pub(crate) fn constant_terms<M: Mechanism>(mechanism: &M, probes: &ProbeStates) 
     let mut mass_matrix = vec![0.0; n * n];
     linalg::mass_matrix_sized(Dynamic(n), &mass, &inertia, &jac, &mut mass_matrix);
     let mut factor = mass_matrix.clone();
-    linalg::ldlt_factor(n, &mut factor)
-        .map_err(|bad| bad_pivot(t, q, &mechanism.coordinates()[bad.index].name, bad.pivot, bad.diagonal))?;
-    let gravity = mechanism.gravity();
+    linalg::ldlt_factor(n, &mut factor).map_err(|bad| {
+        bad_pivot(t, q, &mechanism.description().coordinates[bad.index].name, bad.pivot, bad.diagonal)
+    })?;
+    let gravity = mechanism.description().gravity;
     let mut gravity_force = vec![0.0; n];
     for (b, m) in mass.iter().enumerate() {
         for j in 0..n {
@@ -270,8 +187,8 @@ pub(crate) fn constant_terms<M: Mechanism>(mechanism: &M, probes: &ProbeStates) 
 pub(crate) fn check_tree<M: Mechanism>(mechanism: &M, tree: &Tree, probes: &ProbeStates) -> Result<(), Error> {
     let inconsistent =
         |what: String| Err(Error::Inconsistent { what: format!("declared a kinematic tree, but {what}") });
-    let bodies = mechanism.bodies();
-    let (n, gravity) = (probes.n, mechanism.gravity());
+    let bodies = &mechanism.description().bodies;
+    let (n, gravity) = (probes.n, mechanism.description().gravity);
     if tree.len() != bodies.len() || tree.len() != n {
         return inconsistent(format!(
             "it has {} bodies and coordinates where the mechanism has {} bodies and {} coordinates",
@@ -280,13 +197,17 @@ pub(crate) fn check_tree<M: Mechanism>(mechanism: &M, tree: &Tree, probes: &Prob
             n
         ));
     }
-    for (mine, theirs) in bodies.iter().zip(tree.bodies()) {
+    for (mine, theirs) in bodies.iter().zip(&tree.description().bodies) {
         if (mine.mass, mine.inertia) != (theirs.mass, theirs.inertia) {
             return inconsistent(format!("its body `{}` differs from the mechanism's `{}`", theirs.name, mine.name));
         }
     }
-    if tree.gravity() != gravity {
-        return inconsistent(format!("its g = {} differs from the mechanism's {}", tree.gravity(), gravity));
+    if tree.description().gravity != gravity {
+        return inconsistent(format!(
+            "its g = {} differs from the mechanism's {}",
+            tree.description().gravity,
+            gravity
+        ));
     }
     let b = bodies.len();
     let (mut mine, mut theirs) = (vec![Pose::<Dual2<f64>>::default(); b], vec![Pose::<Dual2<f64>>::default(); b]);
@@ -366,7 +287,7 @@ fn central_difference(exact: f64, [plus, minus, plus2, minus2]: [f64; 4], h: f64
 /// coordinates one by one, to name the one whose derivative was lost; `t` is tested on its
 /// own.
 pub(crate) fn check_poses<M: Mechanism>(mechanism: &M, probes: &ProbeStates) -> Result<(), Error> {
-    let bodies = mechanism.bodies();
+    let bodies = &mechanism.description().bodies;
     let n = probes.n;
     let mut poses = vec![Pose::default(); bodies.len()];
     let mut q_dual = vec![Dual64::from_re(0.0); n];
@@ -450,8 +371,8 @@ fn lost_derivative(
 /// lost derivative): the per-coordinate test is the definition, the directional one its
 /// shortcut.
 fn name_lost_derivative<M: Mechanism>(mechanism: &M, t: f64, q: &[f64]) -> Option<Error> {
-    let bodies = mechanism.bodies();
-    let coordinates = mechanism.coordinates();
+    let bodies = &mechanism.description().bodies;
+    let coordinates = &mechanism.description().coordinates;
     let mut q_dual = vec![Dual64::from_re(0.0); q.len()];
     let mut exact = vec![Pose::<Dual64>::default(); bodies.len()];
     seed::constant(&mut q_dual, q);
@@ -633,7 +554,7 @@ pub(crate) fn check_constraints<M: Mechanism>(
                     return Err(Error::Inconsistent {
                         what: format!(
                             "velocity constraint {} is not linear in q̇ (c(2q̇) − 2c(q̇) + c(0) = {:e})",
-                            mechanism.constraint_name(holonomic + i),
+                            mechanism.description().constraint_name(holonomic + i),
                             c - 2.0 * b + a
                         ),
                     });

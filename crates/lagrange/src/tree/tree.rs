@@ -4,7 +4,7 @@
 #[cfg(doc)]
 use super::joint::Sense;
 use super::joint::{AngleReference, Joint, JointKind, Parent};
-use crate::{Body, Coordinate, Error, Mechanism, Pose, Scalar};
+use crate::{Body, Description, Error, Mechanism, Pose, Scalar};
 
 /// How far a prismatic axis may be from unit length (relative), so that `q` is a length.
 const UNIT_AXIS_TOLERANCE: f64 = 1e-12;
@@ -81,9 +81,8 @@ pub(crate) struct Link {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tree {
     joints: Vec<Joint>,
-    bodies: Vec<Body>,
-    coordinates: Vec<Coordinate>,
-    gravity: f64,
+    /// Coordinates (the joints'), bodies and gravity.
+    description: Description,
     links: Vec<Link>,
 }
 
@@ -165,7 +164,8 @@ impl Tree {
             })
             .collect();
         let coordinates = joints.iter().map(|j| j.coordinate.clone()).collect();
-        Ok(Self { joints, bodies, coordinates, gravity, links })
+        let description = Description { coordinates, bodies, gravity, ..Description::default() };
+        Ok(Self { joints, description, links })
     }
 
     /// The joints, joint `i` hanging body `i`.
@@ -175,12 +175,12 @@ impl Tree {
 
     /// Number of bodies (= joints = coordinates).
     pub fn len(&self) -> usize {
-        self.bodies.len()
+        self.description.bodies.len()
     }
 
     /// Always `false`: a tree has at least one body.
     pub fn is_empty(&self) -> bool {
-        self.bodies.is_empty()
+        self.description.bodies.is_empty()
     }
 
     pub(crate) fn links(&self) -> &[Link] {
@@ -189,16 +189,8 @@ impl Tree {
 }
 
 impl Mechanism for Tree {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-
-    fn gravity(&self) -> f64 {
-        self.gravity
+    fn description(&self) -> &Description {
+        &self.description
     }
 
     /// Forward kinematics, parents before children.

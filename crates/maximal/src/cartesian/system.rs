@@ -234,7 +234,7 @@ impl CartesianSystem {
     /// its joints act at its centre).
     pub(crate) fn from_graph(name: &str, mechanism: Arc<GraphMechanism>) -> Self {
         use lagrange::Mechanism;
-        let bodies = mechanism.bodies().to_vec();
+        let bodies = mechanism.description().bodies.clone();
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
         let mut constraints: Vec<Constraint> = (0..mechanism.joints().len())
             .map(|joint| Constraint {
@@ -243,7 +243,7 @@ impl CartesianSystem {
             })
             .collect();
         // Which angles the joints involve, from Φ_z at a generic configuration.
-        let q: Vec<f64> = (0..mechanism.coordinates().len()).map(|i| 0.37 + 0.11 * i as f64).collect();
+        let q: Vec<f64> = (0..mechanism.description().coordinates.len()).map(|i| 0.37 + 0.11 * i as f64).collect();
         let mut z = vec![0.0; 3 * bodies.len()];
         for b in 0..bodies.len() {
             z[3 * b..3 * b + 3].copy_from_slice(&mechanism.body_pose(b, 0.23, &q).to_array());

@@ -95,7 +95,7 @@ impl MechanismVisitor for BodyAccelerations<'_> {
         let s = self.state;
         let q: Vec<Dual2_64> =
             s.q.iter().zip(&s.qdot).zip(self.qddot).map(|((&q, &v), &a)| Dual2_64::new(q, v, a)).collect();
-        let mut poses = vec![Pose::<Dual2_64>::default(); mechanism.bodies().len()];
+        let mut poses = vec![Pose::<Dual2_64>::default(); mechanism.description().bodies.len()];
         mechanism.poses(Dual2_64::new(s.t, 1.0, 0.0), &q, &mut poses);
         poses.iter().flat_map(|p| [p.x.v2, p.y.v2, p.angle.v2]).collect()
     }

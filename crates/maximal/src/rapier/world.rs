@@ -155,7 +155,7 @@ impl RapierSimulation {
                     )
                 })
                 .collect();
-            let mut q = vec![Dual64::from(0.0); graph.coordinates().len()];
+            let mut q = vec![Dual64::from(0.0); graph.description().coordinates.len()];
             graph.coordinates_of(&poses, &mut q);
             for spec in &self.plan.bodies {
                 if let Motion::Derived { body } = spec.motion {
@@ -256,7 +256,7 @@ impl RapierSimulation {
             if let (Motion::Kinematic { body }, Some(graph)) = (spec.motion, &self.plan.graph)
                 && let Some(rb) = self.world.bodies.get_mut(handle)
             {
-                let q = vec![0.0; graph.coordinates().len()];
+                let q = vec![0.0; graph.description().coordinates.len()];
                 let [x, y, angle] = graph.body_pose(body, t + self.dt, &q).to_array();
                 rb.set_next_kinematic_position(Pose::new(Vector::new(real(x), real(y)), real(angle)));
             }

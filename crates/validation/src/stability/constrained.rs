@@ -5,7 +5,7 @@
 
 use super::{CaseBuilder, CaseSpec, Check, Cost, Effort, Measurement, find, scene_params, timed_simulate};
 use crate::andrews;
-use lagrange::{Body, Coordinate, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, System, Tolerances};
+use lagrange::{Description, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, System, Tolerances};
 
 pub const CONSTRAINED: CaseSpec = CaseSpec {
     id: "constraints",
@@ -175,27 +175,17 @@ fn drift(case: &mut CaseBuilder, horizon: f64) -> Result<(), crate::Error> {
 /// Three unit cranks from (0, 0), (1, 0), (2, 0) joined by a coupler: four closure equations
 /// of which two are implied by the others.
 struct Parallelogram {
-    coordinates: [Coordinate; 3],
-    bodies: [Body; 3],
+    description: Description,
 }
 
 impl Mechanism for Parallelogram {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        9.81
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         for (i, pose) in p.iter_mut().enumerate() {
             *pose = Pose::point(q[i].cos() + i as f64, q[i].sin());
         }
-    }
-    fn holonomic_constraints(&self) -> usize {
-        4
     }
     fn constraints<S: Scalar>(&self, _t: S, q: &[S], phi: &mut [S]) {
         phi[0] = q[1].cos() - q[0].cos();
@@ -207,8 +197,18 @@ impl Mechanism for Parallelogram {
 
 fn redundant(case: &mut CaseBuilder) -> Result<(), crate::Error> {
     let model = Model::new(Parallelogram {
-        coordinates: [Coordinate::angle("q0"), Coordinate::angle("q1"), Coordinate::angle("q2")],
-        bodies: [Body::point("a", 1.0), Body::point("b", 2.0), Body::point("c", 0.5)],
+        description: Description::new()
+            .angle("q0")
+            .angle("q1")
+            .angle("q2")
+            .point("a", 1.0)
+            .point("b", 2.0)
+            .point("c", 0.5)
+            .gravity(9.81)
+            .constraint("Φ1")
+            .constraint("Φ2")
+            .constraint("Φ3")
+            .constraint("Φ4"),
     })?;
     let initial = State::new(0.0, [-0.8; 3], [1.5; 3]);
     let method = Method::Dopri5 { tol: Tolerances::uniform(1e-10) };

@@ -4,7 +4,7 @@
 use crate::test_support::{RodChain, assert_relative};
 use crate::tree::Tree;
 use crate::{
-    Body, Coordinate, Dynamics, Error, Loads, Mechanism, Method, Model, Output, Pose, Scalar, Stage, State, Tolerances,
+    Description, Dynamics, Error, Loads, Mechanism, Method, Model, Output, Pose, Scalar, Stage, State, Tolerances,
     accelerations, reaction_forces, simulate,
 };
 
@@ -14,8 +14,7 @@ const G: f64 = 9.81;
 /// applied force (`by_hand == false`) or as the hand-derived generalized force `Q = F r cos θ`.
 #[derive(Clone, Debug)]
 struct Pushed {
-    bodies: [Body; 1],
-    coordinates: [Coordinate; 1],
+    description: Description,
     r: f64,
     push: f64,
     by_hand: bool,
@@ -23,19 +22,13 @@ struct Pushed {
 
 impl Pushed {
     fn new(m: f64, r: f64, push: f64, by_hand: bool) -> Self {
-        Self { bodies: [Body::point("bob", m)], coordinates: [Coordinate::angle("θ")], r, push, by_hand }
+        Self { description: Description::new().angle("θ").point("bob", m).gravity(G), r, push, by_hand }
     }
 }
 
 impl Mechanism for Pushed {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        G
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
@@ -72,14 +65,8 @@ struct TippedRods {
 }
 
 impl Mechanism for TippedRods {
-    fn coordinates(&self) -> &[Coordinate] {
-        self.chain.coordinates()
-    }
-    fn bodies(&self) -> &[Body] {
-        self.chain.bodies()
-    }
-    fn gravity(&self) -> f64 {
-        self.chain.gravity()
+    fn description(&self) -> &Description {
+        self.chain.description()
     }
     fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
         self.chain.poses(t, q, p);
@@ -247,9 +234,12 @@ fn a_non_finite_applied_force_is_an_error_naming_its_stage() -> Result<(), Error
 
 /// A torque on a body the mechanism does not have.
 #[derive(Debug)]
-struct WrongBody;
+struct WrongBody(Description);
 
-impl crate::Poses for WrongBody {
+impl Mechanism for WrongBody {
+    fn description(&self) -> &Description {
+        &self.0
+    }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0].sin(), -q[0].cos());
     }
@@ -268,65 +258,20 @@ impl crate::Poses for WrongBody {
 
 #[test]
 fn an_applied_force_on_a_missing_body_is_a_construction_error() {
-    let error = Model::new(crate::Described::new(WrongBody).angle("θ").point("bob", 1.0)).unwrap_err();
+    let error = Model::new(WrongBody(Description::new().angle("θ").point("bob", 1.0))).unwrap_err();
     assert!(matches!(&error, Error::InvalidParameter { name, .. } if name == "applied force"), "{error}");
-}
-
-/// The pushed pendulum in the short form: the poses and the push, nothing else.
-struct PushedPoses {
-    r: f64,
-    push: f64,
-}
-
-impl crate::Poses for PushedPoses {
-    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
-        p[0] = Pose::point(q[0].sin() * self.r, -q[0].cos() * self.r);
-    }
-    fn applied_forces<S: Scalar>(
-        &self,
-        _t: S,
-        _q: &[S],
-        _qdot: &[S],
-        _p: &[Pose<S>],
-        loads: &mut Loads<'_, S>,
-    ) -> bool {
-        loads.force_at_centre(0, [S::from(self.push), S::zero()]);
-        true
-    }
-}
-
-#[test]
-fn the_short_form_gives_the_same_numbers_as_the_long_form() -> Result<(), Error> {
-    let (m, r, push) = (0.5, 1.2, 2.0);
-    let short = Model::new(crate::Described::new(PushedPoses { r, push }).angle("θ").point("bob", m).gravity(G))?;
-    let long = Model::new(Pushed::new(m, r, push, false))?;
-    assert_eq!(short.coordinates(), long.coordinates());
-    assert_eq!(short.mechanism().bodies(), long.mechanism().bodies());
-    assert!(short.has_applied_forces() && !short.has_potential() && !short.has_generalized_force());
-    let (mut ws, mut wl) = (short.workspace(), long.workspace());
-    let (q, qdot) = ([0.8], [-0.3]);
-    assert_eq!(accelerations(&short, &mut ws, 0.0, &q, &qdot)?, accelerations(&long, &mut wl, 0.0, &q, &qdot)?);
-    assert_eq!(reaction_forces(&short, &mut ws, 0.0, &q, &qdot)?, reaction_forces(&long, &mut wl, 0.0, &q, &qdot)?);
-    Ok(())
 }
 
 /// A block of mass `m` on a horizontal rail (`x`), pushed at a corner: constant `M`.
 #[derive(Debug)]
 struct PushedBlock {
-    bodies: [Body; 1],
-    coordinates: [Coordinate; 1],
+    description: Description,
     push: [f64; 2],
 }
 
 impl Mechanism for PushedBlock {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        G
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         p[0] = Pose::point(q[0], S::zero());
@@ -342,16 +287,13 @@ impl Mechanism for PushedBlock {
         loads.force(0, [S::from(0.3), S::from(0.2)], [S::from(self.push[0]), S::from(self.push[1])]);
         true
     }
-    fn constant_mass_matrix(&self) -> bool {
-        true
-    }
 }
 
 #[test]
 fn a_constant_mass_matrix_takes_applied_forces_too() -> Result<(), Error> {
     let (m, push) = (2.5, [1.5, 4.0]);
-    let model =
-        Model::new(PushedBlock { bodies: [Body::point("block", m)], coordinates: [Coordinate::length("x")], push })?;
+    let description = Description::new().length("x").point("block", m).gravity(G).with_constant_mass_matrix();
+    let model = Model::new(PushedBlock { description, push })?;
     assert!(model.has_constant_mass_matrix());
     let mut ws = model.workspace();
     assert_relative(accelerations(&model, &mut ws, 0.0, &[0.4], &[1.0])?[0], push[0] / m, 1e-15);

@@ -2,7 +2,7 @@
 
 use crate::test_support::{Range, Rng, RodChain, rng};
 use crate::tree::{Joint, Parent};
-use crate::{Body, Coordinate, Error, Mechanism, Model, Pose, Scalar, Tree, accelerations, mass_matrix};
+use crate::{Body, Description, Error, Mechanism, Model, Pose, Scalar, Tree, accelerations, mass_matrix};
 use lagrange_testing::{condition_number, max_abs};
 use num_dual::Dual64;
 
@@ -101,8 +101,7 @@ fn uniform_chains_match_the_generic_path_to_round_off() {
 /// on every coordinate and a drive torque on the pendulum.
 #[derive(Clone, Debug)]
 struct Crane {
-    bodies: Vec<Body>,
-    coordinates: Vec<Coordinate>,
+    description: Description,
     tree: Tree,
     rail: [f64; 2],
 }
@@ -126,7 +125,7 @@ impl Crane {
         ];
         let coordinates = joints.iter().map(|j| j.coordinate.clone()).collect();
         let tree = Tree::new(joints, bodies.clone(), 9.81).expect("valid tree");
-        Self { bodies, coordinates, tree, rail }
+        Self { description: Description { coordinates, bodies, gravity: 9.81, ..Description::default() }, tree, rail }
     }
 }
 
@@ -137,14 +136,8 @@ fn rotate<S: Scalar>(angle: S, x: f64, y: f64) -> (S, S) {
 }
 
 impl Mechanism for Crane {
-    fn coordinates(&self) -> &[Coordinate] {
-        &self.coordinates
-    }
-    fn bodies(&self) -> &[Body] {
-        &self.bodies
-    }
-    fn gravity(&self) -> f64 {
-        9.81
+    fn description(&self) -> &Description {
+        &self.description
     }
     fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
         // Trolley: anchor + x rail − child anchor, never turning.
@@ -202,7 +195,7 @@ fn a_branched_tree_with_every_joint_kind_a_potential_and_forces_matches_the_gene
 }
 
 fn check_derivative<M: Mechanism + Clone>(what: &str, mechanism: &M, rng: &mut Rng) {
-    let n = mechanism.coordinates().len();
+    let n = mechanism.description().coordinates.len();
     let (fast, generic) = (Model::new(mechanism.clone()).unwrap(), Model::new_generic(mechanism.clone()).unwrap());
     let (mut wt, mut wg) = (fast.workspace_in::<Dual64>(), generic.workspace_in::<Dual64>());
     let (q, qdot) = random_state(n, rng);
@@ -305,17 +298,17 @@ fn a_declared_tree_that_contradicts_the_mechanism_is_rejected() {
     let mut wrong_anchor = chain.clone();
     let mut joints = chain.tree.joints().to_vec();
     joints[1].parent_anchor = [0.0, -0.4];
-    wrong_anchor.tree = Tree::new(joints.clone(), chain.bodies.clone(), 9.81).unwrap();
+    wrong_anchor.tree = Tree::new(joints.clone(), chain.description.bodies.clone(), 9.81).unwrap();
     let mut relative = chain.clone();
     joints[1] = Joint::revolute("θ1", Parent::Body(0), [0.0, -0.5], [0.0, 0.25]);
-    relative.tree = Tree::new(joints, chain.bodies.clone(), 9.81).unwrap();
+    relative.tree = Tree::new(joints, chain.description.bodies.clone(), 9.81).unwrap();
     let mut heavier = chain.clone();
-    heavier.bodies[1].mass = 3.0;
+    heavier.description.bodies[1].mass = 3.0;
     let mut weaker = chain.clone();
-    weaker.g = 1.0;
+    weaker.description.gravity = 1.0;
     // The message names the body whose pose differs, and the component.
     let error = Model::new(wrong_anchor.clone()).unwrap_err().to_string();
-    let name = &chain.bodies[1].name;
+    let name = &chain.description.bodies[1].name;
     assert!(error.contains(&format!("pose of body `{name}` differs in ")), "{error}");
     assert!(["in x:", "in y:", "in angle:"].iter().any(|c| error.contains(c)), "{error}");
     for (what, mechanism) in [("anchor", wrong_anchor), ("relative angle", relative), ("mass", heavier), ("g", weaker)]
@@ -331,22 +324,13 @@ fn a_declared_tree_that_contradicts_the_mechanism_is_rejected() {
 #[test]
 fn a_constant_mass_matrix_takes_precedence_over_the_tree() {
     #[derive(Clone)]
-    struct Slider(Tree);
+    struct Slider(Tree, Description);
     impl Mechanism for Slider {
-        fn coordinates(&self) -> &[Coordinate] {
-            self.0.coordinates()
-        }
-        fn bodies(&self) -> &[Body] {
-            self.0.bodies()
-        }
-        fn gravity(&self) -> f64 {
-            self.0.gravity()
+        fn description(&self) -> &Description {
+            &self.1
         }
         fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
             self.0.poses(t, q, p)
-        }
-        fn constant_mass_matrix(&self) -> bool {
-            true
         }
         fn tree(&self) -> Option<&Tree> {
             Some(&self.0)
@@ -362,7 +346,8 @@ fn a_constant_mass_matrix_takes_precedence_over_the_tree() {
         9.81,
     )
     .unwrap();
-    let constant = Model::new(Slider(tree.clone())).unwrap();
+    let description = tree.description().clone().with_constant_mass_matrix();
+    let constant = Model::new(Slider(tree.clone(), description)).unwrap();
     assert!(constant.has_constant_mass_matrix() && !constant.uses_tree_path());
     let (fast, reference, kappa) = both_paths(&tree, 0.0, &[0.1, 0.2], &[0.3, -0.1]);
     assert_agree("slider", &fast, &reference, kappa);

@@ -2,8 +2,8 @@
 //! reports of every integrator.
 
 use super::{assert_order, final_state};
-use crate::dynamics::tests::WithoutJacobian;
 use crate::integrate::*;
+use crate::ode::tests::WithoutJacobian;
 use crate::test_support::{Spring, cart};
 use crate::{Error, Model, State};
 use lagrange_testing::max_abs_diff;

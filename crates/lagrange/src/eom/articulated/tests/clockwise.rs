@@ -4,7 +4,7 @@
 use super::{Crane, assert_agree, both_paths, random_state};
 use crate::test_support::{Range, rng};
 use crate::tree::{Joint, Tree};
-use crate::{Body, Coordinate, Mechanism, Model, Pose, Scalar, accelerations};
+use crate::{Description, Mechanism, Model, Pose, Scalar, accelerations};
 
 /// The crane in `q' = −q` for the coordinates in `FLIPPED` (x: the rail reversed; α, β, γ:
 /// the angles clockwise; s keeps its direction): poses, potential and forces are the crane's
@@ -32,20 +32,14 @@ impl Flipped {
             .zip(FLIPPED)
             .map(|(joint, f)| if f { joint.clone().clockwise() } else { joint.clone() })
             .collect();
-        let tree = Tree::new(joints, crane.bodies.clone(), 9.81).expect("valid tree");
+        let tree = Tree::new(joints, crane.description.bodies.clone(), 9.81).expect("valid tree");
         Self { crane, tree }
     }
 }
 
 impl Mechanism for Flipped {
-    fn coordinates(&self) -> &[Coordinate] {
-        self.crane.coordinates()
-    }
-    fn bodies(&self) -> &[Body] {
-        self.crane.bodies()
-    }
-    fn gravity(&self) -> f64 {
-        9.81
+    fn description(&self) -> &Description {
+        self.crane.description()
     }
     fn poses<S: Scalar>(&self, t: S, q: &[S], p: &mut [Pose<S>]) {
         self.crane.poses(t, &flip(q), p);

@@ -160,7 +160,7 @@ pub trait Dynamics: LagrangianFunction {
     }
 
     /// The name of constraint row `i` (holonomic rows first, then velocity rows) for messages:
-    /// [`Mechanism::constraint_name`](crate::Mechanism::constraint_name) for a body model.
+    /// [`Description::constraint_name`](crate::Description::constraint_name) for a body model.
     fn constraint_name(&self, i: usize) -> String {
         format!("constraint {}", i + 1)
     }
