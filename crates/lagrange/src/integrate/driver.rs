@@ -240,19 +240,7 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
     // A method that keeps the constraints itself is not projected: its state is its own.
     let project = constrained && !integrator.keeps_constraints();
     if let Some(dt) = integrator.fixed_step() {
-        for (index, &t_out) in times.iter().enumerate() {
-            let (whole, on_grid) = Grid::position(t0, dt, t_out);
-            if !on_grid && index + 1 != times.len() {
-                return Err(Error::InvalidSetting {
-                    what: "output time",
-                    value: t_out,
-                    why: "fixed-step output times must lie on the step grid t0 + k dt",
-                });
-            }
-            if whole > MAX_STEPS {
-                return Err(Error::TooManySteps { steps: MAX_STEPS, t: t0, t_end: t_out });
-            }
-        }
+        check_on_grid(t0, dt, &times)?;
     }
     let (mut q, mut qdot) = (vec![0.0; n], vec![0.0; n]);
     let mut steps = 0;
@@ -312,6 +300,25 @@ pub fn run<D: Dynamics, I: Integrator<D>, S: Sink + ?Sized>(
     let stats = integrator.stats();
     sink.finish(stats);
     Ok(stats)
+}
+
+/// A fixed-step run's output times: every one but the last on the grid `t0 + k dt`, none more
+/// than [`MAX_STEPS`] steps away.
+fn check_on_grid(t0: f64, dt: f64, times: &[f64]) -> Result<(), Error> {
+    for (index, &t_out) in times.iter().enumerate() {
+        let (whole, on_grid) = Grid::position(t0, dt, t_out);
+        if !on_grid && index + 1 != times.len() {
+            return Err(Error::InvalidSetting {
+                what: "output time",
+                value: t_out,
+                why: "fixed-step output times must lie on the step grid t0 + k dt",
+            });
+        }
+        if whole > MAX_STEPS {
+            return Err(Error::TooManySteps { steps: MAX_STEPS, t: t0, t_end: t_out });
+        }
+    }
+    Ok(())
 }
 
 /// An initial state must satisfy the constraints to `CONSISTENT_START` relative to its size:

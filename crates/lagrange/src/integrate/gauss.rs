@@ -321,6 +321,72 @@ impl Gauss4 {
         norm
     }
 
+    /// The accelerations at both stage values `(q + Z_q, q̇ + Z_v)` into `accel`:
+    /// `Ok(Err(why))` for a non-finite stage value or acceleration, `Err` for other errors of
+    /// the equations of motion.
+    fn stage_accelerations<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        state: &State,
+        h: f64,
+    ) -> Result<Result<(), Failure>, Error> {
+        let n = self.n;
+        for s in 0..2 {
+            for i in 0..n {
+                self.q_stage[i] = state.q[i] + self.zq[s * n + i];
+                self.v_stage[i] = state.qdot[i] + self.zv[s * n + i];
+            }
+            if let Some(quantity) = non_finite_quantity(system.coordinates(), &self.q_stage, &self.v_stage) {
+                return Ok(Err(Failure::NonFinite(quantity)));
+            }
+            self.stats.evaluations += 1;
+            let accel = &mut self.accel[s * n..(s + 1) * n];
+            match system.accelerations(ws, state.t + C[s] * h, &self.q_stage, &self.v_stage, accel) {
+                Ok(()) => {}
+                Err(Error::NonFinite { stage, q, .. }) => {
+                    return Ok(Err(Failure::NonFinite(format!("non-finite {stage} at q = {q:?}"))));
+                }
+                Err(other) => return Err(other),
+            }
+        }
+        Ok(Ok(()))
+    }
+
+    /// The stage residuals `r = h (A ⊗ I) f(Y) − Z` into `rq`, `rv`.
+    fn residuals(&mut self, state: &State, h: f64) {
+        let n = self.n;
+        for s in 0..2 {
+            for i in 0..n {
+                let (mut fq, mut fv) = (0.0, 0.0);
+                for j in 0..2 {
+                    fq += A[s * 2 + j] * (state.qdot[i] + self.zv[j * n + i]);
+                    fv += A[s * 2 + j] * self.accel[j * n + i];
+                }
+                self.rq[s * n + i] = h * fq - self.zq[s * n + i];
+                self.rv[s * n + i] = h * fv - self.zv[s * n + i];
+            }
+        }
+    }
+
+    /// Add the Newton update (`rq`, `rv`) to the stage increments; returns the size of the
+    /// update relative to the stage values.
+    fn apply_update(&mut self, state: &State) -> f64 {
+        let n = self.n;
+        let mut norm: f64 = 0.0;
+        for s in 0..2 {
+            for i in 0..n {
+                let k = s * n + i;
+                self.zq[k] += self.rq[k];
+                self.zv[k] += self.rv[k];
+                let scale_q = (state.q[i].abs() + self.zq[k].abs()).max(f64::MIN_POSITIVE);
+                let scale_v = (state.qdot[i].abs() + self.zv[k].abs()).max(f64::MIN_POSITIVE);
+                norm = norm.max(self.rq[k].abs() / scale_q).max(self.rv[k].abs() / scale_v);
+            }
+        }
+        norm
+    }
+
     /// Simplified Newton on the stage equations to round-off: `Ok(Ok(θ_max))` on convergence,
     /// `Ok(Err(why))` on failure, `Err` for errors of the equations of motion other than
     /// non-finite values.
@@ -331,7 +397,6 @@ impl Gauss4 {
         state: &State,
         h: f64,
     ) -> Result<Result<f64, Failure>, Error> {
-        let n = self.n;
         // Scaled update of the last iteration, the best so far, and the iterations since it.
         let (mut previous, mut best, mut since_best) = (f64::NAN, f64::INFINITY, 0);
         let mut theta_max: f64 = 0.0;
@@ -340,50 +405,12 @@ impl Gauss4 {
         let mut last = f64::INFINITY;
         for iteration in 1..=NEWTON_MAX_ITERATIONS {
             self.stats.newton_iterations += 1;
-            // Accelerations at both stage values.
-            for s in 0..2 {
-                for i in 0..n {
-                    self.q_stage[i] = state.q[i] + self.zq[s * n + i];
-                    self.v_stage[i] = state.qdot[i] + self.zv[s * n + i];
-                }
-                if let Some(quantity) = non_finite_quantity(system.coordinates(), &self.q_stage, &self.v_stage) {
-                    return Ok(Err(Failure::NonFinite(quantity)));
-                }
-                self.stats.evaluations += 1;
-                let accel = &mut self.accel[s * n..(s + 1) * n];
-                match system.accelerations(ws, state.t + C[s] * h, &self.q_stage, &self.v_stage, accel) {
-                    Ok(()) => {}
-                    Err(Error::NonFinite { stage, q, .. }) => {
-                        return Ok(Err(Failure::NonFinite(format!("non-finite {stage} at q = {q:?}"))));
-                    }
-                    Err(other) => return Err(other),
-                }
+            if let Err(why) = self.stage_accelerations(system, ws, state, h)? {
+                return Ok(Err(why));
             }
-            // Residuals r = h (A ⊗ I) f(Y) − Z, solved for the update.
-            for s in 0..2 {
-                for i in 0..n {
-                    let (mut fq, mut fv) = (0.0, 0.0);
-                    for j in 0..2 {
-                        fq += A[s * 2 + j] * (state.qdot[i] + self.zv[j * n + i]);
-                        fv += A[s * 2 + j] * self.accel[j * n + i];
-                    }
-                    self.rq[s * n + i] = h * fq - self.zq[s * n + i];
-                    self.rv[s * n + i] = h * fv - self.zv[s * n + i];
-                }
-            }
+            self.residuals(state, h);
             self.newton.solve(h, &A, &mut self.rq, &mut self.rv);
-            // Apply; the size of the update relative to the stage values.
-            let mut norm: f64 = 0.0;
-            for s in 0..2 {
-                for i in 0..n {
-                    let k = s * n + i;
-                    self.zq[k] += self.rq[k];
-                    self.zv[k] += self.rv[k];
-                    let scale_q = (state.q[i].abs() + self.zq[k].abs()).max(f64::MIN_POSITIVE);
-                    let scale_v = (state.qdot[i].abs() + self.zv[k].abs()).max(f64::MIN_POSITIVE);
-                    norm = norm.max(self.rq[k].abs() / scale_q).max(self.rv[k].abs() / scale_v);
-                }
-            }
+            let norm = self.apply_update(state);
             if !norm.is_finite() {
                 return Ok(Err(Failure::NonFinite("a non-finite Newton update".into())));
             }

@@ -324,7 +324,7 @@ impl Sdirk4 {
         ws: &mut D::Workspace,
         h: f64,
     ) -> Result<Result<f64, Failure>, Error> {
-        let (n, n2) = (self.n, 2 * self.n);
+        let n2 = 2 * self.n;
         for i in 0..n2 {
             self.scale[i] = self.tol.atol + self.tol.rtol * self.y[i].abs();
         }
@@ -339,66 +339,9 @@ impl Sdirk4 {
                 }
             }
             self.predict(stage, h);
-            // Simplified Newton on G(Z) = Z − explicit − γh f(t + c_i h, y + Z) = 0.
             let t_stage = self.t + C[stage] * h;
-            let mut previous_norm = f64::NAN;
-            let mut converged = false;
-            for iteration in 1..=NEWTON_MAX_ITERATIONS {
-                self.stats.newton_iterations += 1;
-                for i in 0..n2 {
-                    self.y_stage[i] = self.y[i] + self.z[i];
-                }
-                if let Some(quantity) =
-                    non_finite_quantity(system.coordinates(), &self.y_stage[..n], &self.y_stage[n..])
-                {
-                    return Ok(Err(Failure::NonFinite(quantity)));
-                }
-                self.stats.evaluations += 1;
-                match rhs(system, ws, n, t_stage, &self.y_stage, &mut self.f_stage) {
-                    Ok(()) => {}
-                    Err(Error::NonFinite { stage, q, .. }) => {
-                        return Ok(Err(Failure::NonFinite(format!("non-finite {stage} at q = {q:?}"))));
-                    }
-                    Err(other) => return Err(other),
-                }
-                for i in 0..n2 {
-                    self.update[i] = self.explicit[i] + GAMMA * h * self.f_stage[i] - self.z[i];
-                }
-                let (rq, rv) = self.update.split_at_mut(n);
-                self.newton.solve(h, &[GAMMA], rq, rv);
-                let mut norm = 0.0;
-                for i in 0..n2 {
-                    self.z[i] += self.update[i];
-                    norm += (self.update[i] / self.scale[i]).powi(2);
-                }
-                let norm = (norm / n2 as f64).sqrt();
-                if !norm.is_finite() {
-                    return Ok(Err(Failure::NonFinite("a non-finite Newton update".into())));
-                }
-                // Convergence test (Hairer): η ‖δ‖ ≤ κ with η = θ/(1 − θ), or the remembered
-                // η^0.8 on the first iteration; give up when diverging or too slow to make it.
-                if iteration > 1 {
-                    let theta = norm / previous_norm;
-                    theta_max = theta_max.max(theta);
-                    if theta >= NEWTON_DIVERGING {
-                        return Ok(Err(Failure::Newton(iteration, Some(norm))));
-                    }
-                    let remaining = (NEWTON_MAX_ITERATIONS - iteration) as i32;
-                    if theta.powi(remaining) / (1.0 - theta) * norm > self.newton_tolerance {
-                        return Ok(Err(Failure::Newton(iteration, Some(norm))));
-                    }
-                    self.eta = theta / (1.0 - theta);
-                } else {
-                    self.eta = self.eta.max(f64::EPSILON).powf(0.8);
-                }
-                if self.eta * norm <= self.newton_tolerance || norm == 0.0 {
-                    converged = true;
-                    break;
-                }
-                previous_norm = norm;
-            }
-            if !converged {
-                return Ok(Err(Failure::Newton(NEWTON_MAX_ITERATIONS, Some(previous_norm))));
+            if let Err(why) = self.stage_newton(system, ws, t_stage, h, &mut theta_max)? {
+                return Ok(Err(why));
             }
             // F_i = (Z − explicit) / (γh): the stage derivative the converged Z implies.
             for i in 0..n2 {
@@ -406,6 +349,78 @@ impl Sdirk4 {
             }
         }
         Ok(Ok(theta_max))
+    }
+
+    /// Simplified Newton on one stage, `G(Z) = Z − explicit − γh f(t_stage, y + Z) = 0`, from
+    /// the predicted `Z`; the largest contraction rate seen goes into `theta_max`. `Ok(Err(why))`
+    /// when Newton failed, `Err` for errors of the equations of motion.
+    fn stage_newton<D: Dynamics>(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        t_stage: f64,
+        h: f64,
+        theta_max: &mut f64,
+    ) -> Result<Result<(), Failure>, Error> {
+        let (n, n2) = (self.n, 2 * self.n);
+        let mut previous_norm = f64::NAN;
+        let mut converged = false;
+        for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
+            for i in 0..n2 {
+                self.y_stage[i] = self.y[i] + self.z[i];
+            }
+            if let Some(quantity) = non_finite_quantity(system.coordinates(), &self.y_stage[..n], &self.y_stage[n..]) {
+                return Ok(Err(Failure::NonFinite(quantity)));
+            }
+            self.stats.evaluations += 1;
+            match rhs(system, ws, n, t_stage, &self.y_stage, &mut self.f_stage) {
+                Ok(()) => {}
+                Err(Error::NonFinite { stage, q, .. }) => {
+                    return Ok(Err(Failure::NonFinite(format!("non-finite {stage} at q = {q:?}"))));
+                }
+                Err(other) => return Err(other),
+            }
+            for i in 0..n2 {
+                self.update[i] = self.explicit[i] + GAMMA * h * self.f_stage[i] - self.z[i];
+            }
+            let (rq, rv) = self.update.split_at_mut(n);
+            self.newton.solve(h, &[GAMMA], rq, rv);
+            let mut norm = 0.0;
+            for i in 0..n2 {
+                self.z[i] += self.update[i];
+                norm += (self.update[i] / self.scale[i]).powi(2);
+            }
+            let norm = (norm / n2 as f64).sqrt();
+            if !norm.is_finite() {
+                return Ok(Err(Failure::NonFinite("a non-finite Newton update".into())));
+            }
+            // Convergence test (Hairer): η ‖δ‖ ≤ κ with η = θ/(1 − θ), or the remembered
+            // η^0.8 on the first iteration; give up when diverging or too slow to make it.
+            if iteration > 1 {
+                let theta = norm / previous_norm;
+                *theta_max = theta_max.max(theta);
+                if theta >= NEWTON_DIVERGING {
+                    return Ok(Err(Failure::Newton(iteration, Some(norm))));
+                }
+                let remaining = (NEWTON_MAX_ITERATIONS - iteration) as i32;
+                if theta.powi(remaining) / (1.0 - theta) * norm > self.newton_tolerance {
+                    return Ok(Err(Failure::Newton(iteration, Some(norm))));
+                }
+                self.eta = theta / (1.0 - theta);
+            } else {
+                self.eta = self.eta.max(f64::EPSILON).powf(0.8);
+            }
+            if self.eta * norm <= self.newton_tolerance || norm == 0.0 {
+                converged = true;
+                break;
+            }
+            previous_norm = norm;
+        }
+        if !converged {
+            return Ok(Err(Failure::Newton(NEWTON_MAX_ITERATIONS, Some(previous_norm))));
+        }
+        Ok(Ok(()))
     }
 
     /// Starting value of stage `Z`: the cubic Hermite interpolant of the last step (through
