@@ -95,10 +95,7 @@ fn main() {
         }
     }
     criterion.final_summary();
-    println!(
-        "\n| scene | q̈ + λ (engine) | hand-coded KKT | engine / hand-coded | RK4 step + projection | adaptive step + projection |"
-    );
-    println!("|---|---|---|---|---|---|");
+    lagrange_benches::tables::print_header(lagrange_benches::tables::CONSTRAINTS);
     for id in ids {
         let get = |bench| mean_ns(id, bench);
         let cell = |v: Option<f64>| v.map_or("—".to_string(), format_ns);

@@ -77,8 +77,7 @@ fn main() {
     }
     criterion.final_summary();
     // The table: engine / closed form, side by side from this run.
-    println!("\n| scene | n | engine q̈ | hand-coded q̈ | ratio | raw-Lagrangian q̈ | RK4 step |");
-    println!("|---|---|---|---|---|---|---|");
+    lagrange_benches::tables::print_header(lagrange_benches::tables::EOM);
     for id in ids {
         let n = lagrange_scenes::find(id).and_then(|s| s.coordinates(&s.default_params()).ok()).map_or(0, |c| c.len());
         let get = |bench| mean_ns(id, bench);

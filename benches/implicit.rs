@@ -131,8 +131,7 @@ fn main() {
     stiff_runs(&mut criterion);
     criterion.final_summary();
 
-    println!("\n| scene | RK4 step | Gauss4 step | Gauss4 / RK4 | AD Jacobian ∂q̈/∂(q, q̇) |");
-    println!("|---|---|---|---|---|");
+    lagrange_benches::tables::print_header(lagrange_benches::tables::IMPLICIT_STEP);
     for id in ids {
         let group = format!("implicit_{id}");
         let get = |bench| mean_ns(&group, bench);
@@ -143,8 +142,7 @@ fn main() {
             _ => println!("| {id} | (not measured in this run) | | | |"),
         }
     }
-    println!("\n| stiff run | SDIRK4 | Dormand–Prince 5(4) | Dormand–Prince / SDIRK4 |");
-    println!("|---|---|---|---|");
+    lagrange_benches::tables::print_header(lagrange_benches::tables::IMPLICIT_STIFF);
     for case in &STIFF {
         match (mean_ns(case.group, "sdirk4"), mean_ns(case.group, "dopri5")) {
             (Some(s), Some(d)) => {

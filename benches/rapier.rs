@@ -58,8 +58,7 @@ fn main() {
         rows.push((id, reasons));
     }
     criterion.final_summary();
-    println!("\n| scene | reduced RK4 step | rapier impulse | rapier multibody | impulse f32 | multibody f32 |");
-    println!("|---|---|---|---|---|---|");
+    lagrange_benches::tables::print_header(lagrange_benches::tables::RAPIER);
     for (id, reasons) in rows {
         let mut cells = vec![mean_ns(id, "reduced_rk4").map_or("—".into(), format_ns)];
         for (engine, reason) in Engine::ALL[1..].iter().zip(&reasons) {

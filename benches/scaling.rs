@@ -55,10 +55,7 @@ fn main() {
         g.finish();
     }
     criterion.final_summary();
-    println!(
-        "\n| N | reduced q̈ | graph q̈ | reduced RK4 step | graph RK4 step | rapier multibody step | rapier impulse step | RK4 / impulse | graph / hand RK4 |"
-    );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    lagrange_benches::tables::print_header(lagrange_benches::tables::SCALING);
     for n in LINKS {
         let group = format!("chain_{n}");
         let get = |bench| mean_ns(&group, bench);

@@ -22,7 +22,7 @@ use std::hint::black_box;
 const SIZES: [usize; 5] = [2, 8, 20, 40, 80];
 
 /// Tolerance of the simulated second.
-const TOLERANCE: f64 = 1e-9;
+const TOLERANCE: f64 = lagrange_benches::tables::SINGULAR_TOLERANCE;
 
 /// The whole run: windows, length (s), output times, DOP853's tolerance.
 const WHOLE: (usize, f64, usize, f64) = (40, 20.0, 400, 1e-8);
@@ -85,10 +85,7 @@ fn main() {
     let run = lagrange::simulate(&model, &start, length, method, &Output::Times(times.clone())).expect("runs");
     let whole_error = (0..run.len()).map(|i| tip_error(&scene, &start, run.t[i], run.q(i)[0])).fold(0.0, f64::max);
     criterion.final_summary();
-    println!(
-        "\n| N | q̈ | ratio to N = 8 | Model::new | ratio to N = 8 | 1 s at tol {TOLERANCE:.0e} | crank-tip error |"
-    );
-    println!("|---|---|---|---|---|---|---|");
+    lagrange_benches::tables::print_header(&lagrange_benches::tables::singular());
     let get = |windows: usize, bench: &str| mean_ns(&format!("parallelogram_chain_{windows}"), bench);
     let ratio = |windows: usize, bench: &str| match (get(windows, bench), get(8, bench)) {
         (Some(a), Some(b)) => format!("{:.1}×", a / b),
@@ -125,8 +122,7 @@ fn conditioning() {
         seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
         (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
     };
-    println!("\n| δ (rad from flat) | q̈ error on the branch | q̈ error after 1e-12 off and projected |");
-    println!("|---|---|---|");
+    lagrange_benches::tables::print_header(lagrange_benches::tables::SINGULAR_FLAT);
     for e in 1..=6 {
         let delta = 10f64.powi(-e);
         let state = scene.state_at(0.0, delta, 6.0);

@@ -83,3 +83,104 @@ pub fn bench_advance(
         })
     });
 }
+
+/// The columns of every table the benches print, which the README's performance section
+/// reproduces: one definition, read by the benches when they print and by the test that checks
+/// the README's tables against them (the numbers come from a run: `benches/run-all`).
+pub mod tables {
+    /// `--bench eom`: the engine's `q̈` beside the hand-coded one.
+    pub const EOM: &[&str] = &["scene", "n", "engine q̈", "hand-coded q̈", "ratio", "raw-Lagrangian q̈", "RK4 step"];
+    /// `--bench constraints`: the constrained `q̈` with its multipliers.
+    pub const CONSTRAINTS: &[&str] = &[
+        "scene",
+        "q̈ + λ (engine)",
+        "hand-coded KKT",
+        "engine / hand-coded",
+        "RK4 step + projection",
+        "adaptive step + projection",
+    ];
+    /// `--bench rapier`: one step of every scene, ours and rapier's.
+    pub const RAPIER: &[&str] =
+        &["scene", "reduced RK4 step", "rapier impulse", "rapier multibody", "impulse f32", "multibody f32"];
+    /// `--bench implicit`, first table: one Gauss4 step and the AD Jacobian beside RK4.
+    pub const IMPLICIT_STEP: &[&str] = &["scene", "RK4 step", "Gauss4 step", "Gauss4 / RK4", "AD Jacobian ∂q̈/∂(q, q̇)"];
+    /// `--bench implicit`, second table: whole stiff runs.
+    pub const IMPLICIT_STIFF: &[&str] = &["stiff run", "SDIRK4", "Dormand–Prince 5(4)", "Dormand–Prince / SDIRK4"];
+    /// `--bench scaling`: chains of `N` links.
+    pub const SCALING: &[&str] = &[
+        "N",
+        "reduced q̈",
+        "graph q̈",
+        "reduced RK4 step",
+        "graph RK4 step",
+        "rapier multibody step",
+        "rapier impulse step",
+        "RK4 / impulse",
+        "graph / hand RK4",
+    ];
+    /// `--bench singular`: the tolerance of the simulated second of its first table.
+    pub const SINGULAR_TOLERANCE: f64 = 1e-9;
+    /// `--bench singular`, first table: the parallelogram chain against `N`.
+    pub fn singular() -> Vec<String> {
+        let run = format!("1 s at tol {SINGULAR_TOLERANCE:.0e}");
+        ["N", "q̈", "ratio to N = 8", "Model::new", "ratio to N = 8", &run, "crank-tip error"]
+            .iter()
+            .map(|c| c.to_string())
+            .collect()
+    }
+    /// `--bench singular`, second table: `q̈` near the flat position.
+    pub const SINGULAR_FLAT: &[&str] =
+        &["δ (rad from flat)", "q̈ error on the branch", "q̈ error after 1e-12 off and projected"];
+
+    /// The header and separator lines of a markdown table with `columns`.
+    pub fn header<S: AsRef<str>>(columns: &[S]) -> String {
+        let names: Vec<&str> = columns.iter().map(AsRef::as_ref).collect();
+        format!("| {} |\n|{}", names.join(" | "), "---|".repeat(names.len()))
+    }
+
+    /// Print a table's header and separator, after a blank line.
+    pub fn print_header<S: AsRef<str>>(columns: &[S]) {
+        println!("\n{}", header(columns));
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+
+        /// Every table of the README's performance section has the columns of a table a bench
+        /// prints (so a number pasted from a run lands under the right heading), and each of
+        /// its rows has as many cells.
+        #[test]
+        fn the_readme_tables_have_the_benches_columns() {
+            let readme = include_str!("../../README.md");
+            let start = readme.find("\n## Performance\n").expect("the README has a performance section");
+            let end = readme[start + 1..].find("\n## ").map_or(readme.len(), |i| start + 1 + i);
+            let section = &readme[start..end];
+            let known: Vec<String> = [EOM, CONSTRAINTS, RAPIER, IMPLICIT_STEP, IMPLICIT_STIFF, SCALING, SINGULAR_FLAT]
+                .iter()
+                .map(|columns| header(columns))
+                .chain([header(&singular())])
+                .collect();
+            let lines: Vec<&str> = section.lines().collect();
+            let mut tables = 0;
+            let mut i = 0;
+            while i < lines.len() {
+                if !lines[i].starts_with('|') {
+                    i += 1;
+                    continue;
+                }
+                let head = format!("{}\n{}", lines[i], lines.get(i + 1).copied().unwrap_or(""));
+                assert!(known.contains(&head), "a README table with columns no bench prints:\n{head}");
+                let cells = lines[i].matches('|').count();
+                i += 2;
+                while i < lines.len() && lines[i].starts_with('|') {
+                    assert_eq!(lines[i].matches('|').count(), cells, "row of the wrong width: {}", lines[i]);
+                    i += 1;
+                }
+                tables += 1;
+            }
+            // eom, constraints, rapier, implicit (two), scaling, singular.
+            assert!(tables >= 7, "{tables} tables in the performance section");
+        }
+    }
+}
