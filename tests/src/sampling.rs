@@ -88,7 +88,8 @@ pub fn extreme_params(scene: &dyn Scene) -> Vec<(String, Params)> {
 
 /// A random state: angles anywhere, with every fourth state putting them at the extremes
 /// 1e-8 and π/2 − 1e-8; lengths as offsets from the default state (so that radii stay
-/// positive); velocities in ±3. A constrained scene's state is drawn by [`constrained_state`].
+/// positive); velocities in ±3. A constrained scene's state is the default state moved at
+/// random and brought onto the constraints by the smallest change.
 pub fn state(scene: &dyn Scene, params: &Params, rng: &mut impl Rng, index: usize) -> State {
     let default = scene.default_state(params).expect("valid parameters");
     let coordinates = scene.coordinates(params).expect("valid parameters");

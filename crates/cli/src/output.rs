@@ -1,6 +1,6 @@
 //! Standard output and the messages of every command, in one place.
 //!
-//! Every command writes its results through [`outln!`] and [`out!`] (or [`print`]): a write that
+//! Every command writes its results through [`outln!`] and [`out!`] (or [`print`](fn@print)): a write that
 //! fails becomes [`CliError::Stdout`] instead of the panic of `println!`. `main` then ends a
 //! run whose reader went away (a closed pipe, `lagrange compare … | head -1`) quietly with exit
 //! 0, as the usual Unix tools do ([`is_closed_pipe`]), and reports any other failure (a full

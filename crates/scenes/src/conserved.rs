@@ -28,7 +28,7 @@ pub enum Invariant {
 type Value = Box<dyn Fn(f64, &[f64], &[f64]) -> f64 + Send + Sync>;
 
 /// A constant of the motion of a scene with given parameters, in closed form
-/// ([`SceneType::conserved`], [`Scene::conserved_quantities`](crate::Scene::conserved_quantities)).
+/// ([`SceneType::conserves_energy`], [`Scene::conserved_quantities`](crate::Scene::conserved_quantities)).
 pub struct Conserved {
     /// Its symbol (`E`, `p_X`, `A_x`, `p_x − F_x t`), as in docs/scenes.md.
     pub symbol: String,

@@ -13,15 +13,15 @@
 //!
 //! with `M = diag(m_b, m_b, I_b)` (zero entries allowed: massless pulleys and the orientation
 //! of point masses are fixed by constraints), `F` = gravity `(0, −m_b g, 0)` + the scene
-//! potential's forces `−∂V/∂p_b` ([`maps::ReadBack::potential`]) + the scene's
+//! potential's forces `−∂V/∂p_b` ([`ReadBack::potential`](crate::maps::ReadBack::potential)) + the scene's
 //! non-conservative forces in Cartesian form (the oscillator's damping `−c ẋ`, the charged
 //! particle's Lorentz force `e B (ẏ, −ẋ)`). `Φ_z` comes from first-order dual passes over the
 //! coordinates of the bodies each constraint touches, `γ_Φ` from one second-order dual pass
 //! along `(ż, 1)`. Velocity constraints `A(z) ż = 0` (the sleigh's knife edge, the disc's rolling
 //! contact) join `Φ_z` as further rows, with the convective term `(∂(A ż)/∂z) ż` from one
 //! first-order dual pass. Nothing of the reduced solver's equations of motion is used: the
-//! reduced model enters only through the initial body states ([`maps::ReadBack::body_states`]), the masses
-//! and inertias ([`maps::ReadBack::bodies`]) and the scene potential.
+//! reduced model enters only through the initial body states ([`ReadBack::body_states`](crate::maps::ReadBack::body_states)), the masses
+//! and inertias ([`ReadBack::bodies`](crate::maps::ReadBack::bodies)) and the scene potential.
 //!
 //! The KKT system `[[M, Φ_zᵀ], [Φ_z, 0]] (z̈, λ) = (F, −γ_Φ)` is solved by the Schur complement
 //! on the block-diagonal mass matrix, `S λ = Φ_z M⁻¹ F + γ_Φ` with `S = Φ_z M⁻¹ Φ_zᵀ` sparse
