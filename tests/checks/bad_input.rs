@@ -1,6 +1,7 @@
 //! Bad input gets a typed error naming what is wrong — never a panic, never a NaN.
 
-use lagrange::{Description, Error, Mechanism, Method, Model, Output, Pose, Scalar, Stage, State, Tolerances};
+use lagrange::error::Stage;
+use lagrange::{Description, Error, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances};
 use lagrange_scenes::{Domain, all, find};
 
 #[test]

@@ -1,4 +1,5 @@
-//! Typed errors: bad input, singular configurations, diverging integrations.
+//! Typed errors: bad input, singular configurations, diverging integrations — [`Error`] (also
+//! at the crate root) and the details some of its variants carry ([`Stage`], [`Derived`]).
 
 use crate::scalar::Scalar;
 use std::fmt;

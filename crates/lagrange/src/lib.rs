@@ -248,7 +248,7 @@
 
 // Modules from the bottom layer up; a module uses only modules of its layer or below
 // (checked by the `layering` test of `lagrange-tests`).
-mod error;
+pub mod error;
 mod linalg;
 mod pose;
 mod scalar;
@@ -315,7 +315,13 @@ pub use eom::equations::{Equations, accelerations, energy_function, lagrangian, 
 pub use eom::point::{PointMotion, point_motion};
 pub use eom::raw::{RawModel, RawWorkspace};
 pub use eom::reactions::reaction_forces;
-pub use error::{Derived, Error, Stage};
+pub use error::Error;
+/// Former path of [`error::Derived`].
+#[deprecated(since = "0.1.0", note = "moved to lagrange::error::Derived")]
+pub type Derived = error::Derived;
+/// Former path of [`error::Stage`].
+#[deprecated(since = "0.1.0", note = "moved to lagrange::error::Stage")]
+pub type Stage = error::Stage;
 pub use integrate::{Method, Output, Tolerances, Trajectory, simulate};
 pub use mechanism::{
     Body, Bounds, Coordinate, CoordinateKind, Description, Lagrangian, LagrangianFunction, Loads, Mechanism, Side,

@@ -242,14 +242,9 @@ mod tests {
         let s = chain(3);
         let names: Vec<&str> = s.description().coordinates.iter().map(|c| c.name.as_str()).collect();
         assert_eq!(names, ["θ0", "φ0", "θ1", "φ1", "θ2", "φ2", "θ3"]);
-        let closing: Vec<&str> = s
-            .mechanism
-            .joints()
-            .iter()
-            .zip(&s.mechanism.graph().joints)
-            .filter(|(resolved, _)| !resolved.tree)
-            .map(|(_, joint)| joint.name.as_str())
-            .collect();
+        let joints = &s.mechanism.graph().joints;
+        let closing: Vec<&str> =
+            (0..joints.len()).filter(|&j| !s.mechanism.in_tree(j)).map(|j| joints[j].name.as_str()).collect();
         assert_eq!(closing, ["B1", "B2", "B3"]);
         assert_eq!(s.description().constraints.len(), 6);
         let bodies: Vec<&str> = s.description().bodies.iter().map(|b| b.name.as_str()).collect();

@@ -263,8 +263,8 @@ pub fn momenta<'w, E: Equations, S: Scalar>(
 /// `Q = 0`, and in general `dh/dt = Q·q̇ − ∂L/∂t`.
 ///
 /// # Errors
-/// As [`momenta`]; [`Error::NonFinite`] (stage [`Potential`](crate::Stage::Potential) or
-/// [`Lagrangian`](crate::Stage::Lagrangian)) for an energy that is not finite here.
+/// As [`momenta`]; [`Error::NonFinite`] (stage [`Potential`](crate::error::Stage::Potential) or
+/// [`Lagrangian`](crate::error::Stage::Lagrangian)) for an energy that is not finite here.
 pub fn energy_function<E: Equations, S: Scalar>(
     model: &E,
     ws: &mut E::Workspace<S>,

@@ -82,6 +82,6 @@ pub fn point_motion<M: Mechanism>(
     if values.iter().flatten().all(|v| v.is_finite()) {
         Ok(motion)
     } else {
-        Err(crate::eom::non_finite(crate::Stage::Kinematics, t, q))
+        Err(crate::eom::non_finite(crate::error::Stage::Kinematics, t, q))
     }
 }

@@ -19,7 +19,7 @@ const SHAPE_TOLERANCE: f64 = 1e-12;
 
 /// What sets a tree joint's value.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum JointValue {
+pub(crate) enum JointValue {
     /// Generalized coordinate `q_i`.
     Coordinate(usize),
     /// A prescribed function of time.
@@ -39,7 +39,7 @@ pub enum JointValue {
 
 /// A joint of the graph as the reduced model resolved it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ResolvedJoint {
+pub(crate) struct ResolvedJoint {
     /// The parent body's index (`None`: the ground).
     pub parent: Option<usize>,
     /// The child body's index (`None`: the ground).
@@ -245,8 +245,49 @@ impl GraphMechanism {
     }
 
     /// Every joint as resolved, in the description's order.
-    pub fn joints(&self) -> &[ResolvedJoint] {
+    pub(crate) fn joints(&self) -> &[ResolvedJoint] {
         &self.joints
+    }
+
+    /// The bodies joint `j` connects, `(parent, child)`, as indices (`None`: the ground).
+    pub fn joint_ends(&self, j: usize) -> (Option<usize>, Option<usize>) {
+        (self.joints[j].parent, self.joints[j].child)
+    }
+
+    /// Whether joint `j` belongs to the spanning tree; otherwise it closes a loop, with
+    /// constraint rows of its own.
+    pub fn in_tree(&self, j: usize) -> bool {
+        self.joints[j].tree
+    }
+
+    /// Whether tree joint `j` runs backwards: it hangs its parent from its child, the child
+    /// being nearer the ground.
+    pub fn is_reversed(&self, j: usize) -> bool {
+        self.joints[j].reversed
+    }
+
+    /// The body tree joint `j` places: its child, or its parent when it runs backwards
+    /// ([`is_reversed`](Self::is_reversed)); `None` for the ground.
+    pub fn placed_body(&self, j: usize) -> Option<usize> {
+        let joint = &self.joints[j];
+        if joint.reversed { joint.parent } else { joint.child }
+    }
+
+    /// The prescribed motion of joint `j`, when a drive sets it.
+    pub fn drive(&self, j: usize) -> Option<Profile> {
+        match self.joints[j].value {
+            JointValue::Driven(profile) => Some(profile),
+            _ => None,
+        }
+    }
+
+    /// The coupling of joint `j`, `(source joint, ratio)`: its value is `ratio` times the
+    /// source's plus an offset (a gear, a pulley).
+    pub fn coupling(&self, j: usize) -> Option<(usize, f64)> {
+        match self.joints[j].value {
+            JointValue::Coupled { source, ratio, .. } => Some((source, ratio)),
+            _ => None,
+        }
     }
 
     /// The joint of each coordinate.

@@ -58,7 +58,7 @@ mod tests;
 pub use description::{
     Coupling, ForceElement, GROUND, GraphBody, GraphJoint, JointGraph, JointType, Point, Profile, Role, Shape,
 };
-pub use mechanism::{GraphMechanism, JointValue, ResolvedJoint};
+pub use mechanism::GraphMechanism;
 
 use crate::Error;
 

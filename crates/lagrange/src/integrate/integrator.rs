@@ -245,7 +245,7 @@ pub(crate) fn diverged<D: Dynamics>(system: &D, error: Error, t: f64, step: usiz
         Error::NonFinite { stage, q, .. } => {
             let quantity = match non_finite_quantity(system.coordinates(), &q, &[]) {
                 Some(named) => format!("{named} within the step"),
-                None if stage == crate::Stage::State => "q̇ non-finite within the step".to_string(),
+                None if stage == crate::error::Stage::State => "q̇ non-finite within the step".to_string(),
                 None => format!("non-finite {stage} at q = {q:?} within the step"),
             };
             Error::Diverged { t, step, quantity }

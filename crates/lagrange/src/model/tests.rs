@@ -1,7 +1,8 @@
 //! Construction turns silent wrong answers into typed errors.
 
+use crate::error::Derived;
 use crate::test_support::{Driven, cart, driven};
-use crate::{Coordinate, Derived, Description, Error, Mechanism, Model, Pose, Scalar};
+use crate::{Coordinate, Description, Error, Mechanism, Model, Pose, Scalar};
 
 /// The cart pendulum's poses, forgetting the cart.
 #[derive(Debug)]

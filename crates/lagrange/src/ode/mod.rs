@@ -94,7 +94,7 @@ pub trait Dynamics: LagrangianFunction {
     ///
     /// # Errors
     /// [`Error::DimensionMismatch`] for a `jacobian` that is not `2n²` long; any error of the
-    /// accelerations; [`Error::NonFinite`] (stage [`Jacobian`](crate::Stage::Jacobian)) if a
+    /// accelerations; [`Error::NonFinite`] (stage [`Jacobian`](crate::error::Stage::Jacobian)) if a
     /// derivative is not finite.
     fn acceleration_jacobian(
         &self,

@@ -6,7 +6,7 @@
 //! Every constraint is evaluated generically over the scalar, so that `Φ_z`, `Φ_t` and the
 //! convective term `γ_Φ` come from dual-number passes over the same code.
 
-use lagrange::graph::{GraphMechanism, JointValue};
+use lagrange::graph::GraphMechanism;
 use lagrange::{Pose, Scalar};
 use std::sync::Arc;
 
@@ -153,9 +153,7 @@ impl Constraint {
         match &self.joint {
             Joint::Linear { .. } => false,
             Joint::Distance { from: a, to: b, .. } => a.is_driven() || b.is_driven(),
-            Joint::Graph { mechanism, joint } => {
-                matches!(mechanism.joints()[*joint].value, JointValue::Driven(p) if p.varies())
-            }
+            Joint::Graph { mechanism, joint } => mechanism.drive(*joint).is_some_and(|p| p.varies()),
         }
     }
 

@@ -60,7 +60,7 @@ impl CartesianSimulation {
         let world: Vec<f64> = initial.iter().flat_map(|b| b.pose).collect();
         let zdot: Vec<f64> = initial.iter().flat_map(|b| b.velocity).collect();
         if !(t0.is_finite() && world.iter().chain(&zdot).all(|v| v.is_finite())) {
-            return Err(Error::NonFinite { stage: lagrange::Stage::State, t: t0, q: world });
+            return Err(Error::NonFinite { stage: lagrange::error::Stage::State, t: t0, q: world });
         }
         // The system in a frame at the bodies' initial centroid (CartesianSystem::centred).
         let bodies = initial.len().max(1) as f64;

@@ -34,9 +34,10 @@ use super::constraints::{Constraint, Joint, VelocityConstraint, equation_names, 
 use crate::maps::ReadBack;
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError};
+use lagrange::error::Stage;
 use lagrange::graph::{ForceElement, GROUND, GraphMechanism, JointGraph};
 use lagrange::num_dual::{Dual2_64, Dual64};
-use lagrange::{Body, Coordinate, Error, Pose, Stage};
+use lagrange::{Body, Coordinate, Error, Pose};
 use lagrange_scenes::Params;
 use schur::KktWorkspace;
 use sparsity::Sparsity;
@@ -236,7 +237,7 @@ impl CartesianSystem {
         use lagrange::Mechanism;
         let bodies = mechanism.description().bodies.clone();
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
-        let mut constraints: Vec<Constraint> = (0..mechanism.joints().len())
+        let mut constraints: Vec<Constraint> = (0..mechanism.graph().joints.len())
             .map(|joint| Constraint {
                 name: mechanism.graph().joints[joint].name.clone(),
                 joint: Joint::Graph { mechanism: Arc::clone(&mechanism), joint },

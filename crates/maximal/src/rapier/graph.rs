@@ -8,7 +8,7 @@ use super::plan::{BodySpec, Coupling, JointKind, JointMode, JointSpec, Motion, P
 use super::scenes::{COMPOUND_BOB, NO_PULLEY_JOINT, NO_RHEONOMIC_MULTIBODY};
 use crate::{BuildError, Engine, maps};
 use lagrange::State;
-use lagrange::graph::{ForceElement, GraphMechanism, JointType, JointValue, Shape};
+use lagrange::graph::{ForceElement, GraphMechanism, JointType, Shape};
 use lagrange::tree::AngleReference;
 use lagrange_scenes::Params;
 use std::sync::Arc;
@@ -86,25 +86,26 @@ pub(crate) fn plan(
 /// in a loop, or on an absolute angle.
 fn check_expressible(mode: JointMode, mechanism: &GraphMechanism) -> Result<(), String> {
     let graph = mechanism.graph();
-    let joints = mechanism.joints();
-    for (j, joint) in joints.iter().enumerate() {
-        let spec = &graph.joints[j];
-        match joint.value {
-            JointValue::Driven(_) if mode == JointMode::Multibody => {
+    for (j, spec) in graph.joints.iter().enumerate() {
+        let driven = mechanism.drive(j).is_some();
+        match mechanism.coupling(j) {
+            _ if driven && mode == JointMode::Multibody => {
                 return Err(format!("joint `{}` is driven: {NO_RHEONOMIC_MULTIBODY}", spec.name));
             }
-            JointValue::Driven(_) if !joint.tree || !tree_child(joint).is_none_or(|b| mechanism.is_kinematic(b)) => {
+            _ if driven
+                && (!mechanism.in_tree(j) || !mechanism.placed_body(j).is_none_or(|b| mechanism.is_kinematic(b))) =>
+            {
                 return Err(format!(
                     "joint `{}` drives a body that also moves by itself: rapier has no joint with a prescribed \
                      coordinate, and only bodies driven from the ground become kinematic bodies",
                     spec.name
                 ));
             }
-            JointValue::Coupled { source, .. } => {
+            Some((source, _)) => {
                 if mode == JointMode::Impulse {
                     return Err(format!("joint `{}` is coupled: {NO_PULLEY_JOINT}", spec.name));
                 }
-                if !joint.tree {
+                if !mechanism.in_tree(j) {
                     return Err(format!(
                         "joint `{}` is coupled but closes a loop: rapier couples multibody coordinates only",
                         spec.name
@@ -112,7 +113,10 @@ fn check_expressible(mode: JointMode, mechanism: &GraphMechanism) -> Result<(), 
                 }
                 for k in [j, source] {
                     let s = &graph.joints[k];
-                    if s.kind == JointType::Revolute && s.angle == AngleReference::World && joints[k].parent.is_some() {
+                    if s.kind == JointType::Revolute
+                        && s.angle == AngleReference::World
+                        && mechanism.joint_ends(k).0.is_some()
+                    {
                         return Err(format!(
                             "the coupling of joint `{}` acts on `{}`, an absolute angle, but rapier couples relative \
                              joint coordinates",
@@ -121,7 +125,7 @@ fn check_expressible(mode: JointMode, mechanism: &GraphMechanism) -> Result<(), 
                     }
                 }
             }
-            _ => {}
+            None => {}
         }
     }
     Ok(())
@@ -145,7 +149,7 @@ fn plan_bodies(
     states: &[crate::BodyState],
 ) -> Result<PlannedBodies, String> {
     let graph = mechanism.graph();
-    let joints = mechanism.joints();
+    let joints = 0..graph.joints.len();
     let mut deviations = Vec::new();
     let mut inertias = Vec::new();
     let mut simulated = graph.clone();
@@ -165,13 +169,13 @@ fn plan_bodies(
             }
             // The farthest revolute anchor from the centre of a body without inertia.
             let arm = joints
-                .iter()
-                .zip(&graph.joints)
+                .clone()
+                .map(|j| (mechanism.joint_ends(j), &graph.joints[j]))
                 .filter(|(_, spec)| spec.kind == JointType::Revolute)
-                .filter_map(|(joint, spec)| {
-                    if joint.child == Some(b) {
+                .filter_map(|((parent, child), spec)| {
+                    if child == Some(b) {
                         Some(spec.child_anchor)
-                    } else if joint.parent == Some(b) {
+                    } else if parent == Some(b) {
                         Some(spec.parent_anchor)
                     } else {
                         None
@@ -191,14 +195,20 @@ fn plan_bodies(
         }
         // A body without mass or inertia moved by a coupled joint alone (an Atwood pulley
         // without inertia) would be a multibody link that moves no mass: left out.
-        let touching = joints.iter().filter(|j| j.parent == Some(b) || j.child == Some(b)).count();
+        let touching = joints
+            .clone()
+            .filter(|&j| matches!(mechanism.joint_ends(j), (p, c) if p == Some(b) || c == Some(b)))
+            .count();
         let derived = mode == JointMode::Multibody
             && mass == 0.0
             && inertia == 0.0
             && touching == 1
-            && joints
-                .iter()
-                .any(|j| j.tree && j.child == Some(b) && !j.reversed && matches!(j.value, JointValue::Coupled { .. }));
+            && joints.clone().any(|j| {
+                mechanism.in_tree(j)
+                    && mechanism.joint_ends(j).1 == Some(b)
+                    && !mechanism.is_reversed(j)
+                    && mechanism.coupling(j).is_some()
+            });
         bodies.push(BodySpec {
             motion: if derived {
                 Motion::Derived { body: b }
@@ -223,18 +233,18 @@ fn plan_bodies(
 /// joint, and the sign of its coordinate in rapier's (−1 where turned).
 fn plan_joints(mechanism: &GraphMechanism, bodies: &[BodySpec]) -> (Vec<JointSpec>, Vec<Option<usize>>, Vec<f64>) {
     let graph = mechanism.graph();
-    let joints = mechanism.joints();
+    let count = graph.joints.len();
     let plan_body = |end: Option<usize>| end.map_or(0, |b| b + 1);
     let moves = |end: Option<usize>| end.is_some_and(|b| !mechanism.is_kinematic(b));
     let mut specs = Vec::new();
-    let mut plan_joint = vec![None; joints.len()];
-    let mut sign = vec![1.0; joints.len()];
+    let mut plan_joint = vec![None; count];
+    let mut sign = vec![1.0; count];
     let order: Vec<usize> =
-        mechanism.tree_order().iter().map(|&(j, _)| j).chain((0..joints.len()).filter(|&j| !joints[j].tree)).collect();
+        mechanism.tree_order().iter().map(|&(j, _)| j).chain((0..count).filter(|&j| !mechanism.in_tree(j))).collect();
     for j in order {
-        let (joint, spec) = (&joints[j], &graph.joints[j]);
+        let ((parent, child), spec) = (mechanism.joint_ends(j), &graph.joints[j]);
         let left_out = |end: Option<usize>| end.is_some_and(|b| matches!(bodies[b + 1].motion, Motion::Derived { .. }));
-        if (!moves(joint.parent) && !moves(joint.child)) || left_out(joint.parent) || left_out(joint.child) {
+        if (!moves(parent) && !moves(child)) || left_out(parent) || left_out(child) {
             continue;
         }
         let kind = match spec.kind {
@@ -243,14 +253,14 @@ fn plan_joints(mechanism: &GraphMechanism, bodies: &[BodySpec]) -> (Vec<JointSpe
             JointType::Fixed { angle } => JointKind::Fixed { angle },
         };
         let mut joint_spec = JointSpec {
-            parent: plan_body(joint.parent),
-            child: plan_body(joint.child),
+            parent: plan_body(parent),
+            child: plan_body(child),
             anchor_parent: spec.parent_anchor,
             anchor_child: spec.child_anchor,
             kind,
-            closing: !joint.tree,
+            closing: !mechanism.in_tree(j),
         };
-        if joint.tree && joint.reversed {
+        if mechanism.in_tree(j) && mechanism.is_reversed(j) {
             std::mem::swap(&mut joint_spec.parent, &mut joint_spec.child);
             std::mem::swap(&mut joint_spec.anchor_parent, &mut joint_spec.anchor_child);
             if let JointKind::Fixed { angle } = kind {
@@ -274,8 +284,8 @@ fn plan_couplings(
     sign: &[f64],
 ) -> Vec<Coupling> {
     let mut couplings = Vec::new();
-    for (j, joint) in mechanism.joints().iter().enumerate() {
-        if let JointValue::Coupled { source, ratio, .. } = joint.value
+    for j in 0..mechanism.graph().joints.len() {
+        if let Some((source, ratio)) = mechanism.coupling(j)
             && let (Some(to), Some(from)) = (plan_joint[j], plan_joint[source])
         {
             let coordinate = |k: usize| {
@@ -298,11 +308,6 @@ fn step_forces(graph: &lagrange::graph::JointGraph) -> StepForces {
         _ => true,
     });
     StepForces { graph_varying: varying, graph_constant: !varying && !graph.forces.is_empty(), ..StepForces::default() }
-}
-
-/// The body a tree joint places (its child, or its parent when the tree runs it backwards).
-fn tree_child(joint: &lagrange::graph::ResolvedJoint) -> Option<usize> {
-    if joint.reversed { joint.parent } else { joint.child }
 }
 
 #[cfg(test)]

@@ -111,7 +111,9 @@ pub(crate) fn check_input(
         }
     }
     if !(initial.t.is_finite() && initial.q.iter().chain(&initial.qdot).all(|v| v.is_finite())) {
-        return Err(Error::NonFinite { stage: lagrange::Stage::State, t: initial.t, q: initial.q.clone() }.into());
+        return Err(
+            Error::NonFinite { stage: lagrange::error::Stage::State, t: initial.t, q: initial.q.clone() }.into()
+        );
     }
     Ok(found)
 }

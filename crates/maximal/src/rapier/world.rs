@@ -194,7 +194,7 @@ impl RapierSimulation {
                 let mut wrench = vec![0.0; 3 * reduced.len()];
                 graph.body_wrenches(t, &poses, &velocities, &mut wrench);
                 if !wrench.iter().all(|w| w.is_finite()) {
-                    return Err(Error::NonFinite { stage: lagrange::Stage::AppliedForce, t, q: wrench });
+                    return Err(Error::NonFinite { stage: lagrange::error::Stage::AppliedForce, t, q: wrench });
                 }
                 for (b, spec) in self.plan.bodies.iter().enumerate() {
                     if let (Some(r), Motion::Dynamic) = (spec.reduced, spec.motion) {

@@ -1,10 +1,11 @@
 //! Forces applied at points of bodies against closed forms, against the same force written by
 //! hand as a generalized force, on the generic and the tree path.
 
+use crate::error::Stage;
 use crate::test_support::{RodChain, assert_relative};
 use crate::tree::Tree;
 use crate::{
-    Description, Dynamics, Error, Loads, Mechanism, Method, Model, Output, Pose, Scalar, Stage, State, Tolerances,
+    Description, Dynamics, Error, Loads, Mechanism, Method, Model, Output, Pose, Scalar, State, Tolerances,
     accelerations, reaction_forces, simulate,
 };
 

@@ -2,8 +2,9 @@
 //! model: a Lagrangian that is not finite, that loses a derivative, or whose `∂²L/∂q̇²` is not
 //! positive definite.
 
+use crate::error::{Derived, Stage};
 use crate::test_support::{Charge, Spring, cart, driven};
-use crate::{Coordinate, Derived, Error, Lagrangian, Model, RawModel, Scalar, Stage};
+use crate::{Coordinate, Error, Lagrangian, Model, RawModel, Scalar};
 
 /// A charge in the plane in a magnetic field `B(t) = B₀ (1 + ½ sin ωt)` along `z` and an
 /// electric potential `φ = ½ k x²`: `L = ½ m |v|² + (e B(t)/2)(x ẏ − y ẋ) − e φ(x)`. Each flag

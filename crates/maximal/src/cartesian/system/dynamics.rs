@@ -3,7 +3,8 @@
 
 use super::{AppliedForce, CartesianSystem, CartesianWorkspace};
 use crate::BodyState;
-use lagrange::{Body, Coordinate, Dynamics, Error, LagrangianFunction, Scalar, Stage};
+use lagrange::error::Stage;
+use lagrange::{Body, Coordinate, Dynamics, Error, LagrangianFunction, Scalar};
 
 /// `L(z, ż, t) = T − Σ m_b g y_b − V`, for the variational integrator's interface. The scene
 /// potential enters by its value at the real parts only (its derivatives are not carried), and
