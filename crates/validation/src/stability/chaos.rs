@@ -55,6 +55,17 @@ fn lyapunov(system: &dyn System, initial: &State, segment: f64, segments: usize)
     Ok(sum / (segment * segments as f64))
 }
 
+/// The least-squares slope of `y` against `x` over `points` `(x, y)`, and their correlation
+/// coefficient.
+fn line_fit(points: &[(f64, f64)]) -> (f64, f64) {
+    let n = points.len() as f64;
+    let (mx, my) = points.iter().fold((0.0, 0.0), |(x, y), p| (x + p.0 / n, y + p.1 / n));
+    let (sxy, sxx, syy) = points.iter().fold((0.0, 0.0, 0.0), |(a, b, c), p| {
+        (a + (p.0 - mx) * (p.1 - my), b + (p.0 - mx) * (p.0 - mx), c + (p.1 - my) * (p.1 - my))
+    });
+    (sxy / sxx, sxy / (sxx * syy).sqrt())
+}
+
 fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let horizon = effort.pick(60.0, 40.0);
     let decades: Vec<i32> = effort.pick((4..=13).collect(), (4..=11).collect());
@@ -94,13 +105,7 @@ fn chaos(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
         );
     }
     // Least-squares slope of T against log₁₀(1/tol).
-    let n = points.len() as f64;
-    let (mx, my) = points.iter().fold((0.0, 0.0), |(x, y), p| (x + p.0 / n, y + p.1 / n));
-    let (sxy, sxx, syy) = points.iter().fold((0.0, 0.0, 0.0), |(a, b, c), p| {
-        (a + (p.0 - mx) * (p.1 - my), b + (p.0 - mx) * (p.0 - mx), c + (p.1 - my) * (p.1 - my))
-    });
-    let slope = sxy / sxx;
-    let correlation = sxy / (sxx * syy).sqrt();
+    let (slope, correlation) = line_fit(&points);
     let start = Instant::now();
     let lambda = lyapunov(system.as_ref(), &initial, 0.5, effort.pick(200, 100))?;
     let benettin_wall = start.elapsed().as_secs_f64();

@@ -11,8 +11,8 @@ use crate::Error;
 use crate::tolerance::{LINEAR_STABILITY_LIMIT, STABILITY_LIMIT, gauss_energy_per_step};
 use lagrange::{Method, Output, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build};
-use lagrange_scenes::Params;
 use lagrange_scenes::SceneType;
+use lagrange_scenes::Params;
 use std::time::Instant;
 
 // One bound per check, from `crate::tolerance` (where the reasons are): a limit measured on a
@@ -124,174 +124,208 @@ fn stiff_spring(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> {
     let mut sdirk_steps_soft = None;
     gauss_order_from_static_stretch(case)?;
     for &k in &ks {
-        let omega = k.sqrt();
-        let label = format!("k/m = {k:.0e}");
-        // RK4 on the oscillator: the energy is multiplied by |R(iω dt)|² each step.
-        let (_, oscillator) = system("harmonic_oscillator", &[("stiffness", k)])?;
-        let initial = State::new(0.0, [0.1], [0.0]);
-        let start = Instant::now();
-        let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-12, |dt| {
-            let run = oscillator.simulate(&initial, PROBE_STEPS as f64 * dt, Method::Rk4 { dt }, &Output::Ends);
-            run.is_ok_and(|t| t.energy[1] <= t.energy[0])
-        });
-        let mut m = limit(label.clone(), "harmonic_oscillator", "rk4", found, omega).params(&[("stiffness", k)]).check(
-            Check::RelativeToTheory,
-            Some(theory::rk4_imaginary_axis_limit()),
-            Some(LINEAR_STABILITY_LIMIT),
-        );
-        m.cost.wall_time_s = start.elapsed().as_secs_f64();
-        case.push(m);
+        rk4_limits(case, k)?;
+        gauss_on_oscillator(case, k)?;
+        released_swing(case, k, effort, (horizon, rigid_theta), &mut sdirk_steps_soft)?;
+        rapier_limits(case, k)?;
+    }
+    Ok(())
+}
 
-        // RK4 on the spring pendulum swinging only radially: linearized at the hanging
-        // equilibrium r = L0 + m g/k the radial mode has ω² = k/m exactly, and without a swing
-        // the motion is that linear mode, its energy multiplied by |R|^{2N}.
-        let (_, mut pendulum) = system("spring_pendulum", &[("stiffness", k)])?;
-        let r_eq = 1.0 + 9.81 / k;
-        let e_eq = pendulum.energy_function(0.0, &[r_eq, 0.0], &[0.0, 0.0])?;
-        let radial = State::new(0.0, [r_eq + 1e-3, 0.0], [0.0, 0.0]);
-        let e_radial = pendulum.energy_function(0.0, &radial.q, &radial.qdot)? - e_eq;
-        let start = Instant::now();
-        let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-12, |dt| {
-            let steps = 2.0 * PROBE_STEPS as f64;
-            let run = pendulum.simulate(&radial, steps * dt, Method::Rk4 { dt }, &Output::Ends);
-            run.is_ok_and(|t| t.energy[1] - e_eq <= e_radial)
-        });
-        let mut m = limit(format!("{label}, radial"), "spring_pendulum", "rk4", found, omega)
-            .params(&[("stiffness", k)])
-            .check(Check::RelativeToTheory, Some(theory::rk4_imaginary_axis_limit()), Some(LINEAR_STABILITY_LIMIT));
-        m.cost.wall_time_s = start.elapsed().as_secs_f64();
-        case.push(m);
+/// RK4's stability limit on the oscillator `k/m = k` and on the spring pendulum (radial only,
+/// and swinging), found by bisection on the step.
+fn rk4_limits(case: &mut CaseBuilder, k: f64) -> Result<(), Error> {
+    let omega = k.sqrt();
+    let label = format!("k/m = {k:.0e}");
+    // RK4 on the oscillator: the energy is multiplied by |R(iω dt)|² each step.
+    let (_, oscillator) = system("harmonic_oscillator", &[("stiffness", k)])?;
+    let initial = State::new(0.0, [0.1], [0.0]);
+    let start = Instant::now();
+    let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-12, |dt| {
+        let run = oscillator.simulate(&initial, PROBE_STEPS as f64 * dt, Method::Rk4 { dt }, &Output::Ends);
+        run.is_ok_and(|t| t.energy[1] <= t.energy[0])
+    });
+    let mut m = limit(label.clone(), "harmonic_oscillator", "rk4", found, omega).params(&[("stiffness", k)]).check(
+        Check::RelativeToTheory,
+        Some(theory::rk4_imaginary_axis_limit()),
+        Some(LINEAR_STABILITY_LIMIT),
+    );
+    m.cost.wall_time_s = start.elapsed().as_secs_f64();
+    case.push(m);
 
-        // RK4 on the spring pendulum, swinging.
-        let swinging = State::new(0.0, [r_eq + 1e-3, 0.3], [0.0, 0.0]);
-        let e0 = pendulum.energy_function(0.0, &swinging.q, &swinging.qdot)? - e_eq;
-        let start = Instant::now();
-        let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-10, |dt| {
-            let steps = 2.0 * PROBE_STEPS as f64;
-            let run = pendulum.simulate(&swinging, steps * dt, Method::Rk4 { dt }, &Output::Ends);
-            run.is_ok_and(|t| t.energy[1] - e_eq <= 2.0 * e0)
-        });
-        let mut m = limit(label.clone(), "spring_pendulum", "rk4", found, omega).params(&[("stiffness", k)]).check(
-            Check::RelativeToTheory,
-            Some(theory::rk4_imaginary_axis_limit()),
-            Some(STABILITY_LIMIT),
-        );
-        m.cost.wall_time_s = start.elapsed().as_secs_f64();
-        case.push(m);
-
-        // Gauss on the oscillator at dt = 0.01 (ω dt from 0.1 to 1e4).
-        let (dt, steps) = (0.01, 1000);
-        let method = Method::Gauss4 { dt };
-        let (run, wall) = timed_simulate(oscillator.as_ref(), &initial, steps as f64 * dt, method, &Output::Every(dt));
-        let m = Measurement::new(label.clone(), "harmonic_oscillator", "gauss4", "relative energy error")
-            .params(&[("stiffness", k)])
-            .method_settings(method, steps as f64 * dt);
-        // `crate::tolerance::gauss_energy_per_step`: 4ε per step, times (ω dt)² once ω dt ≫ 1.
-        let bound = steps as f64 * gauss_energy_per_step(omega * dt);
-        case.push(
-            match run {
-                Ok(t) => m
-                    .value(relative_energy_error(&t.energy))
-                    .cost(Cost::of(&t.stats, wall))
-                    .note(format!("ω dt = {:.0e}; bound 4ε per step × max(1, (ω dt)²) over {steps} steps", omega * dt)),
-                Err(e) => m.failed(e),
-            }
-            .check(Check::AtMost, Some(0.0), Some(bound)),
-        );
-
-        // The spring pendulum swinging at the slow time scale: implicit and explicit adaptive.
-        let theta0: f64 = 1.0;
-        let released = State::new(0.0, [1.0 + 9.81 * theta0.cos() / k, theta0], [0.0, 0.0]);
-        let tol = 1e-6;
-        let e_release = pendulum.energy_function(0.0, &released.q, &released.qdot)? - e_eq;
-        for method in
-            [Method::Sdirk4 { tol: Tolerances::uniform(tol) }, Method::Dopri5 { tol: Tolerances::uniform(tol) }]
-        {
-            let name = method.name();
-            let m = Measurement::new(
-                label.clone(),
-                "spring_pendulum",
-                name,
-                "largest energy increase (E − E₀)/(E₀ − E_eq)",
-            )
-            .params(&[("stiffness", k)])
-            .method_settings(method, horizon);
-            // The explicit method needs ~ω/3 steps per second: skip it where that is too many.
-            if name == "dopri5" && omega * horizon > effort.pick(3e6, 3e4) {
-                case.push(m.note(format!(
-                    "not run in {} mode: ≈ {:.0e} steps",
-                    effort.pick("full", "quick"),
-                    omega * horizon / 3.3
-                )));
-                continue;
-            }
-            let (run, wall) = timed_simulate(pendulum.as_ref(), &released, horizon, method, &Output::Every(0.1));
-            let row = match run {
-                Ok(t) => {
-                    let e0 = t.energy[0];
-                    let growth = t.energy.iter().map(|e| e - e0).fold(0.0, f64::max) / e_release;
-                    let stiffness =
-                        t.stats.stiffness.map_or(String::new(), |s| format!("; stiffness detected at t = {s:.2e} s"));
-                    let m = m.value(growth).cost(Cost::of(&t.stats, wall)).note(format!(
-                        "{} steps for {horizon} s (mean ω h = {:.2}){stiffness}",
-                        t.stats.steps,
-                        omega * horizon / t.stats.steps as f64
-                    ));
-                    // L-stability: the unresolved mode is damped, the energy never grows beyond
-                    // the error control's tolerance. The explicit method is reported.
-                    if name == "sdirk4" {
-                        sdirk_rows(case, &m, &t, k, &mut sdirk_steps_soft, rigid_theta, tol);
-                        m.check(Check::AtMost, Some(0.0), Some(10.0 * tol))
-                    } else {
-                        m
-                    }
-                }
-                Err(e) => m.failed(e),
-            };
-            case.push(row);
-        }
-
-        // Gauss at dt = 0.01 on the same release: A-stable, so bounded, not damped.
-        let method = Method::Gauss4 { dt: 0.01 };
-        let (run, wall) = timed_simulate(pendulum.as_ref(), &released, horizon, method, &Output::Every(0.1));
-        let m = Measurement::new(
-            label.clone(),
-            "spring_pendulum",
-            "gauss4",
-            "largest energy increase (E − E₀)/(E₀ − E_eq)",
-        )
+    // RK4 on the spring pendulum swinging only radially: linearized at the hanging
+    // equilibrium r = L0 + m g/k the radial mode has ω² = k/m exactly, and without a swing
+    // the motion is that linear mode, its energy multiplied by |R|^{2N}.
+    let (_, mut pendulum) = system("spring_pendulum", &[("stiffness", k)])?;
+    let r_eq = 1.0 + 9.81 / k;
+    let e_eq = pendulum.energy_function(0.0, &[r_eq, 0.0], &[0.0, 0.0])?;
+    let radial = State::new(0.0, [r_eq + 1e-3, 0.0], [0.0, 0.0]);
+    let e_radial = pendulum.energy_function(0.0, &radial.q, &radial.qdot)? - e_eq;
+    let start = Instant::now();
+    let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-12, |dt| {
+        let steps = 2.0 * PROBE_STEPS as f64;
+        let run = pendulum.simulate(&radial, steps * dt, Method::Rk4 { dt }, &Output::Ends);
+        run.is_ok_and(|t| t.energy[1] - e_eq <= e_radial)
+    });
+    let mut m = limit(format!("{label}, radial"), "spring_pendulum", "rk4", found, omega)
         .params(&[("stiffness", k)])
-        .method_settings(method, horizon);
+        .check(Check::RelativeToTheory, Some(theory::rk4_imaginary_axis_limit()), Some(LINEAR_STABILITY_LIMIT));
+    m.cost.wall_time_s = start.elapsed().as_secs_f64();
+    case.push(m);
+
+    // RK4 on the spring pendulum, swinging.
+    let swinging = State::new(0.0, [r_eq + 1e-3, 0.3], [0.0, 0.0]);
+    let e0 = pendulum.energy_function(0.0, &swinging.q, &swinging.qdot)? - e_eq;
+    let start = Instant::now();
+    let found = bisect_limit(2.0 / omega, 3.5 / omega, 1e-10, |dt| {
+        let steps = 2.0 * PROBE_STEPS as f64;
+        let run = pendulum.simulate(&swinging, steps * dt, Method::Rk4 { dt }, &Output::Ends);
+        run.is_ok_and(|t| t.energy[1] - e_eq <= 2.0 * e0)
+    });
+    let mut m = limit(label.clone(), "spring_pendulum", "rk4", found, omega).params(&[("stiffness", k)]).check(
+        Check::RelativeToTheory,
+        Some(theory::rk4_imaginary_axis_limit()),
+        Some(STABILITY_LIMIT),
+    );
+    m.cost.wall_time_s = start.elapsed().as_secs_f64();
+    case.push(m);
+
+    Ok(())
+}
+
+/// Gauss on the oscillator `k/m = k` at dt = 0.01: its energy error against 4ε per step.
+fn gauss_on_oscillator(case: &mut CaseBuilder, k: f64) -> Result<(), Error> {
+    let omega = k.sqrt();
+    let label = format!("k/m = {k:.0e}");
+    let (_, oscillator) = system("harmonic_oscillator", &[("stiffness", k)])?;
+    let initial = State::new(0.0, [0.1], [0.0]);
+    // Gauss on the oscillator at dt = 0.01 (ω dt from 0.1 to 1e4).
+    let (dt, steps) = (0.01, 1000);
+    let method = Method::Gauss4 { dt };
+    let (run, wall) = timed_simulate(oscillator.as_ref(), &initial, steps as f64 * dt, method, &Output::Every(dt));
+    let m = Measurement::new(label.clone(), "harmonic_oscillator", "gauss4", "relative energy error")
+        .params(&[("stiffness", k)])
+        .method_settings(method, steps as f64 * dt);
+    // `crate::tolerance::gauss_energy_per_step`: 4ε per step, times (ω dt)² once ω dt ≫ 1.
+    let bound = steps as f64 * gauss_energy_per_step(omega * dt);
+    case.push(
+        match run {
+            Ok(t) => m
+                .value(relative_energy_error(&t.energy))
+                .cost(Cost::of(&t.stats, wall))
+                .note(format!("ω dt = {:.0e}; bound 4ε per step × max(1, (ω dt)²) over {steps} steps", omega * dt)),
+            Err(e) => m.failed(e),
+        }
+        .check(Check::AtMost, Some(0.0), Some(bound)),
+    );
+
+    Ok(())
+}
+
+/// The spring pendulum `k/m = k` released at θ = 1 from its static stretch, over `horizon`:
+/// SDIRK4 damps the unresolved radial mode (compared with the rigid pendulum's angle
+/// `rigid_theta`), Dormand–Prince pays for it in steps, Gauss keeps it bounded.
+fn released_swing(
+    case: &mut CaseBuilder,
+    k: f64,
+    effort: Effort,
+    (horizon, rigid_theta): (f64, f64),
+    sdirk_steps_soft: &mut Option<usize>,
+) -> Result<(), Error> {
+    let omega = k.sqrt();
+    let label = format!("k/m = {k:.0e}");
+    let (_, mut pendulum) = system("spring_pendulum", &[("stiffness", k)])?;
+    let e_eq = pendulum.energy_function(0.0, &[1.0 + 9.81 / k, 0.0], &[0.0, 0.0])?;
+    // The spring pendulum swinging at the slow time scale: implicit and explicit adaptive.
+    let theta0: f64 = 1.0;
+    let released = State::new(0.0, [1.0 + 9.81 * theta0.cos() / k, theta0], [0.0, 0.0]);
+    let tol = 1e-6;
+    let e_release = pendulum.energy_function(0.0, &released.q, &released.qdot)? - e_eq;
+    for method in [Method::Sdirk4 { tol: Tolerances::uniform(tol) }, Method::Dopri5 { tol: Tolerances::uniform(tol) }] {
+        let name = method.name();
+        let m =
+            Measurement::new(label.clone(), "spring_pendulum", name, "largest energy increase (E − E₀)/(E₀ − E_eq)")
+                .params(&[("stiffness", k)])
+                .method_settings(method, horizon);
+        // The explicit method needs ~ω/3 steps per second: skip it where that is too many.
+        if name == "dopri5" && omega * horizon > effort.pick(3e6, 3e4) {
+            case.push(m.note(format!(
+                "not run in {} mode: ≈ {:.0e} steps",
+                effort.pick("full", "quick"),
+                omega * horizon / 3.3
+            )));
+            continue;
+        }
+        let (run, wall) = timed_simulate(pendulum.as_ref(), &released, horizon, method, &Output::Every(0.1));
         let row = match run {
             Ok(t) => {
                 let e0 = t.energy[0];
-                let m = m
-                    .value(t.energy.iter().map(|e| e - e0).fold(0.0, f64::max) / e_release)
-                    .cost(Cost::of(&t.stats, wall))
-                    .note(format!("ω dt = {:.0e}", omega * 0.01));
-                if k >= 1e4 {
-                    gauss_slow_swing_rows(case, &m, &t, pendulum.as_ref(), &released, horizon)?;
+                let growth = t.energy.iter().map(|e| e - e0).fold(0.0, f64::max) / e_release;
+                let stiffness =
+                    t.stats.stiffness.map_or(String::new(), |s| format!("; stiffness detected at t = {s:.2e} s"));
+                let m = m.value(growth).cost(Cost::of(&t.stats, wall)).note(format!(
+                    "{} steps for {horizon} s (mean ω h = {:.2}){stiffness}",
+                    t.stats.steps,
+                    omega * horizon / t.stats.steps as f64
+                ));
+                // L-stability: the unresolved mode is damped, the energy never grows beyond
+                // the error control's tolerance. The explicit method is reported.
+                if name == "sdirk4" {
+                    sdirk_rows(case, &m, &t, k, sdirk_steps_soft, rigid_theta, tol);
+                    m.check(Check::AtMost, Some(0.0), Some(10.0 * tol))
+                } else {
+                    m
                 }
-                m
             }
-            Err(e) => m.failed(e).check(Check::Finite, None, None),
+            Err(e) => m.failed(e),
         };
         case.push(row);
+    }
 
-        // rapier on the oscillator.
-        let (params, _) = system("harmonic_oscillator", &[("stiffness", k)])?;
-        for engine in [Engine::RapierImpulse, Engine::RapierMultibody] {
-            let start = Instant::now();
-            let found = bisect_limit(1.0 / omega, 3.0 / omega, 1e-6, |dt| {
-                rapier_bounded(engine, "harmonic_oscillator", &params, &initial, dt, 2000)
-            });
-            let mut m = limit(label.clone(), "harmonic_oscillator", engine.name(), found, omega)
-                .params(&[("stiffness", k)])
-                .check(Check::RelativeToTheory, Some(theory::symplectic_euler_limit()), Some(STABILITY_LIMIT));
-            m.settings.substeps = Some(1);
-            m.cost.wall_time_s = start.elapsed().as_secs_f64();
-            case.push(m);
+    // Gauss at dt = 0.01 on the same release: A-stable, so bounded, not damped.
+    let method = Method::Gauss4 { dt: 0.01 };
+    let (run, wall) = timed_simulate(pendulum.as_ref(), &released, horizon, method, &Output::Every(0.1));
+    let m =
+        Measurement::new(label.clone(), "spring_pendulum", "gauss4", "largest energy increase (E − E₀)/(E₀ − E_eq)")
+            .params(&[("stiffness", k)])
+            .method_settings(method, horizon);
+    let row = match run {
+        Ok(t) => {
+            let e0 = t.energy[0];
+            let m = m
+                .value(t.energy.iter().map(|e| e - e0).fold(0.0, f64::max) / e_release)
+                .cost(Cost::of(&t.stats, wall))
+                .note(format!("ω dt = {:.0e}", omega * 0.01));
+            if k >= 1e4 {
+                gauss_slow_swing_rows(case, &m, &t, pendulum.as_ref(), &released, horizon)?;
+            }
+            m
         }
+        Err(e) => m.failed(e).check(Check::Finite, None, None),
+    };
+    case.push(row);
+
+    Ok(())
+}
+
+/// rapier's stability limit (one substep) on the oscillator `k/m = k`, by bisection on the step.
+fn rapier_limits(case: &mut CaseBuilder, k: f64) -> Result<(), Error> {
+    let omega = k.sqrt();
+    let label = format!("k/m = {k:.0e}");
+    let initial = State::new(0.0, [0.1], [0.0]);
+    // rapier on the oscillator.
+    let (params, _) = system("harmonic_oscillator", &[("stiffness", k)])?;
+    for engine in [Engine::RapierImpulse, Engine::RapierMultibody] {
+        let start = Instant::now();
+        let found = bisect_limit(1.0 / omega, 3.0 / omega, 1e-6, |dt| {
+            rapier_bounded(engine, "harmonic_oscillator", &params, &initial, dt, 2000)
+        });
+        let mut m = limit(label.clone(), "harmonic_oscillator", engine.name(), found, omega)
+            .params(&[("stiffness", k)])
+            .check(Check::RelativeToTheory, Some(theory::symplectic_euler_limit()), Some(STABILITY_LIMIT));
+        m.settings.substeps = Some(1);
+        m.cost.wall_time_s = start.elapsed().as_secs_f64();
+        case.push(m);
     }
     Ok(())
 }
@@ -327,49 +361,7 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), Error> {
     case.push(m);
 
     let (x, v) = oscillator.motion(0.1, 0.0, horizon);
-    for tol in [1e-3, 1e-6, 1e-9] {
-        for method in
-            [Method::Dopri5 { tol: Tolerances::uniform(tol) }, Method::Sdirk4 { tol: Tolerances::uniform(tol) }]
-        {
-            let (run, wall) = timed_simulate(system.as_ref(), &initial, horizon, method, &Output::Ends);
-            let base = Measurement::new(format!("tol = {tol:.0e}"), "harmonic_oscillator", method.name(), "")
-                .params(&changes)
-                .method_settings(method, horizon);
-            let Ok(t) = run else {
-                case.push(base.failed(run.err().map(|e| e.to_string()).unwrap_or_default()));
-                continue;
-            };
-            let cost = Cost::of(&t.stats, wall);
-            let error = (t.q[1] - x).abs().max((t.qdot[1] - v).abs());
-            let mut error_row = base.clone().cost(cost).value(error).check(Check::AtMost, None, Some(10.0 * tol));
-            error_row.quantity = "max(|x − x_exact|, |ẋ − ẋ_exact|) at the horizon".into();
-            case.push(error_row);
-            let mean_step = -fast * horizon / t.stats.steps as f64;
-            let mut step_row = base.clone().cost(cost).value(mean_step);
-            step_row.quantity = "mean step |λ_fast| h".into();
-            if method.name() == "dopri5" {
-                let detected =
-                    t.stats.stiffness.map_or("not detected".to_string(), |s| format!("detected at t = {s:.2e} s"));
-                // The explicit method says the problem is stiff, within the first millisecond.
-                let mut detection = base.clone().cost(cost).value(t.stats.stiffness.unwrap_or(f64::INFINITY));
-                detection.quantity = "time stiffness is detected (s)".into();
-                case.push(detection.check(Check::AtMost, None, Some(1e-3)));
-                step_row = step_row.note(format!("{} steps; stiffness {detected}", t.stats.steps)).check(
-                    Check::RelativeToTheory,
-                    Some(theory::dopri5_real_axis_limit()),
-                    Some(STABILITY_LIMIT),
-                );
-            } else {
-                // L-stable: the steps follow the slow mode, far beyond the explicit boundary.
-                step_row = step_row.note(format!("{} steps", t.stats.steps)).check(
-                    Check::AtLeast,
-                    None,
-                    Some(10.0 * theory::dopri5_real_axis_limit()),
-                );
-            }
-            case.push(step_row);
-        }
-    }
+    damped_adaptive(case, system.as_ref(), (&initial, horizon), (x, v), fast, &changes);
     for dt in [1e-3, 1e-2] {
         let method = Method::Gauss4 { dt };
         let (run, wall) = timed_simulate(system.as_ref(), &initial, horizon, method, &Output::Ends);
@@ -421,6 +413,63 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), Error> {
         case.push(m);
     }
     Ok(())
+}
+
+/// Dormand–Prince and SDIRK4 on the damped oscillator at tolerances 1e-3, 1e-6 and 1e-9: the
+/// error at the horizon against the exact `(x, v)`, the mean step against the explicit
+/// method's stability limit on the fast mode `λ_fast = fast` (and its stiffness detection), or
+/// beyond it for the L-stable one.
+fn damped_adaptive(
+    case: &mut CaseBuilder,
+    system: &dyn System,
+    (initial, horizon): (&State, f64),
+    (x, v): (f64, f64),
+    fast: f64,
+    changes: &[(&str, f64)],
+) {
+    for tol in [1e-3, 1e-6, 1e-9] {
+        for method in
+            [Method::Dopri5 { tol: Tolerances::uniform(tol) }, Method::Sdirk4 { tol: Tolerances::uniform(tol) }]
+        {
+            let (run, wall) = timed_simulate(system, initial, horizon, method, &Output::Ends);
+            let base = Measurement::new(format!("tol = {tol:.0e}"), "harmonic_oscillator", method.name(), "")
+                .params(changes)
+                .method_settings(method, horizon);
+            let Ok(t) = run else {
+                case.push(base.failed(run.err().map(|e| e.to_string()).unwrap_or_default()));
+                continue;
+            };
+            let cost = Cost::of(&t.stats, wall);
+            let error = (t.q[1] - x).abs().max((t.qdot[1] - v).abs());
+            let mut error_row = base.clone().cost(cost).value(error).check(Check::AtMost, None, Some(10.0 * tol));
+            error_row.quantity = "max(|x − x_exact|, |ẋ − ẋ_exact|) at the horizon".into();
+            case.push(error_row);
+            let mean_step = -fast * horizon / t.stats.steps as f64;
+            let mut step_row = base.clone().cost(cost).value(mean_step);
+            step_row.quantity = "mean step |λ_fast| h".into();
+            if method.name() == "dopri5" {
+                let detected =
+                    t.stats.stiffness.map_or("not detected".to_string(), |s| format!("detected at t = {s:.2e} s"));
+                // The explicit method says the problem is stiff, within the first millisecond.
+                let mut detection = base.clone().cost(cost).value(t.stats.stiffness.unwrap_or(f64::INFINITY));
+                detection.quantity = "time stiffness is detected (s)".into();
+                case.push(detection.check(Check::AtMost, None, Some(1e-3)));
+                step_row = step_row.note(format!("{} steps; stiffness {detected}", t.stats.steps)).check(
+                    Check::RelativeToTheory,
+                    Some(theory::dopri5_real_axis_limit()),
+                    Some(STABILITY_LIMIT),
+                );
+            } else {
+                // L-stable: the steps follow the slow mode, far beyond the explicit boundary.
+                step_row = step_row.note(format!("{} steps", t.stats.steps)).check(
+                    Check::AtLeast,
+                    None,
+                    Some(10.0 * theory::dopri5_real_axis_limit()),
+                );
+            }
+            case.push(step_row);
+        }
+    }
 }
 
 /// SDIRK4 on the spring pendulum released from its static stretch: its steps follow the swing

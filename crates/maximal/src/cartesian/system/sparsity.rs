@@ -121,20 +121,7 @@ impl Sparsity {
         let m = holonomic + velocity.len();
         let probed = probe(constraints, velocity, n, holonomic);
         let touches = |i: usize, j: usize| probed[i].iter().any(|&(k, _)| k == j);
-        // Bodies of every row: those of its constraint's rows together.
-        let mut row_bodies: Vec<Vec<usize>> = Vec::with_capacity(m);
-        let mut constraint_bodies = Vec::with_capacity(constraints.len());
-        let mut first = 0;
-        for constraint in constraints {
-            let rows = first..first + constraint.equations();
-            let bodies: Vec<usize> =
-                (0..n / 3).filter(|&b| rows.clone().any(|i| probed[i].iter().any(|&(j, _)| j / 3 == b))).collect();
-            row_bodies.extend(rows.map(|_| bodies.clone()));
-            constraint_bodies.push(bodies);
-            first += constraint.equations();
-        }
-        debug_assert_eq!(first, holonomic, "one row per equation");
-        row_bodies.extend(velocity.iter().map(|v| vec![v.body]));
+        let (row_bodies, constraint_bodies) = row_bodies(constraints, velocity, &probed, n);
         // J in compressed rows: three coordinates per body.
         let mut row_start = vec![0];
         let mut column = Vec::new();
@@ -153,76 +140,11 @@ impl Sparsity {
         let massless: Vec<bool> = mass.iter().map(|&v| v == 0.0).collect();
         let augmented_rows: Vec<usize> = (0..m).filter(|&i| probed[i].iter().any(|&(j, _)| massless[j])).collect();
         let unfixed = (0..n).find(|&j| massless[j] && !(0..m).any(|i| touches(i, j)));
-        // Blocks: bodies joined by augmented rows.
-        let mut parent: Vec<usize> = (0..n / 3).collect();
-        for &i in &augmented_rows {
-            for pair in row_bodies[i].windows(2) {
-                let (a, b) = (root(&mut parent, pair[0]), root(&mut parent, pair[1]));
-                parent[a.max(b)] = a.min(b);
-            }
-        }
-        let mut blocks: Vec<Block> = Vec::new();
-        let mut block_of = vec![usize::MAX; n / 3];
-        let mut offset = 0;
-        for b in 0..n / 3 {
-            let r = root(&mut parent, b);
-            if block_of[r] == usize::MAX {
-                block_of[r] = blocks.len();
-                blocks.push(Block {
-                    coordinates: Vec::new(),
-                    offset: 0,
-                    augmented: false,
-                    rows: Vec::new(),
-                    entries: Vec::new(),
-                    augmenting: Vec::new(),
-                });
-            }
-            block_of[b] = block_of[r];
-            blocks[block_of[b]].coordinates.extend([3 * b, 3 * b + 1, 3 * b + 2]);
-        }
-        let mut local = vec![0; n];
-        for block in &mut blocks {
-            for (l, &j) in block.coordinates.iter().enumerate() {
-                local[j] = l;
-            }
-            block.offset = offset;
-            offset += block.coordinates.len().pow(2);
-        }
-        for (i, bodies) in row_bodies.iter().enumerate() {
-            let mut seen: Vec<usize> = bodies.iter().map(|&b| block_of[b]).collect();
-            seen.sort_unstable();
-            seen.dedup();
-            for k in seen {
-                let block = &mut blocks[k];
-                block.rows.push(i);
-                block.entries.push(
-                    (row_start[i]..row_start[i + 1])
-                        .filter(|&e| block_of[column[e] / 3] == k)
-                        .map(|e| (local[column[e]], e))
-                        .collect(),
-                );
-            }
-        }
-        for (r, &i) in augmented_rows.iter().enumerate() {
-            if let Some(&b) = row_bodies[i].first() {
-                let block = &mut blocks[block_of[b]];
-                let a = block.rows.binary_search(&i).unwrap_or_else(|_| unreachable!("row {i} touches its block"));
-                block.augmenting.push((a, r));
-                block.augmented = true;
-            }
-        }
+        let (blocks, block_storage) = blocks(&row_bodies, &augmented_rows, (&row_start, &column), n);
         let largest_block = blocks.iter().fold((0, 0), |(p, k), b| (p.max(b.rows.len()), k.max(b.coordinates.len())));
         let all = SchurPattern::new(&blocks, m);
         let holonomic_pattern = (!velocity.is_empty()).then(|| SchurPattern::new(&blocks, holonomic));
-        // Mass scales for the augmentation weights.
-        let largest = |kind: fn(usize) -> bool| {
-            let largest = (0..n).filter(|&j| kind(j)).fold(0.0_f64, |w, j| w.max(mass[j]));
-            if largest > 0.0 { largest } else { 1.0 }
-        };
-        let (translation, rotation) = (largest(|j| j % 3 != 2), largest(|j| j % 3 == 2));
-        let weight_inverse_mass = (0..n)
-            .map(|j| if mass[j] > 0.0 { 1.0 / mass[j] } else { 1.0 / if j % 3 == 2 { rotation } else { translation } })
-            .collect();
+        let weight_inverse_mass = weight_inverse_mass(mass);
         Self {
             row_start,
             column,
@@ -231,7 +153,7 @@ impl Sparsity {
             augmented_rows,
             unfixed,
             blocks,
-            block_storage: offset,
+            block_storage,
             largest_block,
             all,
             holonomic: holonomic_pattern,
@@ -246,6 +168,112 @@ impl Sparsity {
             _ => &self.all,
         }
     }
+}
+
+/// The bodies of every row of `J` (those of its constraint's rows together, ascending; a
+/// velocity row's one body), and those of every holonomic constraint, from the `probed` rows.
+fn row_bodies(
+    constraints: &[Constraint],
+    velocity: &[VelocityConstraint],
+    probed: &[Vec<(usize, bool)>],
+    n: usize,
+) -> (Vec<Vec<usize>>, Vec<Vec<usize>>) {
+    let mut row_bodies: Vec<Vec<usize>> = Vec::with_capacity(probed.len());
+    let mut constraint_bodies = Vec::with_capacity(constraints.len());
+    let mut first = 0;
+    for constraint in constraints {
+        let rows = first..first + constraint.equations();
+        let bodies: Vec<usize> =
+            (0..n / 3).filter(|&b| rows.clone().any(|i| probed[i].iter().any(|&(j, _)| j / 3 == b))).collect();
+        row_bodies.extend(rows.map(|_| bodies.clone()));
+        constraint_bodies.push(bodies);
+        first += constraint.equations();
+    }
+    row_bodies.extend(velocity.iter().map(|v| vec![v.body]));
+    (row_bodies, constraint_bodies)
+}
+
+/// The blocks of `M̃`: bodies joined by the `augmented_rows` (union–find), each with its
+/// coordinates, its offset in the factors' storage, the rows touching it with their entries in
+/// `J = (row_start, column)`, and which of its rows augment it; and the factors' total storage.
+fn blocks(
+    row_bodies: &[Vec<usize>],
+    augmented_rows: &[usize],
+    (row_start, column): (&[usize], &[usize]),
+    n: usize,
+) -> (Vec<Block>, usize) {
+    let mut parent: Vec<usize> = (0..n / 3).collect();
+    for &i in augmented_rows {
+        for pair in row_bodies[i].windows(2) {
+            let (a, b) = (root(&mut parent, pair[0]), root(&mut parent, pair[1]));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut blocks: Vec<Block> = Vec::new();
+    let mut block_of = vec![usize::MAX; n / 3];
+    let mut offset = 0;
+    for b in 0..n / 3 {
+        let r = root(&mut parent, b);
+        if block_of[r] == usize::MAX {
+            block_of[r] = blocks.len();
+            blocks.push(Block {
+                coordinates: Vec::new(),
+                offset: 0,
+                augmented: false,
+                rows: Vec::new(),
+                entries: Vec::new(),
+                augmenting: Vec::new(),
+            });
+        }
+        block_of[b] = block_of[r];
+        blocks[block_of[b]].coordinates.extend([3 * b, 3 * b + 1, 3 * b + 2]);
+    }
+    let mut local = vec![0; n];
+    for block in &mut blocks {
+        for (l, &j) in block.coordinates.iter().enumerate() {
+            local[j] = l;
+        }
+        block.offset = offset;
+        offset += block.coordinates.len().pow(2);
+    }
+    for (i, bodies) in row_bodies.iter().enumerate() {
+        let mut seen: Vec<usize> = bodies.iter().map(|&b| block_of[b]).collect();
+        seen.sort_unstable();
+        seen.dedup();
+        for k in seen {
+            let block = &mut blocks[k];
+            block.rows.push(i);
+            block.entries.push(
+                (row_start[i]..row_start[i + 1])
+                    .filter(|&e| block_of[column[e] / 3] == k)
+                    .map(|e| (local[column[e]], e))
+                    .collect(),
+            );
+        }
+    }
+    for (r, &i) in augmented_rows.iter().enumerate() {
+        if let Some(&b) = row_bodies[i].first() {
+            let block = &mut blocks[block_of[b]];
+            let a = block.rows.binary_search(&i).unwrap_or_else(|_| unreachable!("row {i} touches its block"));
+            block.augmenting.push((a, r));
+            block.augmented = true;
+        }
+    }
+    (blocks, offset)
+}
+
+/// Inverse masses for the augmentation weights: `1/M_jj`, or for a coordinate without mass `1 /`
+/// the largest mass of its kind (translation or rotation; 1 if the system has none).
+fn weight_inverse_mass(mass: &[f64]) -> Vec<f64> {
+    let n = mass.len();
+    let largest = |kind: fn(usize) -> bool| {
+        let largest = (0..n).filter(|&j| kind(j)).fold(0.0_f64, |w, j| w.max(mass[j]));
+        if largest > 0.0 { largest } else { 1.0 }
+    };
+    let (translation, rotation) = (largest(|j| j % 3 != 2), largest(|j| j % 3 == 2));
+    (0..n)
+        .map(|j| if mass[j] > 0.0 { 1.0 / mass[j] } else { 1.0 / if j % 3 == 2 { rotation } else { translation } })
+        .collect()
 }
 
 /// What the probes found about row `i`: the coordinates `j` where `∂Φ_i/∂z_j` (or `∂(A ż)_i/∂ż_j`)
