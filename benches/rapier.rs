@@ -45,7 +45,7 @@ fn main() {
         let id = scene.id();
         let mut reasons = Vec::new();
         for engine in &Engine::ALL[1..] {
-            match build(*engine, id, &params, &state, &settings) {
+            match build(*engine, *scene, &params, &state, &settings) {
                 Ok(built) => {
                     bench_advance(&mut criterion.benchmark_group(id), engine.name(), built.simulation, DT);
                     reasons.push(None);

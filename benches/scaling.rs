@@ -49,7 +49,7 @@ fn main() {
         bench_step(&mut g, "graph_rk4", &state, |s| graph_rk4.step(&graph_model, &mut graph_ws, s, black_box(DT)));
         // rapier, multibody and impulse joints.
         for engine in [Engine::RapierMultibody, Engine::RapierImpulse] {
-            let built = build(engine, "chain", &params, &state, &settings).expect("chains are buildable");
+            let built = build(engine, scene, &params, &state, &settings).expect("chains are buildable");
             bench_advance(&mut g, engine.name(), built.simulation, DT);
         }
         g.finish();

@@ -145,7 +145,7 @@ fn rapier_converges<'a>(scenes: impl Iterator<Item = &'a dyn Scene>, minimum: us
             let mut first = None;
             // The same substep h = dt/4 in every build: one that runs a single substep per step
             // (per-step forces: the squeezer's spring) takes four times as many steps.
-            let single = build(engine, s.id(), &params, &state, &Settings::default())
+            let single = build(engine, s, &params, &state, &Settings::default())
                 .is_ok_and(|built| built.simulation.substeps() == 1);
             let (per_step, substep_count) = if single { (0.25, 1) } else { (1.0, 4) };
             for dt in steps.map(|dt| dt * scale * per_step) {
@@ -220,7 +220,7 @@ fn multibody_accelerations_match_the_closed_forms_of_constant_acceleration_scene
         let state = s.default_state(&params).expect("valid");
         let settings = Settings { dt, substeps: 4, ..Settings::default() };
         let mut built =
-            build(Engine::RapierMultibody, id, &params, &state, &settings).unwrap_or_else(|e| panic!("{id}: {e}"));
+            build(Engine::RapierMultibody, s, &params, &state, &settings).unwrap_or_else(|e| panic!("{id}: {e}"));
         built.simulation.advance_to(dt).expect("one step");
         let (_, qdot) = built.read_back.generalized(dt, &built.simulation.bodies(), &state.q);
         let expected = s
@@ -250,7 +250,7 @@ fn impulse_joint_accelerations_converge_to_the_closed_form() {
     let mut errors = Vec::new();
     for dt in [1.0 / 60.0, 1.0 / 240.0, 1.0 / 960.0] {
         let settings = Settings { dt, substeps: 4, ..Settings::default() };
-        let mut built = build(Engine::RapierImpulse, id, &params, &state, &settings).expect("the wedge is buildable");
+        let mut built = build(Engine::RapierImpulse, s, &params, &state, &settings).expect("the wedge is buildable");
         built.simulation.advance_to(t).expect("runs");
         let (_, qdot) = built.read_back.generalized(t, &built.simulation.bodies(), &state.q);
         let estimate = qdot.iter().zip(&state.qdot).map(|(v, v0)| (v - v0) / t);
@@ -273,7 +273,7 @@ fn single_precision_rapier_agrees_with_double_precision_at_coarse_steps() {
             [(Engine::RapierImpulse, Engine::RapierImpulseF32), (Engine::RapierMultibody, Engine::RapierMultibodyF32)]
         {
             let (Ok(mut a), Ok(mut b)) =
-                (build(double, s.id(), &params, &state, &settings), build(single, s.id(), &params, &state, &settings))
+                (build(double, *s, &params, &state, &settings), build(single, *s, &params, &state, &settings))
             else {
                 continue;
             };

@@ -310,7 +310,7 @@ fn maximal_builds_return_a_simulation_or_a_typed_error() {
                 let what = format!("{} [{label}] in {engine}", scene.id());
                 let dt = [1.0 / 60.0, 1.0 / 240.0][rng.random_range(0..2)];
                 let settings = Settings { dt, substeps: rng.random_range(1..5), tolerance: 1e-8 };
-                match no_panic(&what, || lagrange_maximal::build(engine, scene.id(), &params, &state, &settings)) {
+                match no_panic(&what, || lagrange_maximal::build(engine, *scene, &params, &state, &settings)) {
                     Ok(mut built) => {
                         let sim = &mut built.simulation;
                         let advanced = no_panic(&what, || sim.advance_to(state.t + 10.0 * dt));
@@ -334,7 +334,7 @@ fn maximal_builds_return_a_simulation_or_a_typed_error() {
                     Settings { tolerance: f64::INFINITY, ..settings },
                 ];
                 for bad in bad_settings {
-                    let result = no_panic(&what, || lagrange_maximal::build(engine, scene.id(), &params, &state, &bad));
+                    let result = no_panic(&what, || lagrange_maximal::build(engine, *scene, &params, &state, &bad));
                     let uses = |what: &str| match what {
                         "step" | "substeps" => engine.is_rapier(),
                         _ => !engine.is_rapier(),
@@ -350,7 +350,7 @@ fn maximal_builds_return_a_simulation_or_a_typed_error() {
                 let mut nan_state = state.clone();
                 nan_state.q[0] = f64::NAN;
                 let result =
-                    no_panic(&what, || lagrange_maximal::build(engine, scene.id(), &params, &nan_state, &settings));
+                    no_panic(&what, || lagrange_maximal::build(engine, *scene, &params, &nan_state, &settings));
                 assert!(result.is_err(), "{what}: a NaN state was accepted");
             }
         }

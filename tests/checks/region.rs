@@ -282,7 +282,7 @@ fn maximal_engines_read_back_outside_the_region_end_in_inadmissible() {
     let initial = State::new(0.0, [0.0, 9.0], [0.0, 1.0]);
     let times: Vec<f64> = (0..=40).map(|k| k as f64 * 0.05).collect();
     for engine in [Engine::Cartesian, Engine::RapierMultibody] {
-        let mut built = build(engine, "wedge", &params, &initial, &Settings::default()).expect("buildable");
+        let mut built = build(engine, scene, &params, &initial, &Settings::default()).expect("buildable");
         let mut reduced = scene.build(&built.params).expect("the wedge builds");
         let result = track(&mut built, reduced.as_mut(), &initial, &times, |_, _| 0.0, |_| Ok(()));
         match result {

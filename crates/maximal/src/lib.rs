@@ -28,21 +28,42 @@ pub use engine::{BodyState, BuildError, Built, Engine, MaximalSimulation, Settin
 
 use lagrange::State;
 use lagrange::graph::{GraphMechanism, JointGraph};
-use lagrange_scenes::Params;
+use lagrange_scenes::{Params, Scene};
 
-/// Build `scene` with `params` in `engine`, starting from the reduced `initial` state.
+/// Build `scene` with `params` in `engine`, starting from the reduced `initial` state: from
+/// its joint graph if it is one, otherwise from its hand-written maximal description.
+///
+/// ```
+/// use lagrange_maximal::{Engine, Settings, build};
+///
+/// let scene = lagrange_scenes::find("double_pendulum").expect("a built-in scene");
+/// let params = scene.default_params();
+/// let initial = scene.default_state(&params)?;
+/// let mut built = build(Engine::Cartesian, scene, &params, &initial, &Settings::default())?;
+/// built.simulation.advance_to(0.5)?;
+/// let (q, _) = built.read_back.generalized(0.5, &built.simulation.bodies(), &initial.q);
+/// assert_eq!(q.len(), 2);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 ///
 /// # Errors
 /// [`BuildError::Unbuildable`] with the reason when the engine cannot express the scene
-/// exactly; [`BuildError::Invalid`] for invalid parameters, settings or state.
+/// exactly, or when the scene has no maximal description (a scene of one's own that is not a
+/// joint graph); [`BuildError::Invalid`] for invalid parameters, settings or state.
 pub fn build(
     engine: Engine,
-    scene: &str,
+    scene: &dyn Scene,
     params: &Params,
     initial: &State,
     settings: &Settings,
 ) -> Result<Built, BuildError> {
     check_settings(engine, settings)?;
+    if !scenes::has_description(scene, params)? {
+        let reason = "the scene has no maximal description: it is not a joint graph, and no hand-written one \
+                      (inverse map, Cartesian constraints, rapier construction) is in lagrange-maximal"
+            .into();
+        return Err(BuildError::Unbuildable { engine, scene: scene.id().into(), reason });
+    }
     match engine {
         Engine::Cartesian => cartesian::build(scene, params, initial, settings),
         rapier_engine => rapier::build(rapier_engine, scene, params, initial, settings),
@@ -122,4 +143,10 @@ fn check_settings(engine: Engine, settings: &Settings) -> Result<(), lagrange::E
         return invalid("tolerance", settings.tolerance, "must be positive and finite");
     }
     Ok(())
+}
+
+/// The built-in scene `id`, for the unit tests.
+#[cfg(test)]
+pub(crate) fn scene(id: &str) -> &'static dyn lagrange_scenes::Scene {
+    lagrange_scenes::find(id).unwrap_or_else(|| panic!("no built-in scene `{id}`"))
 }

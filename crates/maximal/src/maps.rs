@@ -8,7 +8,7 @@ use crate::scenes::{MaximalScene, MaximalVisitor};
 use lagrange::graph::GraphMechanism;
 use lagrange::num_dual::Dual64;
 use lagrange::{Body, CoordinateKind, Error, Mechanism, Pose, State};
-use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, visit_mechanism};
+use lagrange_scenes::{ClosedForm, MechanismVisitor, Params, Scene, visit_mechanism};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -85,17 +85,16 @@ impl<M: Mechanism + Send + Sync> ReducedPoses for M {
 }
 
 impl ReadBack {
-    /// Resolve the registered scene `scene` with `params`: its joint graph if it is one,
-    /// otherwise its hand-written maximal description.
+    /// Resolve `scene` with `params`: its joint graph if it is one, otherwise its hand-written
+    /// maximal description.
     ///
     /// # Errors
-    /// An unknown scene, invalid parameters, a graph that is not a mechanism, or a scene with
-    /// neither a joint graph nor a hand-written description.
-    pub fn new(scene: &str, params: &Params) -> Result<Self, Error> {
+    /// Invalid parameters, a graph that is not a mechanism, or a scene with neither a joint
+    /// graph nor a hand-written description.
+    pub fn new(scene: &dyn Scene, params: &Params) -> Result<Self, Error> {
         if let Some(mechanism) = crate::scenes::graph(scene, params)? {
             return Ok(Self::graph(Arc::new(mechanism)));
         }
-        let found = lagrange_scenes::find(scene).ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
         struct Inverse;
         impl MaximalVisitor for Inverse {
             type Output = Box<dyn InverseMap>;
@@ -110,13 +109,13 @@ impl ReadBack {
                 Box::new(m)
             }
         }
-        let reduced = visit_mechanism(scene, params, Reduced)?;
+        let reduced = visit_mechanism(scene.id(), params, Reduced)?;
         let inverse = crate::scenes::visit(scene, params, Inverse)?;
         let bodies = match &reduced {
             Some(reduced) => reduced.bodies(),
             None => vec![Body::point("particle", params.get("mass"))],
         };
-        let angles = found.coordinates(params)?.iter().map(|c| c.kind == CoordinateKind::Angle).collect();
+        let angles = scene.coordinates(params)?.iter().map(|c| c.kind == CoordinateKind::Angle).collect();
         Ok(Self(Arc::new(Resolved { bodies, gravity: gravity(params), angles, map: Map::Scene { inverse, reduced } })))
     }
 

@@ -73,7 +73,7 @@ pub fn compare(
     every: f64,
 ) -> Result<Comparison, Error> {
     let id = scene.id();
-    let mut built = build(engine, id, params, initial, settings)?;
+    let mut built = build(engine, scene, params, initial, settings)?;
     let params = &built.params;
     // Sample times: on the rapier step grid.
     let grid = if engine.is_rapier() { settings.dt } else { every };

@@ -177,7 +177,7 @@ pub fn maximal(
     let (errors, energy_error, violation) = (pass.errors, pass.energy_error, pass.constraint_violation);
     let steps = pass.steps;
     let (wall_time, timed_repetitions) = time(timing, pass.advance_time, || {
-        let mut built = build(engine, problem.scene.id(), problem.params, problem.initial, settings)?;
+        let mut built = build(engine, problem.scene, problem.params, problem.initial, settings)?;
         advance(built.simulation.as_mut(), problem.times)
     })?;
     Ok(Measured { errors, energy_error, constraint_violation: violation, steps, wall_time, timed_repetitions })

@@ -52,7 +52,7 @@ impl ScenePlan {
             .into_iter()
             .map(|family| {
                 let availability = match family {
-                    Family::Maximal(engine) => probe(engine, scene.id(), &params, &initial, plan),
+                    Family::Maximal(engine) => probe(engine, scene, &params, &initial, plan),
                     _ => Availability::Ready { honours_substeps: false },
                 };
                 let settings = match availability {
@@ -74,7 +74,7 @@ impl ScenePlan {
 /// Build `engine` once and take one step; for rapier, also find out whether substeps matter: a
 /// build that applies per-step forces runs one substep per step whatever is asked
 /// ([`MaximalSimulation::substeps`](lagrange_maximal::MaximalSimulation::substeps)).
-fn probe(engine: Engine, scene: &str, params: &Params, initial: &State, plan: &Plan) -> Availability {
+fn probe(engine: Engine, scene: &dyn Scene, params: &Params, initial: &State, plan: &Plan) -> Availability {
     let dt = plan.rapier.first().map_or(1.0 / 60.0, |&(dt, _)| dt);
     let settings = Settings { dt, substeps: 2, tolerance: CARTESIAN_CHECK_TOLERANCE };
     let probed = build(engine, scene, params, initial, &settings).and_then(|mut built| {
@@ -217,7 +217,7 @@ fn run_maximal(
 ) -> Result<Measured, Error> {
     let ScenePlan { scene, params, initial, plan, .. } = scene_plan;
     let settings = maximal_settings(setting);
-    let built = build(engine, scene.id(), params, initial, &settings)?;
+    let built = build(engine, *scene, params, initial, &settings)?;
     let reference = references.get(*scene, &built.params, initial, &plan.times)?;
     result.deviations.clone_from(&built.deviations);
     result.reference = Some(reference.kind);

@@ -293,7 +293,7 @@ fn constraints_that_cannot_hold_together_are_an_error_naming_them() {
     use super::constraints::{Y, linear};
     let params = lagrange_scenes::find("nonminimal_pendulum").unwrap().default_params();
     let length = params.get("length");
-    let system = CartesianSystem::new("nonminimal_pendulum", &params).unwrap();
+    let system = CartesianSystem::new(crate::scene("nonminimal_pendulum"), &params).unwrap();
     let mut constraints = system.constraints.clone();
     constraints.push(linear(&[(0, Y, 1.0)], length, "floor"));
     let system = system.with_constraints(constraints);
@@ -363,7 +363,8 @@ fn change_point_four_bar_follows_its_one_coordinate_reduction() {
     let scene = lagrange_scenes::ChangePointFourBar::new(params.get("gravity"), params.get("crank_speed")).unwrap();
     let initial = scene.default_state();
     let settings = Settings { tolerance: 1e-12, ..Settings::default() };
-    let mut simulation = crate::build(crate::Engine::Cartesian, id, &params, &initial, &settings).unwrap().simulation;
+    let mut simulation =
+        crate::build(crate::Engine::Cartesian, crate::scene(id), &params, &initial, &settings).unwrap().simulation;
     let model = Model::new(scene.crank_model()).unwrap();
     let start = State::new(0.0, [initial.q[0]], [initial.qdot[0]]);
     let method = Method::Dopri5 { tol: Tolerances::uniform(1e-12) };

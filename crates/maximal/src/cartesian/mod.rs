@@ -52,7 +52,7 @@ mod tests;
 
 use crate::{BuildError, Built, Settings};
 use lagrange::State;
-use lagrange_scenes::Params;
+use lagrange_scenes::{Params, Scene};
 pub(crate) use simulation::CartesianSimulation;
 use system::CartesianSystem;
 
@@ -61,10 +61,10 @@ use system::CartesianSystem;
 /// simulated parameters are the requested ones (no deviations are needed).
 ///
 /// # Errors
-/// As [`crate::build`]: [`BuildError::Invalid`] for invalid parameters, an unknown scene, a
+/// As [`crate::build`]: [`BuildError::Invalid`] for invalid parameters, a
 /// state of the wrong size, a bad tolerance, or a coordinate without mass that no constraint
 /// fixes.
-pub fn build(scene: &str, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
+pub fn build(scene: &dyn Scene, params: &Params, initial: &State, settings: &Settings) -> Result<Built, BuildError> {
     let system = CartesianSystem::new(scene, params)?;
     let read_back = system.read_back.clone();
     let states = read_back.body_states(initial)?;

@@ -182,11 +182,11 @@ impl CartesianSystem {
     /// The Cartesian system of `scene` with `params`.
     ///
     /// # Errors
-    /// [`BuildError::Invalid`] for invalid parameters or an unknown scene.
-    pub(crate) fn new(scene: &str, params: &Params) -> Result<Self, BuildError> {
+    /// [`BuildError::Invalid`] for invalid parameters.
+    pub(crate) fn new(scene: &dyn lagrange_scenes::Scene, params: &Params) -> Result<Self, BuildError> {
         let read_back = ReadBack::new(scene, params)?;
         if let Some(mechanism) = read_back.mechanism() {
-            return Ok(Self::from_graph(scene, Arc::clone(mechanism)));
+            return Ok(Self::from_graph(scene.id(), Arc::clone(mechanism)));
         }
         let bodies = read_back.bodies().to_vec();
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
@@ -208,7 +208,7 @@ impl CartesianSystem {
         let holonomic = equation_names(&constraints).len();
         let sparsity = Arc::new(Sparsity::new(&constraints, &velocity, &mass, holonomic));
         Ok(Self {
-            scene: scene.into(),
+            scene: scene.id().into(),
             cyclic: vec![false; 3 * bodies.len()],
             gravity: read_back.gravity(),
             read_back,

@@ -75,8 +75,8 @@ fn scene_and_params(id: &str, overrides: &[(&str, f64)]) -> (&'static dyn Scene,
 
 /// A Cartesian simulation of `id` started from the reduced `state`.
 fn cartesian(id: &str, params: &Params, state: &State) -> CartesianSimulation {
-    let system = CartesianSystem::new(id, params).unwrap();
-    let states = ReadBack::new(id, params).unwrap().body_states(state).unwrap();
+    let system = CartesianSystem::new(crate::scene(id), params).unwrap();
+    let states = ReadBack::new(crate::scene(id), params).unwrap().body_states(state).unwrap();
     CartesianSimulation::new(system, &states, state.t, TOLERANCE).unwrap()
 }
 
@@ -201,7 +201,7 @@ fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
 
     // (2) after the horizon at tolerance 1e-12, against the reduced solution.
     let settings = Settings { tolerance: TOLERANCE, ..Settings::default() };
-    let built = super::build(id, &params, &initial, &settings).unwrap();
+    let built = super::build(crate::scene(id), &params, &initial, &settings).unwrap();
     assert_eq!((built.params.clone(), built.deviations.len()), (params.clone(), 0), "{id}: no deviations");
     let mut simulation = built.simulation;
     assert_eq!(simulation.engine(), Engine::Cartesian);
@@ -214,7 +214,7 @@ fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
     let end = trajectory.last_state().unwrap();
     // Angles are read back on the branch nearest the reduced solution (a crank turns many
     // times; its angle is compared modulo 2π).
-    let (q, qdot) = ReadBack::new(id, &params).unwrap().generalized(horizon, &bodies, &end.q);
+    let (q, qdot) = ReadBack::new(crate::scene(id), &params).unwrap().generalized(horizon, &bodies, &end.q);
     let bound = if SINGULAR_DEFAULT_MOTION.contains(&id) { SINGULAR_TRAJECTORY_TOL } else { TRAJECTORY_TOL };
     report.trajectory_q = assert_close(&format!("{id}: q after {horizon} s"), &end.q, &q, bound);
     report.trajectory_qdot = assert_close(&format!("{id}: q̇ after {horizon} s"), &end.qdot, &qdot, bound);
@@ -234,11 +234,11 @@ fn check(id: &str, overrides: &[(&str, f64)]) -> Report {
     report.force_end = assert_close(&what, &expected, &got, FORCE_RTOL * scale) / scale;
 
     // (4) energy, where the scene conserves it (both formulations must agree on that).
-    let system = CartesianSystem::new(id, &params).unwrap();
+    let system = CartesianSystem::new(crate::scene(id), &params).unwrap();
     assert_eq!(system.conserves_energy(), reduced.conserves_energy(), "{id}: energy conservation");
     if system.conserves_energy() {
         let mut ws = system.workspace();
-        let start = ReadBack::new(id, &params).unwrap().body_states(&initial).unwrap();
+        let start = ReadBack::new(crate::scene(id), &params).unwrap().body_states(&initial).unwrap();
         let (z0, zdot0) = flatten(&start);
         let e0 = system.energy_function(&mut ws, initial.t, &z0, &zdot0).unwrap();
         let (z1, zdot1) = flatten(&bodies);
@@ -264,7 +264,7 @@ fn rolling_disc_turns_as_far_as_the_reduced_disc() {
     let (scene, params) = scene_and_params("rolling_disc", &[]);
     let initial = scene.default_state(&params).unwrap();
     let settings = Settings { tolerance: TOLERANCE, ..Settings::default() };
-    let mut simulation = super::build("rolling_disc", &params, &initial, &settings).unwrap().simulation;
+    let mut simulation = super::build(crate::scene("rolling_disc"), &params, &initial, &settings).unwrap().simulation;
     simulation.advance_to(HORIZON).unwrap();
     let exact = scene.exact_solution(&params, &initial, HORIZON).unwrap().unwrap();
     assert!(exact.q[1] > 30.0, "several turns: φ = {}", exact.q[1]);
@@ -283,8 +283,11 @@ fn the_knife_edge_holds_in_cartesian_coordinates() {
     simulation.system.constraint_rate(&mut simulation.ws, 3.0, &z, &zdot);
     assert!(simulation.ws.rate[0].abs() <= 1e-15, "v_P · n = {:e}", simulation.ws.rate[0]);
     simulation.evaluate().unwrap();
-    let (q, qdot) =
-        ReadBack::new("chaplygin_sleigh", &params).unwrap().generalized(3.0, &simulation.bodies(), &initial.q);
+    let (q, qdot) = ReadBack::new(crate::scene("chaplygin_sleigh"), &params).unwrap().generalized(
+        3.0,
+        &simulation.bodies(),
+        &initial.q,
+    );
     let mut reduced = scene.build(&params).unwrap();
     let lambda = reduced.constraint_multipliers(3.0, &q, &qdot).unwrap().unwrap().to_vec();
     // The same row in both: A = (−sinφ, cosφ, a) is v_P · n in body poses.
@@ -316,7 +319,8 @@ fn loop_multipliers_are_the_cartesian_pin_forces() {
         let mut simulation = cartesian(id, &params, &initial);
         simulation.advance_to(t).unwrap();
         simulation.evaluate().unwrap();
-        let (q, qdot) = ReadBack::new(id, &params).unwrap().generalized(t, &simulation.bodies(), &initial.q);
+        let (q, qdot) =
+            ReadBack::new(crate::scene(id), &params).unwrap().generalized(t, &simulation.bodies(), &initial.q);
         let mut reduced = scene.build(&params).unwrap();
         let lambda = reduced.constraint_multipliers(t, &q, &qdot).unwrap().unwrap().to_vec();
         let pins: Vec<f64> = rows.iter().map(|&r| simulation.ws.multipliers[r]).collect();
@@ -398,9 +402,10 @@ fn cartesian_runs_follow_the_exact_solutions() {
         let Some(exact) = scene.exact_solution(&params, &initial, horizon).unwrap() else {
             continue;
         };
-        let mut simulation = super::build(id, &params, &initial, &settings).unwrap().simulation;
+        let mut simulation = super::build(crate::scene(id), &params, &initial, &settings).unwrap().simulation;
         simulation.advance_to(horizon).unwrap();
-        let (q, qdot) = ReadBack::new(id, &params).unwrap().generalized(horizon, &simulation.bodies(), &exact.q);
+        let (q, qdot) =
+            ReadBack::new(crate::scene(id), &params).unwrap().generalized(horizon, &simulation.bodies(), &exact.q);
         let (error_q, error_qdot) = (max_abs_diff(&exact.q, &q), max_abs_diff(&exact.qdot, &qdot));
         eprintln!(
             "{id}: Cartesian against the exact solution after {horizon} s: {error_q:.1e} in q, {error_qdot:.1e} in q̇"
@@ -450,8 +455,9 @@ fn advance_to_reaches_each_requested_time_exactly() {
     let (scene, params) = scene_and_params("double_pendulum", &[]);
     let initial = scene.default_state(&params).unwrap();
     let settings = Settings { tolerance: 1e-10, ..Settings::default() };
-    let mut simulation =
-        crate::build(Engine::Cartesian, "double_pendulum", &params, &initial, &settings).unwrap().simulation;
+    let mut simulation = crate::build(Engine::Cartesian, crate::scene("double_pendulum"), &params, &initial, &settings)
+        .unwrap()
+        .simulation;
     for t in [0.1, 0.25, 0.25, 1.0 / 3.0] {
         simulation.advance_to(t).unwrap();
         assert_eq!(simulation.t(), t);
@@ -467,6 +473,76 @@ fn advance_to_reaches_each_requested_time_exactly() {
     assert!(simulation.constraint_violation().unwrap() <= VIOLATION_TOL);
 }
 
+/// A scene of one's own that is not a joint graph: the cart pendulum's model and data under
+/// another id, without its graph.
+struct Opaque(&'static dyn Scene);
+
+impl Scene for Opaque {
+    fn id(&self) -> &'static str {
+        "opaque_cart_pendulum"
+    }
+    fn title(&self) -> &'static str {
+        self.0.title()
+    }
+    fn reference(&self) -> &'static str {
+        self.0.reference()
+    }
+    fn horizon(&self) -> Option<f64> {
+        self.0.horizon()
+    }
+    fn params(&self) -> &'static [lagrange_scenes::ParamSpec] {
+        self.0.params()
+    }
+    fn coordinates(&self, params: &Params) -> Result<Vec<lagrange::Coordinate>, Error> {
+        self.0.coordinates(params)
+    }
+    fn default_state(&self, params: &Params) -> Result<State, Error> {
+        self.0.default_state(params)
+    }
+    fn build(&self, params: &Params) -> Result<Box<dyn lagrange::System>, Error> {
+        self.0.build(params)
+    }
+    fn closed_form_accelerations(
+        &self,
+        params: &Params,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<Vec<f64>>, Error> {
+        self.0.closed_form_accelerations(params, t, q, qdot)
+    }
+    fn exact_solution(&self, params: &Params, initial: &State, t: f64) -> Result<Option<State>, Error> {
+        self.0.exact_solution(params, initial, t)
+    }
+    fn conserved_quantities(&self, params: &Params) -> Result<Vec<lagrange_scenes::Conserved>, Error> {
+        self.0.conserved_quantities(params)
+    }
+    fn joint_graph(&self, _: &Params) -> Result<Option<lagrange::graph::JointGraph>, Error> {
+        Ok(None)
+    }
+    fn rapier_deviations(&self, multibody: bool) -> &'static [lagrange_scenes::RapierDeviation] {
+        self.0.rapier_deviations(multibody)
+    }
+}
+
+/// A scene with no maximal description (neither a joint graph nor a hand-written one) is
+/// unbuildable in every engine, saying why; invalid parameters are still named as such.
+#[test]
+fn a_scene_without_a_maximal_description_is_unbuildable() {
+    let scene = Opaque(crate::scene("cart_pendulum"));
+    let params = scene.default_params();
+    let initial = scene.default_state(&params).unwrap();
+    for engine in Engine::ALL {
+        match crate::build(engine, &scene, &params, &initial, &Settings::default()) {
+            Err(BuildError::Unbuildable { engine: e, scene: id, reason }) => {
+                assert_eq!((e, id.as_str()), (engine, "opaque_cart_pendulum"));
+                assert!(reason.contains("no maximal description"), "{reason}");
+            }
+            other => panic!("{engine}: expected unbuildable, got {:?}", other.err()),
+        }
+    }
+}
+
 #[test]
 fn invalid_inputs_are_errors_not_panics() {
     let (scene, params) = scene_and_params("cart_pendulum", &[]);
@@ -477,20 +553,23 @@ fn invalid_inputs_are_errors_not_panics() {
         Err(other) => panic!("expected an invalid-input error, got {other}"),
         Ok(_) => panic!("expected an error"),
     };
-    let unknown = invalid(super::build("pendulum", &params, &initial, &settings));
-    assert!(matches!(unknown, Error::InvalidParameter { ref name, .. } if name == "scene"), "{unknown}");
     let foreign = lagrange_scenes::find("charged_particle").unwrap().default_params();
-    let error = invalid(super::build("cart_pendulum", &foreign, &initial, &settings));
+    let error = invalid(super::build(crate::scene("cart_pendulum"), &foreign, &initial, &settings));
     assert!(matches!(error, Error::InvalidParameter { .. }), "{error}");
     let short = State::new(0.0, [0.0], [0.0]);
-    let error = invalid(super::build("cart_pendulum", &params, &short, &settings));
+    let error = invalid(super::build(crate::scene("cart_pendulum"), &params, &short, &settings));
     assert!(matches!(error, Error::DimensionMismatch { .. }), "{error}");
     for tolerance in [0.0, -1.0, f64::NAN] {
-        let error = invalid(super::build("cart_pendulum", &params, &initial, &Settings { tolerance, ..settings }));
+        let error = invalid(super::build(
+            crate::scene("cart_pendulum"),
+            &params,
+            &initial,
+            &Settings { tolerance, ..settings },
+        ));
         assert!(matches!(error, Error::InvalidSetting { what: "tolerance", .. }), "{error}");
     }
     let nan = State::new(0.0, [f64::NAN, 0.5], [0.0, 0.0]);
-    let error = invalid(super::build("cart_pendulum", &params, &nan, &settings));
+    let error = invalid(super::build(crate::scene("cart_pendulum"), &params, &nan, &settings));
     assert!(matches!(error, Error::NonFinite { .. }), "{error}");
 }
 
@@ -499,10 +578,12 @@ fn invalid_inputs_are_errors_not_panics() {
 #[test]
 fn initial_states_off_the_constraints_are_rejected() {
     let (scene, params) = scene_and_params("cart_pendulum", &[]);
-    let mut states =
-        ReadBack::new("cart_pendulum", &params).unwrap().body_states(&scene.default_state(&params).unwrap()).unwrap();
+    let mut states = ReadBack::new(crate::scene("cart_pendulum"), &params)
+        .unwrap()
+        .body_states(&scene.default_state(&params).unwrap())
+        .unwrap();
     states[1].pose[0] += 1e-6;
-    let system = CartesianSystem::new("cart_pendulum", &params).unwrap();
+    let system = CartesianSystem::new(crate::scene("cart_pendulum"), &params).unwrap();
     let error = CartesianSimulation::new(system, &states, 0.0, TOLERANCE).err().unwrap();
     // The bob's joint `θ` on the cart, its x row.
     assert!(matches!(error, Error::Inconsistent { ref what } if what.contains("`θ (x)`")), "{error}");
@@ -515,8 +596,8 @@ fn initial_states_off_the_constraints_are_rejected() {
 fn singular_kkt_matrices_are_errors_naming_the_culprit() {
     let (scene, params) = scene_and_params("atwood", &[("pulley_inertia", 0.0)]);
     let initial = scene.default_state(&params).unwrap();
-    let states = ReadBack::new("atwood", &params).unwrap().body_states(&initial).unwrap();
-    let system = CartesianSystem::new("atwood", &params).unwrap();
+    let states = ReadBack::new(crate::scene("atwood"), &params).unwrap().body_states(&initial).unwrap();
+    let system = CartesianSystem::new(crate::scene("atwood"), &params).unwrap();
     let no_slip = |c: &Constraint| c.name == "pulley turn";
     // Without the pulley's joint.
     let slipping: Vec<Constraint> = system.constraints.iter().filter(|c| !no_slip(c)).cloned().collect();
@@ -540,8 +621,8 @@ fn singular_kkt_matrices_are_errors_naming_the_culprit() {
 fn a_constraint_written_twice_shares_its_force() {
     let (scene, params) = scene_and_params("atwood", &[]);
     let initial = scene.default_state(&params).unwrap();
-    let (z, zdot) = flatten(&ReadBack::new("atwood", &params).unwrap().body_states(&initial).unwrap());
-    let system = CartesianSystem::new("atwood", &params).unwrap();
+    let (z, zdot) = flatten(&ReadBack::new(crate::scene("atwood"), &params).unwrap().body_states(&initial).unwrap());
+    let system = CartesianSystem::new(crate::scene("atwood"), &params).unwrap();
     let mut ws = system.workspace();
     system.evaluate(&mut ws, 0.0, &z, &zdot).unwrap();
     // The rope's rows in the single system, and the copy's rows (appended last).
@@ -577,8 +658,9 @@ fn projection_restores_positions_and_velocities() {
     ] {
         let (scene, params) = scene_and_params(id, overrides);
         let state = scene.default_state(&params).unwrap();
-        let system = CartesianSystem::new(id, &params).unwrap();
-        let (mut z, mut zdot) = flatten(&ReadBack::new(id, &params).unwrap().body_states(&state).unwrap());
+        let system = CartesianSystem::new(crate::scene(id), &params).unwrap();
+        let (mut z, mut zdot) =
+            flatten(&ReadBack::new(crate::scene(id), &params).unwrap().body_states(&state).unwrap());
         for (k, (p, v)) in z.iter_mut().zip(zdot.iter_mut()).enumerate() {
             *p += 1e-7 * (k as f64 + 1.0).sin();
             *v += 1e-5 * (k as f64 + 2.0).cos();
@@ -601,11 +683,11 @@ fn dynamics_interface_matches_the_bodies() {
         let id = scene.id();
         let params = scene.default_params();
         let state = scene.default_state(&params).unwrap();
-        let system = CartesianSystem::new(id, &params).unwrap();
-        let bodies = ReadBack::new(id, &params).unwrap().bodies().to_vec();
+        let system = CartesianSystem::new(crate::scene(id), &params).unwrap();
+        let bodies = ReadBack::new(crate::scene(id), &params).unwrap().bodies().to_vec();
         let n = 3 * bodies.len();
         assert_eq!((system.dof(), system.bodies().len()), (n, bodies.len()), "{id}");
-        let states = ReadBack::new(id, &params).unwrap().body_states(&state).unwrap();
+        let states = ReadBack::new(crate::scene(id), &params).unwrap().body_states(&state).unwrap();
         let (z, zdot) = flatten(&states);
         let mut ws = system.workspace();
         let mut mass = vec![f64::NAN; n * n];
@@ -621,7 +703,7 @@ fn dynamics_interface_matches_the_bodies() {
             }
         }
         let energy = system.energy_function(&mut ws, state.t, &z, &zdot).unwrap();
-        let expected = ReadBack::new(id, &params).unwrap().energy(state.t, &states);
+        let expected = ReadBack::new(crate::scene(id), &params).unwrap().energy(state.t, &states);
         assert!((energy - expected).abs() <= 1e-14 * expected.abs().max(1.0), "{id}: energy {energy} vs {expected}");
         let mut reaction = vec![0.0; n];
         assert!(system.reaction_forces(&mut ws, state.t, &z, &zdot, &mut reaction).unwrap());

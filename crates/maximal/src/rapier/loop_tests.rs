@@ -350,8 +350,8 @@ fn scene_errors(scene: &str, engine: Engine, t_end: f64, dt: f64, substeps: usiz
     let params = found.default_params();
     let initial = found.default_state(&params).unwrap_or_else(|e| panic!("{scene}: {e}"));
     let settings = Settings { dt, substeps, ..Settings::default() };
-    let mut built =
-        crate::build(engine, scene, &params, &initial, &settings).unwrap_or_else(|e| panic!("{scene}: {e}"));
+    let mut built = crate::build(engine, crate::scene(scene), &params, &initial, &settings)
+        .unwrap_or_else(|e| panic!("{scene}: {e}"));
     let times: Vec<f64> = (1..=samples).map(|k| t_end * f64::from(k) / f64::from(samples)).collect();
     let reference = found
         .build(&built.params)

@@ -53,7 +53,7 @@ mod tests;
 
 use crate::{BuildError, Built, Engine, MaximalSimulation, Settings};
 use lagrange::State;
-use lagrange_scenes::Params;
+use lagrange_scenes::{Params, Scene};
 use plan::JointMode;
 
 /// Build the rapier simulation of `scene` in `engine` (one of the four rapier engines),
@@ -64,11 +64,11 @@ use plan::JointMode;
 /// # Errors
 /// As [`crate::build`]: [`BuildError::Unbuildable`] with the reason (the Atwood machines with
 /// impulse joints, the driven pendulum with multibody joints, the Cartesian engine);
-/// [`BuildError::Invalid`] for an unknown scene, invalid parameters, a state of the wrong size
+/// [`BuildError::Invalid`] for invalid parameters, a state of the wrong size
 /// or invalid settings.
 pub fn build(
     engine: Engine,
-    scene: &str,
+    scene: &dyn Scene,
     params: &Params,
     initial: &State,
     settings: &Settings,
@@ -78,7 +78,7 @@ pub fn build(
         Engine::RapierMultibody | Engine::RapierMultibodyF32 => JointMode::Multibody,
         Engine::Cartesian => {
             let reason = "the Cartesian engine is not a rapier build".into();
-            return Err(BuildError::Unbuildable { engine, scene: scene.into(), reason });
+            return Err(BuildError::Unbuildable { engine, scene: scene.id().into(), reason });
         }
     };
     if !(settings.dt > 0.0 && settings.dt.is_finite()) {

@@ -7,7 +7,7 @@ use crate::maps::ReadBack;
 use crate::scenes::{MaximalScene, MaximalVisitor};
 use crate::{BodyState, BuildError, Engine};
 use lagrange::{Body, Error, State};
-use lagrange_scenes::Params;
+use lagrange_scenes::{Params, Scene};
 
 /// Relative inertia `I_b = 1e-2 m r²` given to point bobs on impulse revolute joints, which
 /// freeze the rotation of a body with zero inertia (docs/rapier.md#bodies-and-mass).
@@ -30,42 +30,44 @@ pub(crate) const NO_RHEONOMIC_MULTIBODY: &str = "a rapier multibody propagates n
 /// construction ([`MaximalScene::rapier`]) with the deviations its joints need.
 ///
 /// # Errors
-/// [`BuildError::Invalid`] for an unknown scene, invalid parameters or a state of the wrong
-/// size; [`BuildError::Unbuildable`] when `mode` cannot express the scene.
+/// [`BuildError::Invalid`] for invalid parameters or a state of the wrong size;
+/// [`BuildError::Unbuildable`] when `mode` cannot express the scene.
 pub(crate) fn plan(
     engine: Engine,
     mode: JointMode,
-    scene: &str,
+    scene: &dyn Scene,
     params: &Params,
     initial: &State,
 ) -> Result<Plan, BuildError> {
     struct Planner<'a> {
         engine: Engine,
         mode: JointMode,
+        scene: &'a dyn Scene,
         params: &'a Params,
         initial: &'a State,
     }
     impl MaximalVisitor for Planner<'_> {
         type Output = Result<Plan, BuildError>;
-        fn visit<T: MaximalScene>(self, _scene: T) -> Self::Output {
-            let Planner { engine, mode, params, initial } = self;
+        fn visit<T: MaximalScene>(self, _: T) -> Self::Output {
+            let Planner { engine, mode, scene: registered, params, initial } = self;
             if let Some(reason) = T::rapier_unbuildable(mode) {
                 return Err(BuildError::Unbuildable { engine, scene: T::ID.into(), reason: reason.into() });
             }
             let (params, deviations) = with_deviations(T::rapier_deviations(mode == JointMode::Multibody), params)?;
             let scene = T::from_params(&params)?;
-            let mut draft = Draft::new(mode, T::ID, &params, initial)?;
+            let mut draft = Draft::new(mode, registered, &params, initial)?;
             scene.rapier(&mut draft, initial);
             Ok(draft.finish(T::ID, params, deviations, initial.t))
         }
     }
-    let found = check_input(scene, params, initial)?;
-    if found.joint_graph(params)?.is_some() {
+    check_input(scene, params, initial)?;
+    if scene.joint_graph(params)?.is_some() {
         // A joint-graph scene: the deviations it declares on its parameters, then the graph's
         // plan (the graph resolved once, with them).
-        let (params, deviations) = with_deviations(found.rapier_deviations(mode == JointMode::Multibody), params)?;
-        let mechanism = crate::scenes::graph(scene, &params)?.ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
-        let built = super::graph::plan(engine, mode, scene, &mechanism, initial)?;
+        let (params, deviations) = with_deviations(scene.rapier_deviations(mode == JointMode::Multibody), params)?;
+        let mechanism =
+            crate::scenes::graph(scene, &params)?.ok_or_else(|| lagrange_scenes::unknown_scene(scene.id()))?;
+        let built = super::graph::plan(engine, mode, scene.id(), &mechanism, initial)?;
         // The graph's own deviations, carried by the scene's parameters `<body>.inertia` (a
         // registered joint-graph scene has them) so that the reference simulates them too.
         let mut params = params;
@@ -74,7 +76,8 @@ pub(crate) fn plan(
             if params.spec(&name).is_none() {
                 return Err(Error::Inconsistent {
                     what: format!(
-                        "{scene}: rapier needs body `{body}` with inertia {inertia:e}, which no parameter sets"
+                        "{}: rapier needs body `{body}` with inertia {inertia:e}, which no parameter sets",
+                        scene.id()
                     ),
                 }
                 .into());
@@ -86,25 +89,12 @@ pub(crate) fn plan(
         plan.deviations = deviations.into_iter().chain(built.deviations).collect();
         return Ok(plan);
     }
-    crate::scenes::visit(scene, params, Planner { engine, mode, params, initial })?
+    crate::scenes::visit(scene, params, Planner { engine, mode, scene, params, initial })?
 }
 
-/// Scene, parameters and state are valid and fit together (before any `Params::get`); the
-/// registered scene.
-pub(crate) fn check_input(
-    scene: &str,
-    params: &Params,
-    initial: &State,
-) -> Result<&'static dyn lagrange_scenes::Scene, BuildError> {
-    let Some(found) = lagrange_scenes::find(scene) else {
-        return Err(Error::InvalidParameter {
-            name: "scene".into(),
-            value: f64::NAN,
-            why: format!("unknown scene id `{scene}`; known: {}", lagrange_scenes::ids().join(", ")),
-        }
-        .into());
-    };
-    let n = found.coordinates(params)?.len();
+/// Parameters and state are valid and fit the scene (before any `Params::get`).
+pub(crate) fn check_input(scene: &dyn Scene, params: &Params, initial: &State) -> Result<(), BuildError> {
+    let n = scene.coordinates(params)?.len();
     for (what, values) in [("q", &initial.q), ("q̇", &initial.qdot)] {
         if values.len() != n {
             return Err(Error::DimensionMismatch { what, expected: n, got: values.len() }.into());
@@ -115,7 +105,7 @@ pub(crate) fn check_input(
             Error::NonFinite { stage: lagrange::error::Stage::State, t: initial.t, q: initial.q.clone() }.into()
         );
     }
-    Ok(found)
+    Ok(())
 }
 
 /// The parameters rapier simulates, and one sentence per change (the scene's
@@ -178,7 +168,7 @@ impl Draft {
         self.prismatic(arm, particle, axis, [0.0, 0.0], [0.0, 0.0]);
     }
 
-    fn new(mode: JointMode, scene: &str, params: &Params, initial: &State) -> Result<Self, Error> {
+    fn new(mode: JointMode, scene: &dyn Scene, params: &Params, initial: &State) -> Result<Self, Error> {
         let read_back = ReadBack::new(scene, params)?;
         Ok(Self {
             mode,

@@ -63,7 +63,8 @@ fn settings(dt: f64) -> Settings {
 }
 
 fn built(engine: Engine, scene: &str, params: &Params, initial: &State, dt: f64) -> Built {
-    build(engine, scene, params, initial, &settings(dt)).unwrap_or_else(|e| panic!("{engine} {scene}: {e}"))
+    build(engine, crate::scene(scene), params, initial, &settings(dt))
+        .unwrap_or_else(|e| panic!("{engine} {scene}: {e}"))
 }
 
 /// `(q, q̇)` read back from a build now (angles unwrapped towards `reference`).
@@ -120,7 +121,7 @@ fn unbuildable_combinations_give_their_reason() {
         for engine in
             [Engine::RapierImpulse, Engine::RapierMultibody, Engine::RapierImpulseF32, Engine::RapierMultibodyF32]
         {
-            let result = build(engine, scene, &params, &initial, &Settings::default());
+            let result = build(engine, crate::scene(scene), &params, &initial, &Settings::default());
             match (expected_unbuildable(scene, engine), result) {
                 (true, Err(BuildError::Unbuildable { reason, .. })) => {
                     let expected = match scene {
@@ -395,16 +396,21 @@ fn invalid_input_is_an_error() {
     let short = State::new(0.0, [0.0], [0.0]);
     let nan = State::new(0.0, [0.0, f64::NAN], [0.0, 0.0]);
     let failures = [
-        build(engine, "no_such_scene", &params, &initial, &Settings::default()),
-        build(engine, "cart_pendulum", &kepler_params, &initial, &Settings::default()),
-        build(engine, "cart_pendulum", &params, &short, &Settings::default()),
-        build(engine, "cart_pendulum", &params, &nan, &Settings::default()),
-        build(engine, "cart_pendulum", &params, &initial, &Settings { dt: 0.0, ..Settings::default() }),
-        build(engine, "cart_pendulum", &params, &initial, &Settings { substeps: 0, ..Settings::default() }),
+        build(engine, crate::scene("cart_pendulum"), &kepler_params, &initial, &Settings::default()),
+        build(engine, crate::scene("cart_pendulum"), &params, &short, &Settings::default()),
+        build(engine, crate::scene("cart_pendulum"), &params, &nan, &Settings::default()),
+        build(engine, crate::scene("cart_pendulum"), &params, &initial, &Settings { dt: 0.0, ..Settings::default() }),
+        build(
+            engine,
+            crate::scene("cart_pendulum"),
+            &params,
+            &initial,
+            &Settings { substeps: 0, ..Settings::default() },
+        ),
     ];
     for (i, result) in failures.into_iter().enumerate() {
         assert!(matches!(result, Err(BuildError::Invalid(_))), "case {i}: expected Invalid, got {:?}", result.err());
     }
-    let cartesian = build(Engine::Cartesian, "cart_pendulum", &params, &initial, &Settings::default());
+    let cartesian = build(Engine::Cartesian, crate::scene("cart_pendulum"), &params, &initial, &Settings::default());
     assert!(matches!(cartesian, Err(BuildError::Unbuildable { .. })), "{:?}", cartesian.err());
 }

@@ -22,7 +22,7 @@ use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
 use lagrange::graph::GraphMechanism;
 use lagrange::{Error, Scalar, State};
-use lagrange_scenes::{Params, SceneType};
+use lagrange_scenes::{Params, Scene, SceneType};
 
 /// Call `$callback!` with every scene type that has a hand-written maximal description (the
 /// scenes that are not joint graphs).
@@ -44,10 +44,9 @@ macro_rules! hand_written {
 /// The resolved joint graph of `scene` with `params`, if the scene is one.
 ///
 /// # Errors
-/// An unknown scene, invalid parameters, or a graph that is not a mechanism.
-pub(crate) fn graph(scene: &str, params: &Params) -> Result<Option<GraphMechanism>, Error> {
-    let found = lagrange_scenes::find(scene).ok_or_else(|| lagrange_scenes::unknown_scene(scene))?;
-    found.joint_graph(params)?.map(GraphMechanism::new).transpose()
+/// Invalid parameters, or a graph that is not a mechanism.
+pub(crate) fn graph(scene: &dyn Scene, params: &Params) -> Result<Option<GraphMechanism>, Error> {
+    scene.joint_graph(params)?.map(GraphMechanism::new).transpose()
 }
 
 /// A scene's description in maximal coordinates: every body's full planar pose
@@ -93,11 +92,27 @@ pub(crate) trait MaximalVisitor {
     fn visit<T: MaximalScene>(self, scene: T) -> Self::Output;
 }
 
-/// Build the typed scene `id` from `params` and run `visitor` on it.
+/// Whether `scene` has a maximal description: its joint graph (with `params`), or a
+/// hand-written one.
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] for invalid parameters or an unknown id.
-pub(crate) fn visit<V: MaximalVisitor>(id: &str, params: &Params, visitor: V) -> Result<V::Output, Error> {
+/// Invalid parameters.
+pub(crate) fn has_description(scene: &dyn Scene, params: &Params) -> Result<bool, Error> {
+    macro_rules! listed {
+        ($($scene:ty),*) => {
+            [$(<$scene as SceneType>::ID),*].contains(&scene.id())
+        };
+    }
+    Ok(hand_written!(listed) || scene.joint_graph(params)?.is_some())
+}
+
+/// Build the typed maximal description of `scene` from `params` and run `visitor` on it.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for invalid parameters or a scene without a hand-written
+/// maximal description.
+pub(crate) fn visit<V: MaximalVisitor>(scene: &dyn Scene, params: &Params, visitor: V) -> Result<V::Output, Error> {
+    let id = scene.id();
     macro_rules! dispatch {
         ($($scene:ty),*) => {
             $(if id == <$scene as SceneType>::ID {
@@ -106,7 +121,6 @@ pub(crate) fn visit<V: MaximalVisitor>(id: &str, params: &Params, visitor: V) ->
         };
     }
     hand_written!(dispatch);
-    lagrange_scenes::find(id).ok_or_else(|| lagrange_scenes::unknown_scene(id))?;
     Err(Error::InvalidParameter {
         name: "scene".into(),
         value: f64::NAN,

@@ -179,7 +179,7 @@ fn maximal(tally: &mut Tally, scene: &dyn Scene, params: &Params, state: &State)
     for engine in Engine::ALL {
         let settings = Settings { dt: 1.0 / 240.0, substeps: 2, tolerance: 1e-8 };
         let what = format!("{engine} build");
-        match tally.call(&what, || lagrange_maximal::build(engine, scene.id(), params, state, &settings)) {
+        match tally.call(&what, || lagrange_maximal::build(engine, scene, params, state, &settings)) {
             Some(Ok(mut built)) => {
                 let sim = &mut built.simulation;
                 if let Some(Ok(())) = tally.call(&format!("{engine} advance"), || sim.advance_to(state.t + 0.05)) {
@@ -200,7 +200,7 @@ fn maximal(tally: &mut Tally, scene: &dyn Scene, params: &Params, state: &State)
         ] {
             let used = engine.is_rapier() == (setting != "tolerance");
             let what = format!("{engine} build with a bad {setting}");
-            let result = tally.call(&what, || lagrange_maximal::build(engine, scene.id(), params, state, &bad));
+            let result = tally.call(&what, || lagrange_maximal::build(engine, scene, params, state, &bad));
             let named =
                 matches!(result, Some(Err(BuildError::Invalid(Error::InvalidSetting { what, .. }))) if what == setting);
             if used && !named && !matches!(result, Some(Err(BuildError::Unbuildable { .. }))) {

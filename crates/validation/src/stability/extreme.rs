@@ -66,7 +66,7 @@ fn rapier_error(
     let Ok(scene) = find(id) else { return m.failed("unknown scene") };
     let Ok(params) = scene_params(scene, changes) else { return m.failed("invalid parameters") };
     let start = Instant::now();
-    let mut built = match build(engine, id, &params, initial, &settings) {
+    let mut built = match build(engine, scene, &params, initial, &settings) {
         Ok(built) => built,
         Err(e) => return m.failed(e),
     };
@@ -253,7 +253,7 @@ fn rapier_balance(
             ..RunSettings::default()
         });
     let start = Instant::now();
-    match build(Engine::RapierMultibody, scene.id(), params, initial, &settings) {
+    match build(Engine::RapierMultibody, scene, params, initial, &settings) {
         Ok(mut built) => {
             let mut drift: f64 = 0.0;
             let mut failure = None;

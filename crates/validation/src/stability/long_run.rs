@@ -122,7 +122,7 @@ fn rapier_long_run(case: &mut CaseBuilder, effort: Effort) -> Result<(), Error> 
             },
         );
         let start = Instant::now();
-        let mut built = match build(engine, "harmonic_oscillator", &params, &initial, &settings) {
+        let mut built = match build(engine, scene, &params, &initial, &settings) {
             Ok(built) => built,
             Err(e) => {
                 case.push(base.failed(e));

@@ -12,7 +12,7 @@ use crate::tolerance::{LINEAR_STABILITY_LIMIT, STABILITY_LIMIT, gauss_energy_per
 use lagrange::{Method, Output, State, System, Tolerances};
 use lagrange_maximal::{Engine, Settings, build};
 use lagrange_scenes::SceneType;
-use lagrange_scenes::Params;
+use lagrange_scenes::{Params, Scene};
 use std::time::Instant;
 
 // One bound per check, from `crate::tolerance` (where the reasons are): a limit measured on a
@@ -81,7 +81,7 @@ fn limit(label: String, scene: &str, method: &'static str, found: Option<(f64, u
 
 /// Whether rapier (`engine`, one substep) keeps the energy of `scene` bounded over `steps`
 /// steps of `dt`: the largest energy of the last tenth is at most twice that of the first.
-fn rapier_bounded(engine: Engine, scene: &str, params: &Params, initial: &State, dt: f64, steps: usize) -> bool {
+fn rapier_bounded(engine: Engine, scene: &dyn Scene, params: &Params, initial: &State, dt: f64, steps: usize) -> bool {
     let settings = Settings { dt, substeps: 1, tolerance: 1e-12 };
     let Ok(mut built) = build(engine, scene, params, initial, &settings) else { return false };
     let (mut first, mut last) = (0.0_f64, 0.0_f64);
@@ -315,10 +315,11 @@ fn rapier_limits(case: &mut CaseBuilder, k: f64) -> Result<(), Error> {
     let initial = State::new(0.0, [0.1], [0.0]);
     // rapier on the oscillator.
     let (params, _) = system("harmonic_oscillator", &[("stiffness", k)])?;
+    let oscillator = find("harmonic_oscillator")?;
     for engine in [Engine::RapierImpulse, Engine::RapierMultibody] {
         let start = Instant::now();
         let found = bisect_limit(1.0 / omega, 3.0 / omega, 1e-6, |dt| {
-            rapier_bounded(engine, "harmonic_oscillator", &params, &initial, dt, 2000)
+            rapier_bounded(engine, oscillator, &params, &initial, dt, 2000)
         });
         let mut m = limit(label.clone(), "harmonic_oscillator", engine.name(), found, omega)
             .params(&[("stiffness", k)])
@@ -397,11 +398,12 @@ fn stiff_damped(case: &mut CaseBuilder, _effort: Effort) -> Result<(), Error> {
         )),
     });
     variational_order_under_damping(case)?;
+    let oscillator = find("harmonic_oscillator")?;
     for engine in [Engine::RapierImpulse, Engine::RapierMultibody] {
         let start = Instant::now();
         let limit_step = theory::damped_symplectic_euler_step(k, c);
         let found = bisect_limit(0.5 * limit_step, 2.0 * limit_step, 1e-6, |dt| {
-            rapier_bounded(engine, "harmonic_oscillator", &params, &initial, dt, 2000)
+            rapier_bounded(engine, oscillator, &params, &initial, dt, 2000)
         });
         let mut m = limit(label.into(), "harmonic_oscillator", engine.name(), found, -fast).params(&changes).check(
             Check::RelativeToTheory,
