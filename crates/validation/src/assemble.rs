@@ -1,16 +1,58 @@
 //! From the runs of a scene to its entry in `report.json`: the fronts of every family, ours
 //! (the reduced solver's three integrators together) against each rapier f64 engine, and the
-//! per-run rows.
+//! per-run rows ([`scene_report`]); and the scenes' entries with the stability suite into the
+//! whole report ([`report`]).
 
 use crate::pareto::{EqualError, EqualTime, Front, Point, TimeToError};
 use crate::plan::{
-    ACCURACY_LEVELS, CARTESIAN_CHECK_TOLERANCE, EQUAL_ERROR, ERROR_RATIO_TARGET, Family, Setting, TIME_RATIO_TARGET,
+    ACCURACY_LEVELS, CARTESIAN_CHECK_TOLERANCE, EQUAL_ERROR, ERROR_RATIO_TARGET, Family, Plan, SAMPLE_INTERVAL,
+    Setting, TIME_RATIO_TARGET,
 };
 use crate::runs::{Availability, FamilyRuns, SceneRuns};
 use crate::schema::{
-    FrontPoint, MethodReport, Plots, ReferenceReport, RunReport, SceneReport, SettingsReport, Summary, Versus,
+    FrontPoint, MethodReport, Plots, ReferenceReport, Report, RunReport, SCHEMA_VERSION, SceneReport, SettingsReport,
+    Summary, Targets, TimingReport, Versus,
 };
+use crate::stability::StabilityReport;
 use lagrange_maximal::Engine;
+
+/// The whole report of the runs made under `plan`: the `scenes`' entries ([`scene_report`]) and
+/// the `stability` suite, with the plan's settings, the timing policy and the targets;
+/// `generator` names the front end that made it (`lagrange-cli 0.1.0`), `total_wall_time_s` is
+/// its wall time.
+pub fn report(
+    plan: &Plan,
+    scenes: Vec<SceneReport>,
+    stability: StabilityReport,
+    generator: String,
+    total_wall_time_s: f64,
+) -> Report {
+    Report {
+        schema_version: SCHEMA_VERSION,
+        generator,
+        mode: if plan.quick { "quick" } else { "full" },
+        horizon_s: plan.horizon,
+        sample_interval_s: SAMPLE_INTERVAL,
+        samples: plan.times.len(),
+        timing: TimingReport {
+            warmup_runs: plan.timing.warmup,
+            max_timed_repetitions: plan.timing.repetitions,
+            repetition_budget_s: plan.timing.budget,
+            measured_is_timed_above_s: plan.timing.measured_is_timed_above,
+            statistic: "minimum wall time (std::time::Instant) of the timed part of a run: the whole \
+                        simulate call for the reduced solver, the advance_to calls through the saved times \
+                        for a maximal engine (building it and reading it back are not timed)",
+        },
+        targets: Targets {
+            error_ratio_at_equal_time: ERROR_RATIO_TARGET,
+            time_ratio_at_equal_error: TIME_RATIO_TARGET,
+            equal_error: EQUAL_ERROR,
+        },
+        scenes,
+        stability,
+        total_wall_time_s,
+    }
+}
 
 /// The front of the successful runs of the families `which` selects.
 fn front_of(families: &[FamilyRuns], which: impl Fn(Family) -> bool) -> Front {

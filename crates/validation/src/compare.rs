@@ -2,17 +2,19 @@
 //! energy and momentum drift, constraint violation, constraint-force error, cost — measured by
 //! the report's own loop ([`measure::track`]) against the report's reference: the scene's
 //! closed form where it has one, otherwise the reduced solution at
-//! [`REFERENCE_TOLERANCE`](crate::plan::REFERENCE_TOLERANCE).
+//! [`REFERENCE_TOLERANCE`].
 
 use crate::Error;
 use crate::measure::relative_energy_error;
 use crate::measure::{self, Sample};
-use crate::plan::reference_method;
+use crate::plan::{REFERENCE_TOLERANCE, reference_method};
 use crate::reference::{ReferenceKind, closed_form};
 use lagrange::{Output, State};
-use lagrange_maximal::{Engine, Settings, build};
+use lagrange_maximal::{BuildError, Engine, Settings, build};
 use lagrange_scenes::{Params, Scene};
 use lagrange_testing::{max_abs, max_abs_diff, nan_max};
+use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// The outcome of one comparison.
 #[derive(Clone, Debug, PartialEq)]
@@ -142,4 +144,150 @@ pub fn compare(
         steps,
         seconds_per_step: if steps > 0 { pass.advance_time / steps as f64 } else { 0.0 },
     })
+}
+
+/// The interval of the times where [`compare`] measures the errors over `t_end` simulated
+/// seconds with rapier's step `dt`: a hundred samples; with a step longer than that, one sample
+/// per step (a sample between two steps would measure the rounding of its time, not the
+/// engine).
+pub fn sample_interval(t_end: f64, dt: f64) -> f64 {
+    (t_end / 100.0).max(dt)
+}
+
+/// Comparisons of one scene in several engines, as a table: what was compared, under which
+/// settings, and one [`Row`] per engine. Serialized, it is `lagrange compare --json`
+/// (docs/cli-json.md, field by field); [`render::terminal::comparison`](crate::render::terminal::comparison)
+/// prints it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Table {
+    /// The scene's id.
+    pub scene: String,
+    /// Every parameter by name, overrides applied.
+    pub parameters: BTreeMap<String, f64>,
+    /// The initial time.
+    pub t0: f64,
+    /// The initial coordinates.
+    pub q0: Vec<f64>,
+    /// The initial velocities.
+    pub qdot0: Vec<f64>,
+    /// rapier's step (s).
+    pub dt: f64,
+    /// rapier's substeps per step.
+    pub substeps: usize,
+    /// The Cartesian engine's tolerance.
+    pub tol: f64,
+    /// The end of the runs (s).
+    pub t_end: f64,
+    /// Interval of the times where errors are measured.
+    pub every: f64,
+    /// Tolerance of the reduced solution the engines are measured against; `None` when every
+    /// row is measured against the scene's closed form.
+    pub reference_tol: Option<f64>,
+    /// One row per engine, in the order run.
+    pub rows: Vec<Row>,
+}
+
+impl Table {
+    /// The table of `rows`, comparisons of `scene` with `params` from `initial` to `t_end` under
+    /// `settings`, sampled every `every` seconds.
+    pub fn new(
+        scene: &dyn Scene,
+        params: &Params,
+        initial: &State,
+        settings: &Settings,
+        (t_end, every): (f64, f64),
+        rows: Vec<Row>,
+    ) -> Table {
+        // Rows measured against a computed reference (no closed form, or not for every row).
+        let computed = rows.iter().any(|r| r.reference == Some(ReferenceKind::Reduced.name()));
+        Table {
+            scene: scene.id().to_string(),
+            parameters: params.iter().map(|(spec, value)| (spec.name.to_string(), value)).collect(),
+            t0: initial.t,
+            q0: initial.q.clone(),
+            qdot0: initial.qdot.clone(),
+            dt: settings.dt,
+            substeps: settings.substeps,
+            tol: settings.tolerance,
+            t_end,
+            every,
+            reference_tol: computed.then_some(REFERENCE_TOLERANCE),
+            rows,
+        }
+    }
+}
+
+/// One engine's row of a [`Table`]: what [`compare`] measured, or why the engine cannot build
+/// the scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    /// The engine's name.
+    pub engine: &'static str,
+    /// Present when the engine cannot build the scene: why.
+    pub unbuildable: Option<String>,
+    /// Where the engine's build departs from the scene (see [`Comparison::deviations`]).
+    pub deviations: Vec<String>,
+    /// `closed_form` or `reduced_dop853`: what the errors are measured against.
+    pub reference: Option<&'static str>,
+    /// See [`Comparison::max_error`].
+    pub max_error: Option<f64>,
+    /// See [`Comparison::final_error`].
+    pub final_error: Option<f64>,
+    /// See [`Comparison::energy_drift`].
+    pub energy_drift: Option<f64>,
+    /// See [`Comparison::reference_energy_drift`].
+    pub reference_energy_drift: Option<f64>,
+    /// See [`Comparison::momentum_drift`].
+    pub momentum_drift: Option<f64>,
+    /// See [`Comparison::constraint_violation`].
+    pub constraint_violation: Option<f64>,
+    /// See [`Comparison::force_error`].
+    pub force_error: Option<f64>,
+    /// The engine's steps.
+    pub steps: Option<usize>,
+    /// Wall time of one step (µs).
+    pub microseconds_per_step: Option<f64>,
+}
+
+impl Row {
+    /// The row of `engine` from what [`compare`] returned: its measurements, or the reason it
+    /// cannot build the scene.
+    ///
+    /// # Errors
+    /// Any other error of the comparison, returned as it is.
+    pub fn new(engine: Engine, result: Result<Comparison, Error>) -> Result<Row, Error> {
+        let empty = |reason: Option<String>| Row {
+            engine: engine.name(),
+            unbuildable: reason,
+            deviations: Vec::new(),
+            reference: None,
+            max_error: None,
+            final_error: None,
+            energy_drift: None,
+            reference_energy_drift: None,
+            momentum_drift: None,
+            constraint_violation: None,
+            force_error: None,
+            steps: None,
+            microseconds_per_step: None,
+        };
+        match result {
+            Err(Error::Build(BuildError::Unbuildable { reason, .. })) => Ok(empty(Some(reason))),
+            Err(source) => Err(source),
+            Ok(c) => Ok(Row {
+                deviations: c.deviations,
+                reference: Some(c.reference.name()),
+                max_error: Some(c.max_error),
+                final_error: Some(c.final_error),
+                energy_drift: c.energy_drift,
+                reference_energy_drift: c.reference_energy_drift,
+                momentum_drift: c.momentum_drift,
+                constraint_violation: c.constraint_violation,
+                force_error: c.force_error,
+                steps: Some(c.steps),
+                microseconds_per_step: Some(c.seconds_per_step * 1e6),
+                ..empty(None)
+            }),
+        }
+    }
 }

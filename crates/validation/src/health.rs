@@ -226,3 +226,73 @@ pub fn check(
     }
     Ok(health)
 }
+
+/// `ω h` below which a collapsed explicit step is not held back by stability (whose limit is
+/// `ω h ≈ 3.3` for Dormand–Prince): a factor 100 below it.
+pub const STIFF_STEP: f64 = 0.033;
+
+/// Why a run failed, as its samples show, when the error it stopped with is not the whole
+/// story ([`diagnose`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Cause {
+    /// The run had already left what its scene declares ([`check`]) before it stopped: the
+    /// divergence is the cause, the failure its consequence.
+    DivergedFirst {
+        /// What had drifted.
+        findings: Vec<Finding>,
+    },
+    /// The step collapsed (`h` at `t`) far below the explicit method's stability limit for the
+    /// motion's fastest rate there (`rate`, 1/s; `rate h` below [`STIFF_STEP`]): not
+    /// stiffness, whatever the stiffness test said — the motion is not resolved there (a
+    /// singular configuration, a discontinuity, a tolerance too loose for the motion).
+    NotStiff {
+        /// Where the run stopped.
+        t: f64,
+        /// The last step.
+        h: f64,
+        /// The fastest rate of the motion there ([`fastest_rate`]).
+        rate: f64,
+    },
+}
+
+/// Why the run of `system` (built from `scene` with `params`) by `method` stopped with `error`,
+/// read from the samples `partial` it recorded from the initial state on: a run that had
+/// already left its constants of the motion diverged first; a step that collapsed far below
+/// the explicit stability limit of the motion's fastest rate is not stiffness. `None` when the
+/// error is all there is to say (an error that is not a failure of the integration, too few
+/// samples, nothing found).
+pub fn diagnose(
+    scene: &dyn Scene,
+    params: &Params,
+    system: &mut dyn System,
+    method: Method,
+    partial: &Trajectory,
+    error: &lagrange::Error,
+) -> Option<Cause> {
+    use lagrange::Error;
+    let integration = matches!(
+        error,
+        Error::StepSizeUnderflow { .. }
+            | Error::Stiff { .. }
+            | Error::TooManySteps { .. }
+            | Error::NewtonFailed { .. }
+            | Error::Diverged { .. }
+    );
+    if !integration || partial.len() < 2 {
+        return None;
+    }
+    if let Ok(health) = check(scene, params, system, method, partial)
+        && !health.is_healthy()
+    {
+        return Some(Cause::DivergedFirst { findings: health.findings });
+    }
+    if let Error::Stiff { t, h } | Error::StepSizeUnderflow { t, h } = *error {
+        let last = partial.len() - 1;
+        if let Some(rate) = fastest_rate(system, partial.t[last], partial.q(last), partial.qdot(last))
+            && rate * h < STIFF_STEP
+        {
+            return Some(Cause::NotStiff { t, h, rate });
+        }
+    }
+    None
+}

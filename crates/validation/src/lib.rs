@@ -2,7 +2,7 @@
 //!
 //! The validation report's machinery, reusable by the `lagrange` command line, the tests and
 //! the benches: what runs ([`plan`]), the references every run is measured against
-//! ([`reference`](mod@reference)), the measurement of one run ([`measure`], whose loop also serves [`compare`]), the sweeps of a scene
+//! ([`reference`](mod@reference)), the measurement of one run ([`measure`], whose loop also serves [`compare`], which sets the reduced solver beside a maximal engine and tabulates the engines), what a run costs before and while it runs ([`cost`]), a run's check of itself ([`health`]), the sweeps of a scene
 //! ([`runs`]), the work-precision fronts and their comparison ([`pareto`]), the assembly of a
 //! scene's report ([`assemble`]) into the serialized [`schema`], and the stability suite with
 //! its theory ([`stability`]); random joint graphs ([`graphs`]) and the tolerances with their
@@ -14,6 +14,7 @@
 pub mod andrews;
 pub mod assemble;
 pub mod compare;
+pub mod cost;
 mod error;
 pub mod graphs;
 pub mod health;

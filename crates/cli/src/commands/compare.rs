@@ -3,19 +3,14 @@
 //! [`long_work::TIME_LIMIT_S`] is refused (`--force` runs it anyway); a progress bar with the
 //! time left is drawn on a terminal.
 
-use super::long_work::{self, Run};
+use super::long_work;
 use crate::args;
 use crate::error::CliError;
 use crate::output::outln;
-use lagrange::State;
-use lagrange_maximal::{BuildError, Engine, Settings};
-use lagrange_scenes::{Params, Scene};
-use lagrange_validation::Error;
-use lagrange_validation::compare::{Comparison, compare};
-use lagrange_validation::plan::REFERENCE_TOLERANCE;
-use lagrange_validation::reference::ReferenceKind;
-use serde::Serialize;
-use std::collections::BTreeMap;
+use lagrange_maximal::{Engine, Settings};
+use lagrange_validation::compare::{Row, Table, compare, sample_interval};
+use lagrange_validation::cost::compare_wall_time;
+use lagrange_validation::render::terminal;
 
 /// Arguments of `lagrange compare`.
 #[derive(clap::Args, Debug)]
@@ -67,143 +62,40 @@ pub struct Args {
     max_seconds: Option<f64>,
 }
 
-/// Substeps of a rapier engine's calibration run: a rapier step costs its substeps, so a run
-/// with more is estimated from one with this many, scaled by the ratio.
-const CALIBRATION_SUBSTEPS: usize = 16;
-
-/// Estimated wall time of `compare` for `engine` (its reference run included): the same
-/// comparison over the first `τ, 2τ, …` of the horizon from one rapier step on
-/// ([`long_work::wall_time`]), each calibration run on its own thread so that one whose steps
-/// are too slow is abandoned once it proves the request beyond the limit. Zero for an engine
-/// that cannot build the scene; `None` when a calibration run fails (the real one will say
-/// why).
-fn estimate(
-    engine: Engine,
-    scene: &'static dyn Scene,
-    params: &Params,
-    initial: &State,
+/// What each engine will cost, estimated before any runs (none with `--force` or
+/// `--max-seconds`); a request estimated beyond the time limit is refused.
+///
+/// # Errors
+/// [`CliError::TooCostly`].
+fn estimates(
+    args: &Args,
+    scene: &'static dyn lagrange_scenes::Scene,
+    (params, initial): (&lagrange_scenes::Params, &lagrange::State),
     settings: &Settings,
-    span: f64,
-) -> Option<long_work::Estimate> {
-    let (calibration, scale) = if engine.is_rapier() && settings.substeps > CALIBRATION_SUBSTEPS {
-        let calibration = Settings { substeps: CALIBRATION_SUBSTEPS, ..*settings };
-        (calibration, settings.substeps as f64 / CALIBRATION_SUBSTEPS as f64)
+    engines: &[Engine],
+) -> Result<Vec<Option<long_work::Estimate>>, CliError> {
+    let estimates: Vec<Option<long_work::Estimate>> = if args.force || args.max_seconds.is_some() {
+        vec![None; engines.len()]
     } else {
-        (*settings, 1.0)
+        engines.iter().map(|&engine| compare_wall_time(engine, scene, params, initial, settings, args.t_end)).collect()
     };
-    let mut unbuildable = false;
-    let wall = long_work::wall_time(span, settings.dt, |tau, budget| {
-        let (params, initial) = (params.clone(), initial.clone());
-        let (send, receive) = std::sync::mpsc::channel();
-        std::thread::spawn(move || {
-            let run = compare(engine, scene, &params, &initial, &calibration, initial.t + tau, tau);
-            let _ = send.send(match run {
-                Ok(_) => Some(true),
-                Err(Error::Build(BuildError::Unbuildable { .. })) => None,
-                Err(_) => Some(false),
-            });
-        });
-        // A substep count scaled down runs `scale` times faster than the real one.
-        match receive.recv_timeout(std::time::Duration::from_secs_f64(budget / scale)) {
-            Ok(Some(true)) => Run::Done,
-            Ok(Some(false)) | Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => Run::Failed,
-            Ok(None) => {
-                unbuildable = true;
-                Run::Failed
-            }
-            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Run::Exceeded,
-        }
-    });
-    if unbuildable {
-        return Some(long_work::Estimate { seconds: 0.0, at_least: false });
+    let total = long_work::Estimate {
+        seconds: estimates.iter().flatten().map(|e| e.seconds).sum(),
+        at_least: estimates.iter().flatten().any(|e| e.at_least),
+    };
+    if estimates.iter().any(Option::is_some) {
+        let what = format!(
+            "comparing {} over {} s in {} engine{} (rapier dt = {:e}, {} substeps)",
+            scene.id(),
+            args.t_end,
+            engines.len(),
+            if engines.len() == 1 { "" } else { "s" },
+            args.dt,
+            args.substeps
+        );
+        long_work::check_time(Some(total), args.force, &what, "--t-end, --dt or --substeps")?;
     }
-    wall.map(|w| long_work::Estimate { seconds: w.seconds * scale, ..w })
-}
-
-/// `compare --json`: what was compared, under which settings, and one row per engine
-/// (documented field by field in docs/cli-json.md).
-#[derive(Serialize)]
-struct Document {
-    scene: &'static str,
-    /// Every parameter by name, overrides applied.
-    parameters: BTreeMap<&'static str, f64>,
-    /// The initial state.
-    t0: f64,
-    q0: Vec<f64>,
-    qdot0: Vec<f64>,
-    /// rapier's step and substeps, the Cartesian engine's tolerance.
-    dt: f64,
-    substeps: usize,
-    tol: f64,
-    t_end: f64,
-    /// Interval of the times where errors are measured.
-    every: f64,
-    /// Tolerance of the reduced solution the engines are measured against; `None` when every
-    /// row is measured against the scene's closed form.
-    reference_tol: Option<f64>,
-    rows: Vec<Row>,
-}
-
-/// One engine's row.
-#[derive(Serialize)]
-struct Row {
-    engine: &'static str,
-    /// Present when the engine cannot build the scene.
-    unbuildable: Option<String>,
-    deviations: Vec<String>,
-    /// `closed_form` or `reduced_dop853`: what the errors are measured against.
-    reference: Option<&'static str>,
-    max_error: Option<f64>,
-    final_error: Option<f64>,
-    energy_drift: Option<f64>,
-    reference_energy_drift: Option<f64>,
-    momentum_drift: Option<f64>,
-    constraint_violation: Option<f64>,
-    force_error: Option<f64>,
-    steps: Option<usize>,
-    microseconds_per_step: Option<f64>,
-}
-
-impl Row {
-    fn from(engine: Engine, result: Result<Comparison, Error>) -> Result<Row, CliError> {
-        let empty = |reason: Option<String>| Row {
-            engine: engine.name(),
-            unbuildable: reason,
-            deviations: Vec::new(),
-            reference: None,
-            max_error: None,
-            final_error: None,
-            energy_drift: None,
-            reference_energy_drift: None,
-            momentum_drift: None,
-            constraint_violation: None,
-            force_error: None,
-            steps: None,
-            microseconds_per_step: None,
-        };
-        match result {
-            Err(Error::Build(BuildError::Unbuildable { reason, .. })) => Ok(empty(Some(reason))),
-            Err(source) => Err(CliError::Compare { engine, source }),
-            Ok(c) => Ok(Row {
-                deviations: c.deviations,
-                reference: Some(c.reference.name()),
-                max_error: Some(c.max_error),
-                final_error: Some(c.final_error),
-                energy_drift: c.energy_drift,
-                reference_energy_drift: c.reference_energy_drift,
-                momentum_drift: c.momentum_drift,
-                constraint_violation: c.constraint_violation,
-                force_error: c.force_error,
-                steps: Some(c.steps),
-                microseconds_per_step: Some(c.seconds_per_step * 1e6),
-                ..empty(None)
-            }),
-        }
-    }
-}
-
-fn cell(value: Option<f64>) -> String {
-    value.map_or_else(|| "—".to_string(), |v| format!("{v:.2e}"))
+    Ok(estimates)
 }
 
 /// Run the comparison.
@@ -225,40 +117,17 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.dt > args.t_end {
         return Err(CliError::StepBeyondRun { dt: args.dt, t_end: args.t_end });
     }
-    // A hundred samples; with a rapier step longer than that, one sample per step (a sample
-    // between two steps would measure the rounding of its time, not the engine).
-    let every = (args.t_end / 100.0).max(args.dt);
-    // What each engine will cost, before any runs (skipped with --force).
+    let every = sample_interval(args.t_end, args.dt);
     let limit = long_work::max_seconds(args.max_seconds, args.force)?;
     let max_seconds = limit.as_ref().map(|(seconds, _)| *seconds);
     let started = std::time::Instant::now();
-    let estimates: Vec<Option<long_work::Estimate>> = if args.force || args.max_seconds.is_some() {
-        vec![None; engines.len()]
-    } else {
-        engines.iter().map(|&engine| estimate(engine, scene, &params, &initial, &settings, args.t_end)).collect()
-    };
-    let total = long_work::Estimate {
-        seconds: estimates.iter().flatten().map(|e| e.seconds).sum(),
-        at_least: estimates.iter().flatten().any(|e| e.at_least),
-    };
-    if estimates.iter().any(Option::is_some) {
-        let what = format!(
-            "comparing {} over {} s in {} engine{} (rapier dt = {:e}, {} substeps)",
-            scene.id(),
-            args.t_end,
-            engines.len(),
-            if engines.len() == 1 { "" } else { "s" },
-            args.dt,
-            args.substeps
-        );
-        long_work::check_time(Some(total), args.force, &what, "--t-end, --dt or --substeps")?;
-    }
+    let estimates = estimates(args, scene, (&params, &initial), &settings, &engines)?;
     // Progress in estimated milliseconds (one unit per engine without estimates).
     let units = |estimate: Option<long_work::Estimate>| estimate.map_or(1, |e| (e.seconds * 1e3).ceil() as u64 + 1);
     let bar = long_work::progress_bar(estimates.iter().map(|&e| units(e)).sum());
     let mut rows = Vec::new();
     let mut left_out: Vec<&'static str> = Vec::new();
-    let mut ticker = long_work::Ticker::new();
+    let mut ticker = long_work::ticker();
     for (engine, estimate) in engines.into_iter().zip(estimates) {
         bar.set_message(engine.name());
         ticker.tick(|| format!("compare {}: {} rows done, running {}", scene.id(), rows.len(), engine.name()));
@@ -280,7 +149,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         };
         bar.inc(units(estimate));
         match result {
-            Some(result) => rows.push(Row::from(engine, result)?),
+            Some(result) => rows.push(Row::new(engine, result).map_err(|source| CliError::Compare { engine, source })?),
             None => left_out.push(engine.name()),
         }
     }
@@ -291,71 +160,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         limit: limit.map_or_else(String::new, |(_, said)| said),
         why: format!("left out: {}", left_out.join(", ")),
     });
-    // Rows measured against a computed reference (no closed form, or not for every row).
-    let computed = rows.iter().any(|r| r.reference == Some(ReferenceKind::Reduced.name()));
+    let table = Table::new(scene, &params, &initial, &settings, (args.t_end, every), rows);
     if args.json {
-        let document = Document {
-            scene: scene.id(),
-            parameters: params.iter().map(|(spec, value)| (spec.name, value)).collect(),
-            t0: initial.t,
-            q0: initial.q.clone(),
-            qdot0: initial.qdot.clone(),
-            dt: args.dt,
-            substeps: args.substeps,
-            tol: args.tol,
-            t_end: args.t_end,
-            every,
-            reference_tol: computed.then_some(REFERENCE_TOLERANCE),
-            rows,
-        };
-        outln!("{}", serde_json::to_string_pretty(&document)?)?;
-        return stopped.map_or(Ok(()), Err);
-    }
-    let against = if computed {
-        format!("the reduced solution (dop853) at tol {REFERENCE_TOLERANCE:e}")
+        outln!("{}", serde_json::to_string_pretty(&table)?)?;
     } else {
-        "the scene's closed form".to_string()
-    };
-    outln!(
-        "{} over {} s (rapier dt = {:.3e}, {} substeps; Cartesian tol = {:e}); errors against {against}",
-        scene.id(),
-        args.t_end,
-        args.dt,
-        args.substeps,
-        args.tol,
-    )?;
-    outln!(
-        "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
-        "engine",
-        "max err",
-        "final err",
-        "energy",
-        "(ours)",
-        "momentum",
-        "violation",
-        "force err",
-        "µs/step"
-    )?;
-    for row in &rows {
-        if let Some(reason) = &row.unbuildable {
-            outln!("{:<21} not buildable: {reason}", row.engine)?;
-            continue;
-        }
-        outln!(
-            "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9.2}",
-            row.engine,
-            cell(row.max_error),
-            cell(row.final_error),
-            cell(row.energy_drift),
-            cell(row.reference_energy_drift),
-            cell(row.momentum_drift),
-            cell(row.constraint_violation),
-            cell(row.force_error),
-            row.microseconds_per_step.unwrap_or(0.0)
-        )?;
-        for deviation in &row.deviations {
-            outln!("{:<21}   deviation: {deviation}", "")?;
-        }
+        crate::output::print(&terminal::comparison(&table))?;
     }
     stopped.map_or(Ok(()), Err)
 }

@@ -242,7 +242,8 @@ fn simulate(
         bar
     });
     let trajectory = Trajectory::with_capacity(initial.q.len(), 0);
-    let watch = long_work::Watch::new(&format!("simulate {}", scene.id()), initial.t, t_end, max_seconds);
+    let label = format!("simulate {}", scene.id());
+    let watch = long_work::Watch::new(&label, initial.t, t_end, max_seconds, long_work::ticker());
     let mut progress = Progress { trajectory, bar, t0: initial.t, span: t_end - initial.t, watch };
     let result = system.simulate_into(initial, t_end, method, output, &mut progress);
     if let Some(bar) = &progress.bar {
@@ -256,10 +257,7 @@ fn accuracy_flag(method: Method) -> &'static str {
     if method.kind().is_fixed_step() { "--dt" } else { "--tol" }
 }
 
-/// Why a run failed, with the evidence of its samples: a run that had already left its
-/// constants of the motion diverged (the failure that stopped it is the consequence); a step
-/// that collapsed far below the explicit stability limit of the motion's fastest rate is not
-/// stiffness, whatever the stiffness test said.
+/// The error of a failed run, with the evidence of its samples ([`health::diagnose`]).
 fn diagnose(
     scene: &dyn lagrange_scenes::Scene,
     params: &lagrange_scenes::Params,
@@ -268,49 +266,22 @@ fn diagnose(
     partial: &Trajectory,
     error: lagrange::Error,
 ) -> CliError {
-    if !matches!(
-        error,
-        lagrange::Error::StepSizeUnderflow { .. }
-            | lagrange::Error::Stiff { .. }
-            | lagrange::Error::TooManySteps { .. }
-            | lagrange::Error::NewtonFailed { .. }
-            | lagrange::Error::Diverged { .. }
-    ) || partial.len() < 2
-    {
-        return CliError::Engine(error);
-    }
-    if let Ok(health) = health::check(scene, params, system, method, partial)
-        && !health.is_healthy()
-    {
-        return CliError::DivergedFirst {
-            scene: scene.id().to_string(),
+    let cause = health::diagnose(scene, params, system, method, partial, &error);
+    let (scene, source) = (scene.id().to_string(), Box::new(error));
+    match cause {
+        None => CliError::Engine(*source),
+        Some(health::Cause::DivergedFirst { findings }) => CliError::DivergedFirst {
+            scene,
             method: describe(method),
-            findings: joined(&health.findings),
-            source: Box::new(error),
+            findings: joined(&findings),
+            source,
             flag: accuracy_flag(method),
-        };
-    }
-    if let lagrange::Error::Stiff { t, h } | lagrange::Error::StepSizeUnderflow { t, h } = error {
-        let last = partial.len() - 1;
-        if let Some(rate) = health::fastest_rate(system, partial.t[last], partial.q(last), partial.qdot(last))
-            && rate * h < STIFF_STEP
-        {
-            return CliError::NotStiff {
-                scene: scene.id().to_string(),
-                method: describe(method),
-                t,
-                h,
-                rate,
-                source: Box::new(error),
-            };
+        },
+        Some(health::Cause::NotStiff { t, h, rate }) => {
+            CliError::NotStiff { scene, method: describe(method), t, h, rate, source }
         }
     }
-    CliError::Engine(error)
 }
-
-/// `ω h` below which a collapsed explicit step is not held back by stability (whose limit is
-/// `ω h ≈ 3.3` for Dormand–Prince): a factor 100 below it.
-const STIFF_STEP: f64 = 0.033;
 
 /// The findings, one sentence.
 fn joined(findings: &[health::Finding]) -> String {

@@ -4,7 +4,8 @@
 
 use super::cells;
 use super::markdown::targets_met;
-use crate::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, TIME_RATIO_TARGET};
+use crate::compare::Table;
+use crate::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, REFERENCE_TOLERANCE, TIME_RATIO_TARGET};
 use crate::schema::Report;
 use std::fmt::Write;
 use std::path::Path;
@@ -65,5 +66,51 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
     );
     super::stability::terminal(&mut text, &report.stability);
     let _ = writeln!(text, "wrote {} (report.json, report.md, {files} SVG plots)", out.display());
+    text
+}
+
+/// A comparison table (`lagrange compare`), as printed: the settings and what the errors are
+/// measured against, then one line per engine (`—` where a quantity does not apply) with its
+/// deviations under it.
+pub fn comparison(table: &Table) -> String {
+    let cell = |value: Option<f64>| value.map_or_else(|| "—".to_string(), |v| format!("{v:.2e}"));
+    let against = if table.reference_tol.is_some() {
+        format!("the reduced solution (dop853) at tol {REFERENCE_TOLERANCE:e}")
+    } else {
+        "the scene's closed form".to_string()
+    };
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "{} over {} s (rapier dt = {:.3e}, {} substeps; Cartesian tol = {:e}); errors against {against}",
+        table.scene, table.t_end, table.dt, table.substeps, table.tol,
+    );
+    let _ = writeln!(
+        text,
+        "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9}",
+        "engine", "max err", "final err", "energy", "(ours)", "momentum", "violation", "force err", "µs/step"
+    );
+    for row in &table.rows {
+        if let Some(reason) = &row.unbuildable {
+            let _ = writeln!(text, "{:<21} not buildable: {reason}", row.engine);
+            continue;
+        }
+        let _ = writeln!(
+            text,
+            "{:<21} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>9.2}",
+            row.engine,
+            cell(row.max_error),
+            cell(row.final_error),
+            cell(row.energy_drift),
+            cell(row.reference_energy_drift),
+            cell(row.momentum_drift),
+            cell(row.constraint_violation),
+            cell(row.force_error),
+            row.microseconds_per_step.unwrap_or(0.0)
+        );
+        for deviation in &row.deviations {
+            let _ = writeln!(text, "{:<21}   deviation: {deviation}", "");
+        }
+    }
     text
 }

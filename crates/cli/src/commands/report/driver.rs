@@ -4,11 +4,10 @@
 use super::options::{Args, Options};
 use crate::error::CliError;
 use crate::output::{out, outln};
-use lagrange_validation::assemble::scene_report;
-use lagrange_validation::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, SAMPLE_INTERVAL, TIME_RATIO_TARGET};
+use lagrange_validation::assemble::{self, scene_report};
 use lagrange_validation::render::{markdown, plots, terminal};
 use lagrange_validation::runs::{ScenePlan, SceneRuns};
-use lagrange_validation::schema::{Plots, Report, SCHEMA_VERSION, Targets, TimingReport};
+use lagrange_validation::schema::Plots;
 
 use crate::commands::{files, long_work};
 use indicatif::ProgressBar;
@@ -42,7 +41,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let mut files = 0;
     let out_of_time = || options.max_seconds.is_some_and(|limit| start.elapsed().as_secs_f64() > limit);
     let mut left_out: Vec<&str> = Vec::new();
-    let mut ticker = long_work::Ticker::new();
+    let mut ticker = long_work::ticker();
     for scene_plan in &scene_plans {
         if !left_out.is_empty() || out_of_time() {
             left_out.push(scene_plan.scene.id());
@@ -84,31 +83,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         left_out.push("the stability suite");
         stability::StabilityReport::default_for(effort)
     };
-    let report = Report {
-        schema_version: SCHEMA_VERSION,
-        generator: format!("lagrange-cli {}", env!("CARGO_PKG_VERSION")),
-        mode: if plan.quick { "quick" } else { "full" },
-        horizon_s: plan.horizon,
-        sample_interval_s: SAMPLE_INTERVAL,
-        samples: plan.times.len(),
-        timing: TimingReport {
-            warmup_runs: plan.timing.warmup,
-            max_timed_repetitions: plan.timing.repetitions,
-            repetition_budget_s: plan.timing.budget,
-            measured_is_timed_above_s: plan.timing.measured_is_timed_above,
-            statistic: "minimum wall time (std::time::Instant) of the timed part of a run: the whole \
-                        simulate call for the reduced solver, the advance_to calls through the saved times \
-                        for a maximal engine (building it and reading it back are not timed)",
-        },
-        targets: Targets {
-            error_ratio_at_equal_time: ERROR_RATIO_TARGET,
-            time_ratio_at_equal_error: TIME_RATIO_TARGET,
-            equal_error: EQUAL_ERROR,
-        },
-        scenes,
-        stability,
-        total_wall_time_s: start.elapsed().as_secs_f64(),
-    };
+    let generator = format!("lagrange-cli {}", env!("CARGO_PKG_VERSION"));
+    let report = assemble::report(plan, scenes, stability, generator, start.elapsed().as_secs_f64());
     let json = serde_json::to_string_pretty(&report)?;
     write(&options.out.join("report.json"), &json)?;
     write(&options.out.join("report.md"), &markdown::render(&report))?;
