@@ -1,7 +1,7 @@
 //! # lagrange-validation — how the engine is checked, as a library
 //!
 //! The validation report's machinery, reusable by the `lagrange` command line, the tests and
-//! the benches: what runs ([`plan`]), the references every run is measured against
+//! the benches: the scenes as a catalogue ([`catalogue`]), what runs ([`plan`]), the references every run is measured against
 //! ([`reference`](mod@reference)), the measurement of one run ([`measure`], whose loop also serves [`compare`], which sets the reduced solver beside a maximal engine and tabulates the engines), what a run costs before and while it runs ([`cost`]), a run's check of itself ([`health`]), the sweeps of a scene
 //! ([`runs`]), the work-precision fronts and their comparison ([`pareto`]), the assembly of a
 //! scene's report ([`assemble`]) into the serialized [`schema`], and the stability suite with
@@ -13,6 +13,7 @@
 
 pub mod andrews;
 pub mod assemble;
+pub mod catalogue;
 pub mod compare;
 pub mod cost;
 mod error;

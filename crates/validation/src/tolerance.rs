@@ -17,6 +17,32 @@ pub fn conditioned(kappa: f64) -> f64 {
     ROUNDOFF.max(64.0 * EPS * kappa)
 }
 
+/// The engine's `q̈` against a scene's closed form at one state, to the round-off bound of two
+/// exact formulas at the mass matrix's condition number ([`conditioned`]); serialized, it is
+/// `agreement` in `lagrange accel --json`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Agreement {
+    /// `max_i |q̈_i − closed_i| / max_i |closed_i|` (absolute when the closed form is 0).
+    pub difference: f64,
+    /// The round-off bound `max(1e-12, 64 ε κ(M))`.
+    pub bound: f64,
+    /// `κ(M)` at the state.
+    pub condition_number: f64,
+    /// `difference <= bound` (a NaN difference or bound is a disagreement).
+    pub agrees: bool,
+}
+
+impl Agreement {
+    /// Compare `qddot` with `closed_form` at the mass matrix's condition number `kappa`.
+    pub fn of(qddot: &[f64], closed_form: &[f64], kappa: f64) -> Agreement {
+        let bound = conditioned(kappa);
+        let scale = lagrange_testing::max_abs(closed_form);
+        let residual = lagrange_testing::max_abs_diff(qddot, closed_form);
+        let difference = if scale == 0.0 { residual } else { residual / scale };
+        Agreement { difference, bound, condition_number: kappa, agrees: difference <= bound }
+    }
+}
+
 /// Central finite differences with step `h ≈ ε^(1/3) ≈ 6e-6` (relative): truncation
 /// `h² f'''/6 ≈ 6e-12` and cancellation `ε/h ≈ 4e-11` of the function's scale; 1e-8 relative
 /// allows derivatives two orders of magnitude larger than the function.

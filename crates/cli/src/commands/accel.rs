@@ -9,7 +9,7 @@
 //! warning, to look at where the models part.
 //!
 //! The two are exact formulas for the same `q̈` and differ by round-off only: at most
-//! `max(1e-12, 64 ε κ(M))` relative to the largest `|q̈_i|` (`lagrange_validation::tolerance::conditioned`,
+//! `max(1e-12, 64 ε κ(M))` relative to the largest `|q̈_i|` (`lagrange_validation::tolerance::Agreement`,
 //! the bound the integration tests hold every scene to at random states and parameters). A
 //! larger difference means the state or the parameters lie where the two models part (outside
 //! the scene's admissible region, say): `accel` says so on standard error, and with `--check`
@@ -18,8 +18,8 @@
 use crate::args;
 use crate::error::CliError;
 use crate::output::{compact_all, outln, warn};
-use lagrange_testing::{condition_number, max_abs, max_abs_diff};
-use lagrange_validation::tolerance;
+use lagrange_testing::condition_number;
+use lagrange_validation::tolerance::Agreement;
 use serde::Serialize;
 
 /// Arguments of `lagrange accel`.
@@ -67,19 +67,6 @@ struct AccelerationOut<'a> {
     closed_form: Option<f64>,
 }
 
-/// Engine against closed form.
-#[derive(Clone, Copy, Serialize)]
-struct AgreementOut {
-    /// `max_i |q̈_i − closed_i| / max_i |closed_i|` (absolute when the closed form is 0).
-    difference: f64,
-    /// The round-off bound `max(1e-12, 64 ε κ(M))`.
-    bound: f64,
-    /// `κ(M)` at the state.
-    condition_number: f64,
-    /// `difference <= bound`.
-    agrees: bool,
-}
-
 #[derive(Serialize)]
 struct Out<'a> {
     scene: &'a str,
@@ -94,18 +81,7 @@ struct Out<'a> {
     /// The same, one object per coordinate.
     accelerations: Vec<AccelerationOut<'a>>,
     /// Absent when the scene has no closed form.
-    agreement: Option<AgreementOut>,
-}
-
-/// Compare the engine's `q̈` with the closed form, to the round-off bound at the mass matrix's
-/// condition number `kappa`.
-fn agreement(qddot: &[f64], closed_form: &[f64], kappa: f64) -> AgreementOut {
-    let bound = tolerance::conditioned(kappa);
-    let scale = max_abs(closed_form);
-    let residual = max_abs_diff(qddot, closed_form);
-    let difference = if scale == 0.0 { residual } else { residual / scale };
-    // A NaN difference (or bound) is a disagreement.
-    AgreementOut { difference, bound, condition_number: kappa, agrees: difference <= bound }
+    agreement: Option<Agreement>,
 }
 
 /// Print `q̈` (and the scene's closed form beside it, checked against it).
@@ -137,7 +113,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let agreement = match &closed_form {
         Some(exact) => {
             let mass_matrix = system.mass_matrix(state.t, &state.q, &state.qdot).map_err(explain)?;
-            Some(agreement(&qddot, exact, condition_number(coordinates.len(), mass_matrix)))
+            Some(Agreement::of(&qddot, exact, condition_number(coordinates.len(), mass_matrix)))
         }
         None => None,
     };

@@ -1,5 +1,5 @@
 //! The report rendered, for any front end: the Markdown report ([`markdown::render`]) with its
-//! stability section ([`stability::markdown`]), the terminal summary ([`terminal::render`]) and the comparison table of `lagrange compare` ([`terminal::comparison`]),
+//! stability section ([`stability::markdown`]), the terminal summary ([`terminal::render`]) and the comparison table of `lagrange compare` ([`terminal::comparison`]), the scene catalogue ([`terminal::catalogue`]),
 //! and the SVG plots of a scene ([`plots::work_precision`], [`plots::errors_over_time`]). Each
 //! returns text; writing files is the caller's.
 

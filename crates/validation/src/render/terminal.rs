@@ -4,6 +4,7 @@
 
 use super::cells;
 use super::markdown::targets_met;
+use crate::catalogue::SceneEntry;
 use crate::compare::Table;
 use crate::plan::{EQUAL_ERROR, ERROR_RATIO_TARGET, REFERENCE_TOLERANCE, TIME_RATIO_TARGET};
 use crate::schema::Report;
@@ -110,6 +111,46 @@ pub fn comparison(table: &Table) -> String {
         );
         for deviation in &row.deviations {
             let _ = writeln!(text, "{:<21}   deviation: {deviation}", "");
+        }
+    }
+    text
+}
+
+/// The scene catalogue (`lagrange scenes`), as printed: per scene its id, title and source, its
+/// coordinates with their units, the default initial state to full precision, its constants of
+/// the motion, and one line per parameter.
+pub fn catalogue(scenes: &[SceneEntry]) -> String {
+    let mut text = String::new();
+    for s in scenes {
+        let coordinates: Vec<String> = s.coordinates.iter().map(|c| format!("{} [{}]", c.name, c.unit)).collect();
+        let _ = writeln!(text, "{} — {} ({})", s.id, s.title, s.reference);
+        let _ = writeln!(text, "  coordinates: {}", coordinates.join(", "));
+        // `{:?}`: full precision, as `accel` prints; `q̇[x']`, as `accel` names `q̈[x']`.
+        let initial = &s.initial_state;
+        let values = |values: &[f64], symbol: &str| -> Vec<String> {
+            s.coordinates.iter().zip(values).map(|(c, v)| format!("{symbol}[{}] = {v:?}", c.name)).collect()
+        };
+        let _ = writeln!(
+            text,
+            "  initial state: t = {:?}; {}; {}",
+            initial.t,
+            values(&initial.q, "q").join(", "),
+            values(&initial.qdot, "q̇").join(", ")
+        );
+        let _ = writeln!(
+            text,
+            "  conserved: {}",
+            if s.conserved.is_empty() { "none".into() } else { s.conserved.join(", ") }
+        );
+        for p in &s.parameters {
+            let unit = if p.unit.is_empty() { String::new() } else { format!(" {}", p.unit) };
+            // The ASCII spelling of a Greek symbol is a key too (`--param alpha=0.3`).
+            let symbol = if p.ascii_symbol == p.symbol {
+                p.symbol.to_string()
+            } else {
+                format!("{} ({})", p.symbol, p.ascii_symbol)
+            };
+            let _ = writeln!(text, "  {:<22} {:<4} = {}{unit}  — {}", p.name, symbol, p.default, p.description);
         }
     }
     text
