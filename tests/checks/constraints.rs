@@ -314,53 +314,7 @@ fn a_four_bar_that_cannot_close_is_an_assembly_error() {
 /// that asks for a different acceleration is an inconsistency naming it.
 #[test]
 fn redundant_constraints_are_resolved_and_contradictory_ones_named() {
-    struct Parallelogram {
-        description: Description,
-        contradict: bool,
-    }
-    impl Mechanism for Parallelogram {
-        fn description(&self) -> &Description {
-            &self.description
-        }
-        // Three unit cranks from (0, 0), (1, 0), (2, 0) at angles q0, q1, q2; a coupler (a
-        // point mass) at the tip of the first one. Loops: tip1 − tip0 = (1, 0), tip2 − tip0 = (2, 0).
-        fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
-            p[0] = Pose::point(q[0].cos(), q[0].sin());
-            p[1] = Pose::point(q[1].cos() + 1.0, q[1].sin());
-            p[2] = Pose::point(q[2].cos() + 2.0, q[2].sin());
-        }
-        // A torque of 2 N m on the first crank only: the links must carry it to the others.
-        fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], _qdot: &[S], force: &mut [S]) -> bool {
-            force[0] += S::from(2.0);
-            true
-        }
-        fn constraints<S: Scalar>(&self, t: S, q: &[S], phi: &mut [S]) {
-            phi[0] = q[1].cos() - q[0].cos();
-            phi[1] = q[1].sin() - q[0].sin();
-            phi[2] = q[2].cos() - q[0].cos();
-            // Implied by the others on the parallelogram; the contradicting variant adds t²,
-            // which vanishes with its rate at t = 0 but asks for Φ̈₄ = −2 there.
-            phi[3] = q[2].sin() - q[1].sin() + if self.contradict { t * t } else { S::zero() };
-        }
-    }
-    let model = |contradict| {
-        Model::new(Parallelogram {
-            description: Description::new()
-                .angle("q0")
-                .angle("q1")
-                .angle("q2")
-                .point("a", 1.0)
-                .point("b", 2.0)
-                .point("c", 0.5)
-                .gravity(G)
-                .constraint("Φ1")
-                .constraint("Φ2")
-                .constraint("Φ3")
-                .constraint("Φ4"),
-            contradict,
-        })
-        .expect("valid")
-    };
+    let model = lagrange_tests::parallelogram;
     let m = model(false);
     let mut ws = m.workspace();
     let (theta, rate) = (-0.8, 1.5);

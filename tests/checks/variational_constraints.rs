@@ -327,54 +327,6 @@ fn sleigh_by_discrete_lagrange_dalembert_is_second_order() {
     }
 }
 
-/// Three unit cranks from (0, 0), (1, 0), (2, 0) at angles q0, q1, q2, point masses at their
-/// tips, four loop equations of which two are redundant on the parallelogram; a torque of
-/// 2 N m on the first crank. The contradicting variant adds `t²` to the fourth row.
-struct Parallelogram {
-    description: Description,
-    contradict: bool,
-}
-
-impl Mechanism for Parallelogram {
-    fn description(&self) -> &Description {
-        &self.description
-    }
-    fn poses<S: Scalar>(&self, _t: S, q: &[S], p: &mut [Pose<S>]) {
-        p[0] = Pose::point(q[0].cos(), q[0].sin());
-        p[1] = Pose::point(q[1].cos() + 1.0, q[1].sin());
-        p[2] = Pose::point(q[2].cos() + 2.0, q[2].sin());
-    }
-    fn generalized_force<S: Scalar>(&self, _t: S, _q: &[S], _qdot: &[S], force: &mut [S]) -> bool {
-        force[0] += S::from(2.0);
-        true
-    }
-    fn constraints<S: Scalar>(&self, t: S, q: &[S], phi: &mut [S]) {
-        phi[0] = q[1].cos() - q[0].cos();
-        phi[1] = q[1].sin() - q[0].sin();
-        phi[2] = q[2].cos() - q[0].cos();
-        phi[3] = q[2].sin() - q[1].sin() + if self.contradict { t * t } else { S::zero() };
-    }
-}
-
-fn parallelogram(contradict: bool) -> Model<Parallelogram> {
-    Model::new(Parallelogram {
-        description: Description::new()
-            .angle("q0")
-            .angle("q1")
-            .angle("q2")
-            .point("a", 1.0)
-            .point("b", 2.0)
-            .point("c", 0.5)
-            .gravity(G)
-            .constraint("Φ1")
-            .constraint("Φ2")
-            .constraint("Φ3")
-            .constraint("Φ4"),
-        contradict,
-    })
-    .expect("valid")
-}
-
 /// The parallelogram with a redundant third link runs: the rows dependent on the others carry
 /// no impulse and hold by themselves; the three cranks turn as one (the pendulum of mass 3.5
 /// at unit radius driven by the torque), second order against the adaptive integrator at tol
@@ -383,7 +335,7 @@ fn parallelogram(contradict: bool) -> Model<Parallelogram> {
 /// dependent row that asks for `t²` — is an inconsistency naming that row.
 #[test]
 fn redundant_constraints_run_and_contradictory_ones_are_named() {
-    let model = parallelogram(false);
+    let model = lagrange_tests::parallelogram(false);
     let initial = State::new(0.0, [-0.8; 3], [1.5; 3]);
     let t_end = 2.0;
     let exact = lagrange::simulate(
@@ -414,7 +366,7 @@ fn redundant_constraints_run_and_contradictory_ones_are_named() {
     let ratio = errors[0] / errors[1];
     eprintln!("error ratio per halving: {ratio:.3}");
     assert!((3.8..=4.2).contains(&ratio), "{ratio}");
-    let contradictory = parallelogram(true);
+    let contradictory = lagrange_tests::parallelogram(true);
     let mut integrator = Variational::new(&contradictory).with_step(1e-2).expect("valid step");
     let mut trajectory = Trajectory::with_capacity(3, 0);
     match run(&contradictory, &mut integrator, &initial, 1.0, &Output::Every(0.1), &mut trajectory) {
