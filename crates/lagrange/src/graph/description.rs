@@ -16,8 +16,11 @@ pub const GROUND: &str = "ground";
 /// world's). Gravity `g` acts along −y.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct JointGraph {
-    /// Name of the mechanism, for messages and reports.
+    /// Name of the mechanism, for messages and reports (a scene file's graph takes the file's
+    /// id when it has none).
+    #[cfg_attr(feature = "serde", serde(default))]
     pub name: String,
     /// The bodies; their order is the order of the reduced model's bodies.
     pub bodies: Vec<GraphBody>,
@@ -37,6 +40,7 @@ pub struct JointGraph {
 /// A rigid body of a [`JointGraph`].
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct GraphBody {
     /// Unique name (not [`GROUND`]).
     pub name: String,
@@ -53,6 +57,7 @@ pub struct GraphBody {
 /// A planar shape centred on a body's centre of mass, of uniform density.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Shape {
     /// A disc of `radius` (m): area `π R²`, inertia `½ m R²`.
     Disc {
@@ -106,6 +111,7 @@ impl GraphBody {
 /// What a joint constrains.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum JointType {
     /// The anchors coincide; the relative angle is the joint's coordinate.
     Revolute,
@@ -125,6 +131,7 @@ pub enum JointType {
 /// Whether a joint belongs to the spanning tree of the reduced model.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Role {
     /// Chosen automatically: joints join the tree in the order they are listed, unless they
     /// would close a loop (the default).
@@ -140,6 +147,7 @@ pub enum Role {
 /// harmonic drive, or their sum).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Profile {
     /// `c`.
     #[cfg_attr(feature = "serde", serde(default))]
@@ -219,6 +227,7 @@ impl Profile {
 ///   turned with the parent.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct GraphJoint {
     /// Unique name; also the name of its coordinate.
     pub name: String,
@@ -345,6 +354,7 @@ impl GraphJoint {
 /// `q_joint = ratio · q_source + offset`: a gear, a belt, a rope over a pulley.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Coupling {
     /// The coupled joint (it has no coordinate of its own).
     pub joint: String,
@@ -360,6 +370,7 @@ pub struct Coupling {
 /// A point fixed in a body (or in the ground), in that body's frame.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(deny_unknown_fields))]
 pub struct Point {
     /// The body, or [`GROUND`].
     pub body: String,
@@ -382,6 +393,7 @@ impl Point {
 /// A force element of a [`JointGraph`].
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "type", rename_all = "snake_case"))]
 pub enum ForceElement {
     /// A linear spring between two points: `V = ½ k (L − l₀)²`, `L` their distance.
     Spring {

@@ -14,6 +14,7 @@ pub enum Parent {
 /// What a revolute joint's coordinate measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum AngleReference {
     /// The angle of the child relative to its parent: `φ_child = φ_parent + q` (robotics'
     /// joint angle).
@@ -28,6 +29,7 @@ pub enum AngleReference {
 /// Which way a revolute joint's angle turns as its coordinate grows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Sense {
     /// Counter-clockwise (the mathematical sense; the default).
     #[default]
