@@ -5,9 +5,31 @@ use crate::output::compact;
 use lagrange::State;
 use lagrange_scenes::{Params, Scene};
 
-/// Find a scene by id (the validation library's one lookup), or say which exist.
+/// Find a scene by id (the validation library's one lookup), or say which exist; a path to a
+/// scene file (`*.toml`, or any file that exists) is read and registered under its id, once.
 pub fn scene(id: &str) -> Result<&'static dyn Scene, CliError> {
+    if is_scene_file(id) {
+        return scene_file(id);
+    }
     lagrange_validation::scene(id).map_err(CliError::Argument)
+}
+
+/// Whether a scene argument names a file rather than a built-in scene.
+fn is_scene_file(argument: &str) -> bool {
+    argument.ends_with(".toml") || std::path::Path::new(argument).is_file()
+}
+
+/// The scene of the file at `path`, registered the first time it is asked for (a command may
+/// resolve its scene more than once).
+fn scene_file(path: &str) -> Result<&'static dyn Scene, CliError> {
+    static LOADED: std::sync::Mutex<Vec<(String, &'static dyn Scene)>> = std::sync::Mutex::new(Vec::new());
+    let mut loaded = LOADED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((_, scene)) = loaded.iter().find(|(p, _)| p == path) {
+        return Ok(*scene);
+    }
+    let scene = lagrange_file::register(path).map_err(CliError::File)?;
+    loaded.push((path.to_string(), scene));
+    Ok(scene)
 }
 
 /// The scene's parameters with `NAME=VALUE` overrides (name, symbol, or the symbol in ASCII:

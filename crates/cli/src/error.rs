@@ -19,6 +19,15 @@ pub const FAILURE: u8 = 1;
 #[derive(Debug, thiserror::Error)]
 pub enum CliError {
     // Bad argument values (exit 2).
+    /// A scene file that cannot be read or is not a valid scene (drawn on its text by
+    /// [`FileError::render`](lagrange_file::FileError::render)).
+    #[error("{0}")]
+    File(lagrange_file::FileError),
+    /// `scenes --export` of a scene that is not a joint graph.
+    #[error(
+        "`{0}` is not a joint graph: only joint-graph scenes export to a file (coordinates-form files of built-in scenes are in examples/scenes)"
+    )]
+    NotAGraph(String),
     /// A `--param` that is not `NAME=VALUE`.
     #[error("--param `{0}` is not of the form NAME=VALUE")]
     ParamForm(String),
@@ -330,6 +339,8 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::ParamForm(_)
+            | CliError::File(_)
+            | CliError::NotAGraph(_)
             | CliError::NotANumber { .. }
             | CliError::OutOfRange { .. }
             | CliError::Arity { .. }

@@ -118,6 +118,11 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         // The reader of standard output went away (`| head -1`): it has what it wanted.
         Err(error) if output::is_closed_pipe(&error) => ExitCode::SUCCESS,
+        Err(error::CliError::File(file)) => {
+            // The file's error drawn on its text, as rustc draws one.
+            let _ = write!(std::io::stderr(), "{}", file.render());
+            ExitCode::from(error::USAGE)
+        }
         Err(error) => {
             output::warn(&format!("error: {error}"));
             ExitCode::from(error.exit_code())

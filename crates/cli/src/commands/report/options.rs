@@ -9,8 +9,8 @@ use std::path::PathBuf;
 /// Arguments of `lagrange report`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene id to report, repeatable (default: every scene).
-    #[arg(long = "scene", value_name = "ID")]
+    /// Scene id or scene file to report, repeatable (default: every built-in scene).
+    #[arg(long = "scene", value_name = "ID|FILE")]
     scenes: Vec<String>,
     /// Smaller sweeps, a 2 s horizon and one timed repetition (well under a minute for every scene).
     #[arg(long)]
@@ -55,14 +55,14 @@ impl Options {
         let plan = Plan::new(args.quick, args.t_end).map_err(CliError::Argument)?;
         // The main job has no default limit: only --max-seconds sets one.
         let max_seconds = crate::commands::long_work::max_seconds(args.max_seconds, true)?.map(|(s, _)| s);
-        for id in &args.scenes {
-            args::scene(id)?;
-        }
-        let scenes = lagrange_scenes::all()
+        // The scenes asked for, in the registry's order, then files in the order given.
+        let asked = args.scenes.iter().map(|id| args::scene(id)).collect::<Result<Vec<_>, _>>()?;
+        let mut scenes: Vec<&'static dyn Scene> = lagrange_scenes::all()
             .iter()
             .copied()
-            .filter(|s| args.scenes.is_empty() || args.scenes.iter().any(|id| id == s.id()))
+            .filter(|s| args.scenes.is_empty() || asked.iter().any(|a| a.id() == s.id()))
             .collect();
+        scenes.extend(asked.iter().filter(|a| !scenes.iter().any(|s| s.id() == a.id())).copied().collect::<Vec<_>>());
         let out = args.out.clone();
         if out.as_os_str().is_empty() {
             return Err(CliError::EmptyOut);
