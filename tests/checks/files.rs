@@ -150,3 +150,112 @@ fn suggestions_name_the_closest_known_name() {
     let Err(lagrange_file::FileError::Invalid(d)) = lagrange_file::load(&path) else { panic!("accepted") };
     assert_eq!(d.hint(), Some("did you mean `theta`?"));
 }
+
+/// The printed equations of every coordinates-form example, read back by the project's own
+/// parser (their `plain` form) and evaluated at states where the engine gives `q̈`, `λ`, the
+/// momenta and the energy: each equation holds to round-off.
+#[test]
+fn printed_equations_agree_with_the_engine() {
+    use lagrange_file::tape::{Leaf, TapeBuilder};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(27);
+    let mut checked = 0;
+    for path in toml_files(&workspace().join("examples/scenes")) {
+        if path.to_string_lossy().ends_with(".graph.toml") {
+            continue;
+        }
+        let equations = lagrange_file::eom(&path).unwrap_or_else(|e| panic!("{}", e.render()));
+        let scene = lagrange_file::load(&path).unwrap();
+        let params = scene.default_params();
+        let mut system = scene.build(&params).unwrap();
+        let names: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
+        let n = names.len();
+        let initial = scene.default_state(&params).unwrap();
+        let constrained = system.constraint_counts() != (0, 0);
+        for sample in 0..10 {
+            let (t, q, qdot) = if constrained || sample == 0 {
+                (initial.t, initial.q.clone(), initial.qdot.clone())
+            } else {
+                let q: Vec<f64> = initial.q.iter().map(|v| v + rng.random_range(-0.3..0.3)).collect();
+                (rng.random_range(0.0..1.0), q, (0..n).map(|_| rng.random_range(-1.0..1.0)).collect())
+            };
+            let qddot = system.accelerations(t, &q, &qdot).unwrap().to_vec();
+            let lambda = system.constraint_multipliers(t, &q, &qdot).unwrap().map(<[f64]>::to_vec).unwrap_or_default();
+            let momenta = system.momenta(t, &q, &qdot).unwrap().to_vec();
+            let energy = system.energy_function(t, &q, &qdot).unwrap();
+            let mut inputs = vec![t];
+            inputs.extend(&q);
+            inputs.extend(&qdot);
+            inputs.extend(&qddot);
+            inputs.extend(&lambda);
+            let value = |text: &str| -> f64 {
+                let ast =
+                    lagrange_file::expr::parse(text).unwrap_or_else(|e| panic!("{}: `{text}`: {e:?}", path.display()));
+                let mut builder = TapeBuilder::new();
+                let node = builder
+                    .compile(&ast, &mut |name: &str, _: &std::ops::Range<usize>| -> Result<Leaf, String> {
+                        if let Some((spec, v)) = params.iter().find(|(s, _)| s.name == name) {
+                            let _ = spec;
+                            return Ok(Leaf::Constant(v));
+                        }
+                        let index = |base: &str| names.iter().position(|c| c == base);
+                        Ok(match name {
+                            "t" => Leaf::Input(0),
+                            "pi" => Leaf::Constant(std::f64::consts::PI),
+                            _ => {
+                                if let Some(i) = index(name) {
+                                    Leaf::Input(1 + i)
+                                } else if let Some(i) = name.strip_suffix("_ddot").and_then(index) {
+                                    Leaf::Input(1 + 2 * n + i)
+                                } else if let Some(i) = name.strip_suffix("_dot").and_then(index) {
+                                    Leaf::Input(1 + n + i)
+                                } else if let Some(k) =
+                                    name.strip_prefix("lambda").and_then(|k| k.parse::<usize>().ok())
+                                {
+                                    Leaf::Input(3 * n + k)
+                                } else {
+                                    return Err(format!("unknown name `{name}`"));
+                                }
+                            }
+                        })
+                    })
+                    .unwrap_or_else(|e| panic!("{}: `{text}`: {e}", path.display()));
+                builder.output(node);
+                let tape = builder.finish();
+                let mut out = [0.0];
+                tape.eval(&inputs, &mut vec![0.0; tape.len()], &mut out);
+                out[0]
+            };
+            // Round-off of sums of a few terms of size up to |left| + |right| (and of the
+            // engine's q̈, relative κ ε): 1e-10 of their size leaves a wide margin.
+            let holds = |left: f64, right: f64, what: &str| {
+                assert!(
+                    (left - right).abs() <= 1e-10 * (1.0 + left.abs() + right.abs()),
+                    "{}: {what}: {left} vs {right}",
+                    path.display()
+                );
+            };
+            for e in &equations.equations {
+                holds(
+                    value(&e.left.plain),
+                    value(&e.right.plain),
+                    &format!("{} = {}", e.left.unicode, e.right.unicode),
+                );
+                checked += 1;
+            }
+            for e in &equations.constraints {
+                holds(value(&e.left.plain), 0.0, &e.label);
+            }
+            for e in &equations.accelerations {
+                holds(value(&e.left.plain), value(&e.right.plain), &e.left.unicode);
+            }
+            if let Some(h) = &equations.conserved_energy {
+                holds(value(&h.right.plain), energy, "E");
+            }
+            for p in &equations.conserved_momenta {
+                let i = names.iter().position(|c| p.left.plain == format!("p_{c}")).expect("a coordinate's momentum");
+                holds(value(&p.right.plain), momenta[i], &p.left.unicode);
+            }
+        }
+    }
+    assert!(checked >= 50, "{checked}");
+}

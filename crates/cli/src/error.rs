@@ -28,6 +28,11 @@ pub enum CliError {
         "`{0}` is not a joint graph: only joint-graph scenes export to a file (coordinates-form files of built-in scenes are in examples/scenes)"
     )]
     NotAGraph(String),
+    /// `eom` of a built-in scene id: its equations are Rust code.
+    #[error(
+        "`{0}` is not a scene file: the built-in scenes are Rust code; print the equations of a coordinates-form file (examples/scenes/<scene>.toml)"
+    )]
+    NotAFile(String),
     /// A `--param` that is not `NAME=VALUE`.
     #[error("--param `{0}` is not of the form NAME=VALUE")]
     ParamForm(String),
@@ -341,6 +346,7 @@ impl CliError {
             CliError::ParamForm(_)
             | CliError::File(_)
             | CliError::NotAGraph(_)
+            | CliError::NotAFile(_)
             | CliError::NotANumber { .. }
             | CliError::OutOfRange { .. }
             | CliError::Arity { .. }

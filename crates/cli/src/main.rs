@@ -61,6 +61,9 @@ enum Command {
     /// over step and tolerance sweeps, against each scene's reference; writes report.json,
     /// report.md and work-precision plots to --out.
     Report(commands::report::Args),
+    /// The equations of a scene file: T, V, L, Lagrange's equations, constraints, constants of
+    /// the motion, derived symbolically and printed as a textbook prints them.
+    Eom(commands::eom::Args),
 }
 
 /// The command line, with every numeric option accepting a value that starts with `-`
@@ -113,6 +116,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => commands::simulate::run(&args),
         Command::Compare(args) => commands::compare::run(&args),
         Command::Report(args) => commands::report::run(&args),
+        Command::Eom(args) => commands::eom::run(&args),
     };
     match result.and_then(|()| output::flush()) {
         Ok(()) => ExitCode::SUCCESS,

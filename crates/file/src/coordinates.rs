@@ -337,7 +337,9 @@ impl CoordinateForm {
                 return Err(reader
                     .error(file.bodies[0].name.span(), "a file gives bodies or a Lagrangian, not both")
                     .label("a body")
-                    .with_hint(Some("remove `lagrangian` to derive L from the bodies, or the bodies to use it".into())));
+                    .with_hint(Some(
+                        "remove `lagrangian` to derive L from the bodies, or the bodies to use it".into(),
+                    )));
             }
             (None, true) => {
                 return Err(reader

@@ -76,7 +76,8 @@ impl Diagnostic {
     /// The error as rustc prints one (no colour).
     pub fn render(&self) -> String {
         let file = SimpleFile::new(self.0.path.as_str(), self.0.source.as_str());
-        let span = floor_char_boundary(&self.0.source, self.0.span.start)..floor_char_boundary(&self.0.source, self.0.span.end);
+        let span = floor_char_boundary(&self.0.source, self.0.span.start)
+            ..floor_char_boundary(&self.0.source, self.0.span.end);
         let mut report = Report::error()
             .with_message(&self.0.message)
             .with_labels(vec![Label::primary((), span).with_message(&self.0.label)]);

@@ -34,7 +34,7 @@ pub enum BinaryOp {
 }
 
 /// A function of the expression language.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Function {
     /// `sin x`
     Sin,

@@ -37,11 +37,12 @@ pub(crate) fn read(
             .with_hint(Some("the graph names its bodies, joints, forces and gravity; its parameters are gravity and each body's mass and inertia".into())));
     }
     let Some(initial) = &file.initial else {
-        return Err(reader.error(graph.span(), "a joint-graph file needs its initial state").label("this graph").with_hint(
-            Some(
+        return Err(reader
+            .error(graph.span(), "a joint-graph file needs its initial state")
+            .label("this graph")
+            .with_hint(Some(
                 "add [initial] with q = [...] (one value per free joint, in the order listed) and qdot = [...]".into(),
-            ),
-        ));
+            )));
     };
     // The scene's id is the file's (a graph's own name, if it gives one, is replaced).
     let mut graph_value = graph.get_ref().clone();

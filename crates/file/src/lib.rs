@@ -61,11 +61,12 @@ mod names;
 mod read;
 mod scene;
 pub mod schema;
+pub mod symbolic;
 pub mod tape;
 mod write;
 
 pub use diagnostic::Diagnostic;
 pub use mechanism::{FileLagrangian, FileMechanism};
-pub use read::{FileError, load, parse, register};
+pub use read::{FileError, eom, load, parse, register};
 pub use scene::FileScene;
 pub use write::graph_file;

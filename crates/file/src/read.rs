@@ -26,6 +26,14 @@ pub enum FileError {
     /// A scene with the file's id is known already (a built-in scene, or a file loaded before).
     #[error("{0}")]
     Registered(Error),
+    /// The file's equations cannot be printed.
+    #[error("cannot print the equations of `{path}`: {why}")]
+    NoEquations {
+        /// The path as given.
+        path: String,
+        /// Why.
+        why: String,
+    },
 }
 
 impl From<Diagnostic> for FileError {
@@ -111,6 +119,38 @@ impl Scene for BoxedScene {
 /// # Errors
 /// A [`Diagnostic`] with the place and reason if the text is not a valid scene.
 pub fn parse(path: &str, source: &str) -> Result<Box<dyn Scene>, Diagnostic> {
+    Ok(match read(path, source)? {
+        Parsed::Coordinates(scene) => scene,
+        Parsed::Graph(scene) => scene,
+    })
+}
+
+/// A file read: a coordinates-form scene (whose expressions [`eom`] can print), or a joint graph.
+pub(crate) enum Parsed {
+    Coordinates(Box<FileScene>),
+    Graph(Box<dyn Scene>),
+}
+
+/// The equations of the coordinates-form scene file at `path`, derived symbolically and
+/// written as a textbook writes them ([`Equations`](crate::symbolic::Equations)).
+///
+/// # Errors
+/// As [`load`]; [`FileError::NoEquations`] for a joint-graph file or an expression the
+/// symbolic derivation does not take (`abs`, a variable exponent).
+pub fn eom(path: impl AsRef<Path>) -> Result<crate::symbolic::Equations, FileError> {
+    let path = path.as_ref();
+    let shown = path.display().to_string();
+    let source = std::fs::read_to_string(path).map_err(|source| FileError::Read { path: shown.clone(), source })?;
+    match read(&shown, &source)? {
+        Parsed::Coordinates(scene) => scene.equations().map_err(|e| FileError::NoEquations { path: shown, why: e.0 }),
+        Parsed::Graph(_) => Err(FileError::NoEquations {
+            path: shown,
+            why: "it is a joint graph; the printed equations are those of the coordinates form".into(),
+        }),
+    }
+}
+
+fn read(path: &str, source: &str) -> Result<Parsed, Diagnostic> {
     let reader = Reader { path, source };
     let file: SceneFile = toml::from_str(source).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
@@ -124,7 +164,7 @@ pub fn parse(path: &str, source: &str) -> Result<Box<dyn Scene>, Diagnostic> {
     })?;
     check_header(&reader, &file)?;
     if let Some(graph) = &file.graph {
-        return crate::graph::read(&reader, &file, graph);
+        return crate::graph::read(&reader, &file, graph).map(Parsed::Graph);
     }
     if let Some(initial) = &file.initial {
         return Err(reader
@@ -144,7 +184,7 @@ pub fn parse(path: &str, source: &str) -> Result<Box<dyn Scene>, Diagnostic> {
         form,
     );
     check_initial_state(&reader, &file, &scene)?;
-    Ok(Box::new(scene))
+    Ok(Parsed::Coordinates(Box::new(scene)))
 }
 
 /// The version, the id and the horizon.
@@ -206,12 +246,12 @@ fn parameters(reader: &Reader<'_>, file: &SceneFile) -> Result<Table, Diagnostic
                 "finite" => Domain::Finite,
                 other => {
                     let known = ["positive", "non_negative", "finite"];
-                    return Err(reader.error(d.span(), format!("unknown domain `{other}`")).label("here").with_hint(Some(
-                        crate::names::suggest(other, known).map_or_else(
+                    return Err(reader.error(d.span(), format!("unknown domain `{other}`")).label("here").with_hint(
+                        Some(crate::names::suggest(other, known).map_or_else(
                             || "one of positive, non_negative, finite; or between = [low, high]".into(),
                             |s| format!("did you mean `{s}`?"),
-                        ),
-                    )));
+                        )),
+                    ));
                 }
             },
             (None, None) => Domain::Finite,

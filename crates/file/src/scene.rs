@@ -83,9 +83,20 @@ impl FileScene {
         Ok((system, state))
     }
 
-    /// The coordinates-form file's parts (for `eom` and `scenes --describe`).
+    /// The coordinates-form file's parts.
     pub(crate) fn form(&self) -> &CoordinateForm {
         &self.form
+    }
+
+    /// The scene's equations, derived symbolically from the file's expressions
+    /// ([`crate::symbolic`]).
+    ///
+    /// # Errors
+    /// An expression the derivation does not take (`abs`, a variable exponent, a number
+    /// beyond exact 128-bit rationals).
+    pub fn equations(&self) -> Result<crate::symbolic::Equations, crate::symbolic::algebra::Unsupported> {
+        let symbols: Vec<String> = self.params.iter().map(|p| p.symbol.to_string()).collect();
+        crate::symbolic::derive(&self.form, &symbols)
     }
 }
 

@@ -25,7 +25,7 @@ use serde::Serialize;
 /// Arguments of `lagrange accel`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene id (see `lagrange scenes`).
+    /// Scene id (see `lagrange scenes`) or scene file (`*.toml`, docs/files.md).
     scene: String,
     /// Parameter override NAME=VALUE (name, symbol, or the symbol in ASCII: alpha for α),
     /// once per parameter.

@@ -15,7 +15,7 @@ use lagrange_validation::render::terminal;
 /// Arguments of `lagrange compare`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene id (see `lagrange scenes`).
+    /// Scene id (see `lagrange scenes`) or scene file (`*.toml`, docs/files.md).
     scene: String,
     /// Parameter override NAME=VALUE (name or symbol), repeatable.
     #[arg(long = "param", value_name = "NAME=VALUE")]

@@ -3,6 +3,7 @@
 
 pub mod accel;
 pub mod compare;
+pub mod eom;
 pub mod files;
 pub mod long_work;
 pub mod report;

@@ -44,7 +44,7 @@ impl clap::ValueEnum for Integrator {
 /// Arguments of `lagrange simulate`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene id (see `lagrange scenes`).
+    /// Scene id (see `lagrange scenes`) or scene file (`*.toml`, docs/files.md).
     scene: String,
     /// Parameter override NAME=VALUE (name or symbol), repeatable.
     #[arg(long = "param", value_name = "NAME=VALUE")]

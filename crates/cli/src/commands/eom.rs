@@ -1,0 +1,118 @@
+//! `lagrange eom FILE`: the equations of a coordinates-form scene file, derived symbolically
+//! and printed as a textbook prints them ([`lagrange_file::symbolic`]).
+
+use crate::error::CliError;
+use crate::output::{outln, print};
+use lagrange_file::symbolic::{Equation, Equations, Formula};
+
+/// Arguments of `lagrange eom`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// A coordinates-form scene file (`*.toml`, docs/files.md).
+    file: String,
+    /// Print LaTeX (an `align*` environment).
+    #[arg(long, conflicts_with_all = ["json", "unicode"])]
+    latex: bool,
+    /// Print Unicode, as a textbook does (the default).
+    #[arg(long, conflicts_with = "json")]
+    unicode: bool,
+    /// Machine-readable output: every formula in Unicode, LaTeX and the scene-file expression
+    /// language.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Print the equations.
+pub fn run(args: &Args) -> Result<(), CliError> {
+    if !args.file.ends_with(".toml") && !std::path::Path::new(&args.file).is_file() {
+        return Err(CliError::NotAFile(args.file.clone()));
+    }
+    let equations = lagrange_file::eom(&args.file).map_err(CliError::File)?;
+    if args.json {
+        return outln!("{}", serde_json::to_string_pretty(&equations)?);
+    }
+    if args.latex { print(&latex(&equations)) } else { print(&unicode(&args.file, &equations)) }
+}
+
+fn line(out: &mut String, text: &str) {
+    out.push_str(text);
+    out.push('\n');
+}
+
+fn side(f: &Formula) -> &str {
+    &f.unicode
+}
+
+/// The equations in Unicode, a block per kind.
+fn unicode(path: &str, e: &Equations) -> String {
+    let mut out = String::new();
+    line(&mut out, &format!("Equations of {path}"));
+    let coordinates: Vec<String> = e.coordinates.iter().map(|(name, unit)| format!("{name} ({unit})")).collect();
+    line(&mut out, &format!("\ncoordinates: {}\n", coordinates.join(", ")));
+    match (&e.kinetic, &e.potential) {
+        (Some(t), Some(v)) => {
+            line(&mut out, &format!("T = {}", side(t)));
+            line(&mut out, &format!("V = {}", side(v)));
+            line(&mut out, "L = T − V");
+        }
+        _ => line(&mut out, &format!("L = {}", side(&e.lagrangian))),
+    }
+    let constrained = !e.constraints.is_empty();
+    line(
+        &mut out,
+        if constrained {
+            "\nLagrange's equations, d/dt ∂L/∂q̇ − ∂L/∂q + Σ λ ∂Φ/∂q = Q (velocity constraints ψ: ∂ψ/∂q̇):"
+        } else {
+            "\nLagrange's equations, d/dt ∂L/∂q̇ − ∂L/∂q = Q:"
+        },
+    );
+    block(&mut out, &e.equations);
+    if constrained {
+        line(&mut out, "\nconstraints (multiplier):");
+        block(&mut out, &e.constraints);
+    }
+    if !e.accelerations.is_empty() {
+        line(&mut out, "\naccelerations (M constant):");
+        for a in &e.accelerations {
+            line(&mut out, &format!("  {} = {}", side(&a.left), side(&a.right)));
+        }
+    }
+    if e.conserved_energy.is_some() || !e.conserved_momenta.is_empty() {
+        line(&mut out, "\nconstants of the motion:");
+        if let Some(h) = &e.conserved_energy {
+            line(&mut out, &format!("  E = {}   (L does not depend on t; no generalized force)", side(&h.right)));
+        }
+        for p in &e.conserved_momenta {
+            line(&mut out, &format!("  {} = {}   ({} is cyclic)", side(&p.left), side(&p.right), p.label));
+        }
+    }
+    out
+}
+
+fn block(out: &mut String, equations: &[Equation]) {
+    let width = equations.iter().map(|e| e.label.chars().count()).max().unwrap_or(0);
+    for e in equations {
+        let pad = " ".repeat(width - e.label.chars().count());
+        line(out, &format!("  {}:{pad}  {} = {}", e.label, side(&e.left), side(&e.right)));
+    }
+}
+
+/// The equations as one LaTeX `align*` environment.
+fn latex(e: &Equations) -> String {
+    let mut rows = Vec::new();
+    if let (Some(t), Some(v)) = (&e.kinetic, &e.potential) {
+        rows.push(format!("T &= {}", t.latex));
+        rows.push(format!("V &= {}", v.latex));
+    }
+    rows.push(format!("L &= {}", e.lagrangian.latex));
+    for eq in e.equations.iter().chain(&e.constraints).chain(&e.accelerations) {
+        rows.push(format!("{} &= {}", eq.left.latex, eq.right.latex));
+    }
+    if let Some(h) = &e.conserved_energy {
+        rows.push(format!("E &= {}", h.right.latex));
+    }
+    for p in &e.conserved_momenta {
+        rows.push(format!("{} &= {}", p.left.latex, p.right.latex));
+    }
+    format!("\\begin{{align*}}\n{}\n\\end{{align*}}\n", rows.join(" \\\\\n"))
+}

@@ -1,0 +1,108 @@
+//! Scene files through the command line: `eom` against golden files, a joint-graph file the
+//! project does not ship (a Watt six-bar with a spring) through `compare --engine all` and
+//! `report --scene`, and a malformed file's error.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn lagrange(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lagrange")).args(args).current_dir(workspace()).output().expect("the binary runs")
+}
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// The lecture's scenes, printed by `lagrange eom` exactly as the golden files under
+/// tests/golden/eom say (`UPDATE_GOLDEN=1` rewrites them; review the diff).
+#[test]
+fn eom_prints_the_golden_equations() {
+    let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/eom");
+    for scene in [
+        "cart_pendulum",
+        "atwood",
+        "double_pendulum",
+        "wedge",
+        "driven_pendulum",
+        "nonminimal_pendulum",
+        "rolling_disc",
+        "kepler",
+    ] {
+        let file = format!("examples/scenes/{scene}.toml");
+        let out = lagrange(&["eom", &file]);
+        assert!(out.status.success(), "{scene}: {}", text(&out.stderr));
+        let printed = text(&out.stdout);
+        let path = golden.join(format!("{scene}.txt"));
+        if std::env::var_os("UPDATE_GOLDEN").is_some() {
+            std::fs::write(&path, &printed).unwrap();
+        }
+        let expected = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(printed, expected, "{scene}: `lagrange eom {file}` differs from {}", path.display());
+    }
+}
+
+#[test]
+fn eom_prints_the_lectures_forms() {
+    let out = text(&lagrange(&["eom", "examples/scenes/cart_pendulum.toml"]).stdout);
+    // Dots are combining characters (X + U+0307), never a precomposed letter.
+    assert!(out.contains("T = ½ (M + m) X\u{307}² + m r X\u{307} θ\u{307} cos θ + ½ m r² θ\u{307}²"), "{out}");
+    let out = text(&lagrange(&["eom", "examples/scenes/atwood.toml"]).stdout);
+    assert!(out.contains("(m₁ + m₂ + I/a²) x\u{308} = (m₁ − m₂) g"), "{out}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&lagrange(&["eom", "examples/scenes/atwood.toml", "--json"]).stdout).unwrap();
+    assert_eq!(json["equations"][0]["right"]["plain"], "(m1 - m2)*g");
+    let latex = text(&lagrange(&["eom", "examples/scenes/atwood.toml", "--latex"]).stdout);
+    assert!(latex.starts_with("\\begin{align*}"), "{latex}");
+    // A joint graph and a built-in id have no printed equations: exit 2 with the reason.
+    for arg in ["examples/scenes/four_bar.graph.toml", "four_bar"] {
+        let out = lagrange(&["eom", arg]);
+        assert_eq!(out.status.code(), Some(2), "{arg}");
+        assert!(!text(&out.stderr).is_empty());
+    }
+}
+
+#[test]
+fn a_joint_graph_file_the_project_does_not_ship_is_compared_and_reported() {
+    let out = lagrange(&["compare", "tests/files/watt_six_bar.toml", "--engine", "all", "--t-end", "1", "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = table["rows"].as_array().expect("rows");
+    let engines: Vec<&str> = rows.iter().filter_map(|r| r["engine"].as_str()).collect();
+    for engine in ["cartesian", "rapier-impulse", "rapier-multibody", "rapier-impulse-f32", "rapier-multibody-f32"] {
+        assert!(engines.contains(&engine), "{engines:?}");
+    }
+    // The independent Cartesian model (tol 1e-12) agrees with the reduced one: 1e-9 leaves
+    // a factor of 1e3 for the growth of its error over the second (measured 7e-14).
+    let cartesian = rows.iter().find(|r| r["engine"] == "cartesian").unwrap();
+    assert!(cartesian["max_error"].as_f64().unwrap() < 1e-9, "{cartesian}");
+
+    let out_dir = std::env::temp_dir().join(format!("lagrange-watt-report-{}", std::process::id()));
+    let out = lagrange(&[
+        "report",
+        "--quick",
+        "--scene",
+        "tests/files/watt_six_bar.toml",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("report.json")).unwrap()).unwrap();
+    assert!(report.to_string().contains("watt_six_bar"));
+    let _ = std::fs::remove_dir_all(&out_dir);
+}
+
+#[test]
+fn a_malformed_file_is_drawn_on_its_text_and_exits_2() {
+    let out = lagrange(&["simulate", "tests/files/bad/unknown_name.toml", "--t-end", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(err.contains("error: unknown name `thta`"), "{err}");
+    assert!(err.contains("tests/files/bad/unknown_name.toml:24:13"), "{err}");
+    assert!(err.contains("help: did you mean `theta`?"), "{err}");
+    assert!(text(&out.stdout).is_empty());
+}

@@ -1,0 +1,599 @@
+//! Exact polynomial algebra over "atoms" (symbols, functions of polynomials, powers of sums),
+//! with rational coefficients: enough to differentiate a scene file's expressions and write the
+//! results as a textbook does.
+
+use crate::expr::Function;
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// An exact rational number `n / d` (`d > 0`, lowest terms).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Rational {
+    n: i128,
+    d: i128,
+}
+
+/// Why an expression has no exact symbolic form here.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Unsupported(pub String);
+
+impl fmt::Display for Unsupported {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+fn gcd(a: i128, b: i128) -> i128 {
+    let (mut a, mut b) = (a.abs(), b.abs());
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+const OVERFLOW: &str = "a coefficient outgrew exact arithmetic (128-bit rationals)";
+
+impl Rational {
+    /// `n / d`.
+    pub fn new(n: i128, d: i128) -> Result<Self, Unsupported> {
+        if d == 0 {
+            return Err(Unsupported("division by zero".into()));
+        }
+        let g = gcd(n, d).max(1);
+        let s = if d < 0 { -1 } else { 1 };
+        Ok(Self { n: s * n / g, d: s * d / g })
+    }
+
+    /// An integer.
+    pub const fn int(n: i128) -> Self {
+        Self { n, d: 1 }
+    }
+
+    /// The exact value of a decimal number as written (its shortest round-trip form).
+    pub fn from_f64(v: f64) -> Result<Self, Unsupported> {
+        let text = format!("{v:e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let exponent: i32 = exponent.parse().map_err(|_| Unsupported(format!("{v}")))?;
+        let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+        let digits: i128 = format!("{int}{frac}").parse().map_err(|_| Unsupported(format!("{v}")))?;
+        let scale = exponent - frac.len() as i32;
+        let ten = |k: i32| {
+            10_i128
+                .checked_pow(k.unsigned_abs())
+                .ok_or_else(|| Unsupported(format!("{v} is too large or small to print exactly")))
+        };
+        if scale >= 0 {
+            Ok(Self::int(digits.checked_mul(ten(scale)?).ok_or_else(|| Unsupported(OVERFLOW.into()))?))
+        } else {
+            Self::new(digits, ten(scale)?)
+        }
+    }
+
+    /// Numerator.
+    pub fn numer(self) -> i128 {
+        self.n
+    }
+
+    /// Denominator (positive).
+    pub fn denom(self) -> i128 {
+        self.d
+    }
+
+    /// Zero?
+    pub fn is_zero(self) -> bool {
+        self.n == 0
+    }
+
+    /// As a float.
+    pub fn to_f64(self) -> f64 {
+        self.n as f64 / self.d as f64
+    }
+
+    fn checked(n: Option<i128>, d: Option<i128>) -> Result<Self, Unsupported> {
+        match (n, d) {
+            (Some(n), Some(d)) => Self::new(n, d),
+            _ => Err(Unsupported(OVERFLOW.into())),
+        }
+    }
+
+    /// `self + other`.
+    pub fn checked_add(self, other: Self) -> Result<Self, Unsupported> {
+        let n = self.n.checked_mul(other.d).and_then(|a| other.n.checked_mul(self.d).and_then(|b| a.checked_add(b)));
+        Self::checked(n, self.d.checked_mul(other.d))
+    }
+
+    /// `self · other`.
+    pub fn checked_mul(self, other: Self) -> Result<Self, Unsupported> {
+        Self::checked(self.n.checked_mul(other.n), self.d.checked_mul(other.d))
+    }
+
+    /// `1 / self`.
+    pub fn recip(self) -> Result<Self, Unsupported> {
+        Self::new(self.d, self.n)
+    }
+}
+
+impl std::ops::Neg for Rational {
+    type Output = Self;
+
+    /// `−self`.
+    fn neg(self) -> Self {
+        Self { n: -self.n, d: self.d }
+    }
+}
+
+/// A symbol's index in the table the caller keeps (parameters, coordinates, rates, …).
+pub type Symbol = u32;
+
+/// A factor that is not a product: a symbol, a function of a polynomial, a power of a sum.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Atom {
+    /// A symbol.
+    Sym(Symbol),
+    /// `f(p)` for a one-argument function other than a power.
+    Fun(Function, Box<Poly>),
+    /// `atan2(y, x)`.
+    Atan2(Box<Poly>, Box<Poly>),
+    /// `p^r` of a polynomial that is not one monomial, for a non-integer or negative `r`.
+    Pow(Box<Poly>, Rational),
+}
+
+/// A product of atoms with integer exponents (none zero), in order.
+pub type Monomial = BTreeMap<Atom, i32>;
+
+/// A sum of monomials with non-zero rational coefficients.
+#[derive(Clone, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Poly(pub BTreeMap<Monomial, Rational>);
+
+type R<T> = Result<T, Unsupported>;
+
+impl Poly {
+    /// 0.
+    pub fn zero() -> Self {
+        Self::default()
+    }
+
+    /// A constant.
+    pub fn constant(c: Rational) -> Self {
+        let mut p = Self::zero();
+        if !c.is_zero() {
+            p.0.insert(Monomial::new(), c);
+        }
+        p
+    }
+
+    /// One atom.
+    pub fn atom(a: Atom) -> Self {
+        Self(BTreeMap::from([(Monomial::from([(a, 1)]), Rational::int(1))]))
+    }
+
+    /// A symbol.
+    pub fn sym(s: Symbol) -> Self {
+        Self::atom(Atom::Sym(s))
+    }
+
+    /// Whether it is 0.
+    pub fn is_zero(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// The constant it is, if it is one.
+    pub fn as_constant(&self) -> Option<Rational> {
+        match self.0.len() {
+            0 => Some(Rational::int(0)),
+            1 => self.0.get(&Monomial::new()).copied(),
+            _ => None,
+        }
+    }
+
+    fn add_term(&mut self, m: Monomial, c: Rational) -> R<()> {
+        let sum = match self.0.get(&m) {
+            Some(&old) => old.checked_add(c)?,
+            None => c,
+        };
+        if sum.is_zero() {
+            self.0.remove(&m);
+        } else {
+            self.0.insert(m, sum);
+        }
+        Ok(())
+    }
+
+    /// `self + other`.
+    pub fn add(&self, other: &Poly) -> R<Poly> {
+        let mut out = self.clone();
+        for (m, &c) in &other.0 {
+            out.add_term(m.clone(), c)?;
+        }
+        Ok(out)
+    }
+
+    /// `self − other`.
+    pub fn sub(&self, other: &Poly) -> R<Poly> {
+        self.add(&other.neg())
+    }
+
+    /// `−self`.
+    pub fn neg(&self) -> Poly {
+        Poly(self.0.iter().map(|(m, c)| (m.clone(), -*c)).collect())
+    }
+
+    /// `c · self`.
+    pub fn scale(&self, c: Rational) -> R<Poly> {
+        let mut out = Poly::zero();
+        for (m, &k) in &self.0 {
+            out.add_term(m.clone(), k.checked_mul(c)?)?;
+        }
+        Ok(out)
+    }
+
+    /// `self · other`.
+    pub fn mul(&self, other: &Poly) -> R<Poly> {
+        let mut out = Poly::zero();
+        for (ma, &ca) in &self.0 {
+            for (mb, &cb) in &other.0 {
+                let mut m = ma.clone();
+                for (atom, &e) in mb {
+                    let total = m.get(atom).copied().unwrap_or(0) + e;
+                    if total == 0 {
+                        m.remove(atom);
+                    } else {
+                        m.insert(atom.clone(), total);
+                    }
+                }
+                out.add_term(m, ca.checked_mul(cb)?)?;
+            }
+        }
+        Ok(out)
+    }
+
+    /// `self^k` for an integer `k` (a negative power of a sum is an atom).
+    pub fn powi(&self, k: i32) -> R<Poly> {
+        if k >= 0 {
+            let mut out = Poly::constant(Rational::int(1));
+            for _ in 0..k {
+                out = out.mul(self)?;
+            }
+            return Ok(out);
+        }
+        match self.0.len() {
+            0 => Err(Unsupported("a negative power of zero".into())),
+            1 => {
+                // One monomial: invert it.
+                let (m, &c) = self.0.iter().next().expect("one term");
+                let inverse = Poly(BTreeMap::from([(m.iter().map(|(a, &e)| (a.clone(), -e)).collect(), c.recip()?)]));
+                inverse.powi(-k)
+            }
+            _ => Ok(Poly::atom(Atom::Pow(Box::new(self.clone()), Rational::int(k as i128)))),
+        }
+    }
+
+    /// `self^r` for a rational `r`.
+    pub fn powr(&self, r: Rational) -> R<Poly> {
+        if r.denom() == 1 && r.numer().abs() <= 64 {
+            return self.powi(r.numer() as i32);
+        }
+        if self.is_zero() {
+            return Ok(Poly::zero());
+        }
+        // A monomial whose exponents r divides evenly stays a monomial (√(a²) is not simplified
+        // to a: signs are unknown, so only even powers under a positive coefficient would be).
+        Ok(Poly::atom(Atom::Pow(Box::new(self.clone()), r)))
+    }
+
+    /// `f(self)`, with the sign of odd functions taken out of the argument and the values at 0.
+    pub fn apply(&self, f: Function) -> R<Poly> {
+        let odd = matches!(f, Function::Sin | Function::Tan | Function::Asin | Function::Atan | Function::Sinh);
+        let even = matches!(f, Function::Cos | Function::Cosh | Function::Abs);
+        if self.is_zero() {
+            return Ok(match f {
+                Function::Cos | Function::Cosh | Function::Exp => Poly::constant(Rational::int(1)),
+                Function::Acos => return Err(Unsupported("acos(0) would print as π/2".into())),
+                Function::Ln => return Err(Unsupported("ln(0)".into())),
+                _ => Poly::zero(),
+            });
+        }
+        if f == Function::Sqrt {
+            return self.powr(Rational::new(1, 2)?);
+        }
+        let negative = self.0.values().next().is_some_and(|c| c.numer() < 0);
+        if negative && (odd || even) {
+            let inner = Poly::atom(Atom::Fun(f, Box::new(self.neg())));
+            return Ok(if odd { inner.neg() } else { inner });
+        }
+        Ok(Poly::atom(Atom::Fun(f, Box::new(self.clone()))))
+    }
+
+    /// `∂self/∂s`.
+    pub fn diff(&self, s: Symbol) -> R<Poly> {
+        let mut out = Poly::zero();
+        for (m, &c) in &self.0 {
+            for (atom, &e) in m {
+                let d_atom = atom.diff(s)?;
+                if d_atom.is_zero() {
+                    continue;
+                }
+                // e · atom^(e−1) · rest · d(atom)
+                let mut rest = m.clone();
+                if e == 1 {
+                    rest.remove(atom);
+                } else {
+                    rest.insert(atom.clone(), e - 1);
+                }
+                let term = Poly(BTreeMap::from([(rest, c.checked_mul(Rational::int(e as i128))?)]));
+                out = out.add(&term.mul(&d_atom)?)?;
+            }
+        }
+        Ok(out)
+    }
+
+    /// Replace symbol `s` by `value` everywhere (inside functions too).
+    pub fn substitute(&self, s: Symbol, value: &Poly) -> R<Poly> {
+        let mut out = Poly::zero();
+        for (m, &c) in &self.0 {
+            let mut term = Poly::constant(c);
+            for (atom, &e) in m {
+                term = term.mul(&atom.substitute(s, value)?.powi(e)?)?;
+            }
+            out = out.add(&term)?;
+        }
+        Ok(out)
+    }
+
+    /// Whether any symbol in `set` occurs.
+    pub fn contains(&self, set: &impl Fn(Symbol) -> bool) -> bool {
+        self.0.keys().any(|m| m.keys().any(|a| a.contains(set)))
+    }
+
+    /// Apply the textbook identities until none applies: `sin²a + cos²a = 1`,
+    /// `cos a cos b ± sin a sin b = cos(a ∓ b)`, `sin a cos b ± cos a sin b = sin(a ± b)`.
+    pub fn simplify(&self) -> R<Poly> {
+        let mut p = self.simplify_inside()?;
+        while let Some(next) = p.pythagoras()?.or(p.angle_sum()?) {
+            p = next;
+        }
+        Ok(p)
+    }
+
+    fn simplify_inside(&self) -> R<Poly> {
+        let mut out = Poly::zero();
+        for (m, &c) in &self.0 {
+            let mut term = Poly::constant(c);
+            for (atom, &e) in m {
+                let a = match atom {
+                    Atom::Sym(_) => Poly::atom(atom.clone()),
+                    Atom::Fun(f, p) => p.simplify()?.apply(*f)?,
+                    Atom::Atan2(y, x) => Poly::atom(Atom::Atan2(Box::new(y.simplify()?), Box::new(x.simplify()?))),
+                    Atom::Pow(p, r) => p.simplify()?.powr(*r)?,
+                };
+                term = term.mul(&a.powi(e)?)?;
+            }
+            out = out.add(&term)?;
+        }
+        Ok(out)
+    }
+
+    /// One `k R sin²a + k R cos²a → k R`.
+    fn pythagoras(&self) -> R<Option<Poly>> {
+        for (m, &c) in &self.0 {
+            for (atom, &e) in m {
+                let Atom::Fun(Function::Sin, arg) = atom else { continue };
+                if e != 2 {
+                    continue;
+                }
+                let mut partner = m.clone();
+                partner.remove(atom);
+                partner.insert(Atom::Fun(Function::Cos, arg.clone()), 2);
+                if self.0.get(&partner) == Some(&c) {
+                    let mut rest = m.clone();
+                    rest.remove(atom);
+                    let mut out = self.clone();
+                    out.0.remove(m);
+                    out.0.remove(&partner);
+                    out.add_term(rest, c)?;
+                    return Ok(Some(out));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// One pair of terms that is the cosine or sine of a sum or difference.
+    fn angle_sum(&self) -> R<Option<Poly>> {
+        let trig = |m: &Monomial, f: Function| -> Vec<Poly> {
+            m.iter()
+                .filter_map(|(a, &e)| match a {
+                    Atom::Fun(g, p) if *g == f && e == 1 => Some((**p).clone()),
+                    _ => None,
+                })
+                .collect()
+        };
+        let without = |m: &Monomial, drops: &[(Function, &Poly)]| -> Monomial {
+            let mut r = m.clone();
+            for (f, p) in drops {
+                r.remove(&Atom::Fun(*f, Box::new((*p).clone())));
+            }
+            r
+        };
+        for (m, &c) in &self.0 {
+            let (cosines, sines) = (trig(m, Function::Cos), trig(m, Function::Sin));
+            // cos a cos b with sin a sin b: cos(a − b) (same sign) or cos(a + b) (opposite).
+            for (i, a) in cosines.iter().enumerate() {
+                for b in &cosines[i + 1..] {
+                    let rest = without(m, &[(Function::Cos, a), (Function::Cos, b)]);
+                    let mut partner = rest.clone();
+                    partner.insert(Atom::Fun(Function::Sin, Box::new(a.clone())), 1);
+                    partner.insert(Atom::Fun(Function::Sin, Box::new(b.clone())), 1);
+                    if let Some(&k) = self.0.get(&partner) {
+                        let angle = if k == c {
+                            a.sub(b)?
+                        } else if k == -c {
+                            a.add(b)?
+                        } else {
+                            continue;
+                        };
+                        return Ok(Some(self.replace(&[m, &partner], &rest, c, angle.apply(Function::Cos)?)?));
+                    }
+                }
+            }
+            // sin a cos b with ± cos a sin b: sin(a ± b).
+            for a in &sines {
+                for b in &cosines {
+                    if a == b {
+                        continue;
+                    }
+                    let rest = without(m, &[(Function::Sin, a), (Function::Cos, b)]);
+                    let mut partner = rest.clone();
+                    partner.insert(Atom::Fun(Function::Cos, Box::new(a.clone())), 1);
+                    partner.insert(Atom::Fun(Function::Sin, Box::new(b.clone())), 1);
+                    if let Some(&k) = self.0.get(&partner) {
+                        let angle = if k == c {
+                            a.add(b)?
+                        } else if k == -c {
+                            a.sub(b)?
+                        } else {
+                            continue;
+                        };
+                        return Ok(Some(self.replace(&[m, &partner], &rest, c, angle.apply(Function::Sin)?)?));
+                    }
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// Without the monomials `drop`, plus `c · rest · value`.
+    fn replace(&self, drop: &[&Monomial], rest: &Monomial, c: Rational, value: Poly) -> R<Poly> {
+        let mut out = self.clone();
+        for m in drop {
+            out.0.remove(*m);
+        }
+        out.add(&Poly(BTreeMap::from([(rest.clone(), c)])).mul(&value)?)
+    }
+}
+
+impl Atom {
+    fn diff(&self, s: Symbol) -> R<Poly> {
+        let one = || Poly::constant(Rational::int(1));
+        Ok(match self {
+            Atom::Sym(t) => {
+                if *t == s {
+                    one()
+                } else {
+                    Poly::zero()
+                }
+            }
+            Atom::Fun(f, p) => {
+                let dp = p.diff(s)?;
+                if dp.is_zero() {
+                    return Ok(Poly::zero());
+                }
+                let outer = match f {
+                    Function::Sin => p.apply(Function::Cos)?,
+                    Function::Cos => p.apply(Function::Sin)?.neg(),
+                    Function::Tan => one().add(&p.apply(Function::Tan)?.powi(2)?)?,
+                    Function::Sinh => p.apply(Function::Cosh)?,
+                    Function::Cosh => p.apply(Function::Sinh)?,
+                    Function::Exp => p.apply(Function::Exp)?,
+                    Function::Ln => p.powi(-1)?,
+                    Function::Sqrt => p.powr(Rational::new(-1, 2)?)?.scale(Rational::new(1, 2)?)?,
+                    Function::Asin | Function::Acos => {
+                        let root = one().sub(&p.mul(p)?)?.powr(Rational::new(-1, 2)?)?;
+                        if *f == Function::Asin { root } else { root.neg() }
+                    }
+                    Function::Atan => one().add(&p.mul(p)?)?.powi(-1)?,
+                    Function::Abs | Function::Atan2 => {
+                        return Err(Unsupported(format!("`{}` has no derivative printed here", f.name())));
+                    }
+                };
+                outer.mul(&dp)?
+            }
+            Atom::Atan2(y, x) => {
+                let (dy, dx) = (y.diff(s)?, x.diff(s)?);
+                if dy.is_zero() && dx.is_zero() {
+                    return Ok(Poly::zero());
+                }
+                let num = x.mul(&dy)?.sub(&y.mul(&dx)?)?;
+                num.mul(&x.mul(x)?.add(&y.mul(y)?)?.powi(-1)?)?
+            }
+            Atom::Pow(p, r) => {
+                let dp = p.diff(s)?;
+                if dp.is_zero() {
+                    return Ok(Poly::zero());
+                }
+                p.powr(r.checked_add(Rational::int(-1))?)?.scale(*r)?.mul(&dp)?
+            }
+        })
+    }
+
+    fn substitute(&self, s: Symbol, value: &Poly) -> R<Poly> {
+        Ok(match self {
+            Atom::Sym(t) if *t == s => value.clone(),
+            Atom::Sym(_) => Poly::atom(self.clone()),
+            Atom::Fun(f, p) => p.substitute(s, value)?.apply(*f)?,
+            Atom::Atan2(y, x) => {
+                Poly::atom(Atom::Atan2(Box::new(y.substitute(s, value)?), Box::new(x.substitute(s, value)?)))
+            }
+            Atom::Pow(p, r) => p.substitute(s, value)?.powr(*r)?,
+        })
+    }
+
+    fn contains(&self, set: &impl Fn(Symbol) -> bool) -> bool {
+        match self {
+            Atom::Sym(s) => set(*s),
+            Atom::Fun(_, p) | Atom::Pow(p, _) => p.contains(set),
+            Atom::Atan2(y, x) => y.contains(set) || x.contains(set),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q(n: i128, d: i128) -> Rational {
+        Rational::new(n, d).unwrap()
+    }
+
+    #[test]
+    fn rationals_are_exact() {
+        assert_eq!(Rational::from_f64(0.1).unwrap(), q(1, 10));
+        assert_eq!(Rational::from_f64(9.81).unwrap(), q(981, 100));
+        assert_eq!(Rational::from_f64(1e-3).unwrap(), q(1, 1000));
+        assert_eq!(Rational::from_f64(2.5e3).unwrap(), Rational::int(2500));
+        assert_eq!(q(1, 3).checked_add(q(1, 6)).unwrap(), q(1, 2));
+        assert!(Rational::from_f64(1e300).is_err());
+    }
+
+    #[test]
+    fn textbook_identities() {
+        let (a, b) = (Poly::sym(0), Poly::sym(1));
+        let (sa, ca) = (a.apply(Function::Sin).unwrap(), a.apply(Function::Cos).unwrap());
+        let (sb, cb) = (b.apply(Function::Sin).unwrap(), b.apply(Function::Cos).unwrap());
+        // 3 m (sin²a + cos²a) = 3 m
+        let m = Poly::sym(2).scale(Rational::int(3)).unwrap();
+        let p = m.mul(&sa.powi(2).unwrap().add(&ca.powi(2).unwrap()).unwrap()).unwrap();
+        assert_eq!(p.simplify().unwrap(), m);
+        // cos a cos b + sin a sin b = cos(a − b); cos(b − a) is the same atom.
+        let p = ca.mul(&cb).unwrap().add(&sa.mul(&sb).unwrap()).unwrap();
+        assert_eq!(p.simplify().unwrap(), a.sub(&b).unwrap().apply(Function::Cos).unwrap());
+        assert_eq!(b.sub(&a).unwrap().apply(Function::Cos).unwrap(), a.sub(&b).unwrap().apply(Function::Cos).unwrap());
+        // sin a cos b − cos a sin b = sin(a − b) = −sin(b − a)
+        let p = sa.mul(&cb).unwrap().sub(&ca.mul(&sb).unwrap()).unwrap();
+        assert_eq!(p.simplify().unwrap(), b.sub(&a).unwrap().apply(Function::Sin).unwrap().neg());
+    }
+
+    #[test]
+    fn derivatives() {
+        let x = Poly::sym(0);
+        // d/dx sin(x²) = 2x cos(x²)
+        let d = x.powi(2).unwrap().apply(Function::Sin).unwrap().diff(0).unwrap();
+        let expected =
+            x.scale(Rational::int(2)).unwrap().mul(&x.powi(2).unwrap().apply(Function::Cos).unwrap()).unwrap();
+        assert_eq!(d, expected);
+        // d/dx (1 + x²)^(1/2) = x (1 + x²)^(−1/2)
+        let s = Poly::constant(Rational::int(1)).add(&x.powi(2).unwrap()).unwrap();
+        let d = s.powr(q(1, 2)).unwrap().diff(0).unwrap();
+        assert_eq!(d, x.mul(&s.powr(q(-1, 2)).unwrap()).unwrap());
+    }
+}

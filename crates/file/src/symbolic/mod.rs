@@ -1,0 +1,340 @@
+//! The equations of a coordinates-form scene, derived symbolically from the file's
+//! expressions and written as a textbook writes them: `T`, `V`, `L`, Lagrange's equations with
+//! the accelerations on the left, the constraints with their multipliers, the momenta of
+//! cyclic coordinates, the energy where it is conserved, and `q̈` where `M` is constant and
+//! diagonal.
+//!
+//! `T = ½ Σ_b (m_b (ẋ_b² + ẏ_b²) + I_b φ̇_b²)`, `V = V_file + Σ_b m_b g y_b`, and for each
+//! coordinate `d/dt ∂L/∂q̇_i − ∂L/∂q_i + Σ_k λ_k ∂Φ_k/∂q_i (+ Σ_k λ_k ∂ψ_k/∂q̇_i) = Q_i`, the
+//! engine's `M q̈ + Gᵀ λ = f` (docs/method.md#constraints): the printed multipliers are the
+//! engine's.
+
+pub mod algebra;
+pub mod print;
+
+use crate::coordinates::{CoordinateForm, Located};
+use crate::expr::{Ast, BinaryOp, Function};
+use algebra::{Atom, Poly, Rational, Symbol, Unsupported};
+use print::{Names, Style};
+use serde::Serialize;
+
+/// A formula in the three styles.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Formula {
+    /// Unicode, as a textbook prints it.
+    pub unicode: String,
+    /// LaTeX.
+    pub latex: String,
+    /// The scene-file expression language (rates `x_dot`, accelerations `x_ddot`,
+    /// multipliers `lambda1`, …), which [`crate::expr::parse`] reads back.
+    pub plain: String,
+}
+
+/// An equation `left = right`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Equation {
+    /// What it is (`θ`, the coordinate whose equation it is; a constraint's name).
+    pub label: String,
+    /// The left side.
+    pub left: Formula,
+    /// The right side.
+    pub right: Formula,
+}
+
+/// Everything `lagrange eom` prints.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Equations {
+    /// The coordinates, as printed, with their kind.
+    pub coordinates: Vec<(String, String)>,
+    /// Kinetic energy (none for a raw Lagrangian).
+    pub kinetic: Option<Formula>,
+    /// Potential energy, gravity included (none for a raw Lagrangian).
+    pub potential: Option<Formula>,
+    /// The Lagrangian.
+    pub lagrangian: Formula,
+    /// Lagrange's equations, one per coordinate, accelerations on the left.
+    pub equations: Vec<Equation>,
+    /// The constraints, `Φ_k = 0` and `ψ_k = 0`, with the symbol of each multiplier.
+    pub constraints: Vec<Equation>,
+    /// The momenta of cyclic coordinates, each conserved.
+    pub conserved_momenta: Vec<Equation>,
+    /// The energy function, where it is conserved.
+    pub conserved_energy: Option<Equation>,
+    /// `q̈` in closed form, where the mass matrix is constant and diagonal and there are no
+    /// constraints.
+    pub accelerations: Vec<Equation>,
+}
+
+/// The symbol table: coordinates, rates, accelerations, `t`, `π`, parameters, multipliers.
+struct Table {
+    n: usize,
+    parameters: Vec<String>,
+    names: Names,
+}
+
+impl Table {
+    fn q(&self, i: usize) -> Symbol {
+        i as Symbol
+    }
+    fn rate(&self, i: usize) -> Symbol {
+        (self.n + i) as Symbol
+    }
+    fn accel(&self, i: usize) -> Symbol {
+        (2 * self.n + i) as Symbol
+    }
+    fn t(&self) -> Symbol {
+        (3 * self.n) as Symbol
+    }
+    fn pi(&self) -> Symbol {
+        (3 * self.n + 1) as Symbol
+    }
+    fn parameter(&self, k: usize) -> Symbol {
+        (3 * self.n + 2 + k) as Symbol
+    }
+    fn multiplier(&self, k: usize) -> Symbol {
+        (3 * self.n + 2 + self.parameters.len() + k) as Symbol
+    }
+
+    fn new(form: &CoordinateForm, symbols: &[String], multipliers: usize) -> Self {
+        let n = form.coordinates.len();
+        let mut names = Vec::new();
+        let mut moving = Vec::new();
+        for dots in 0..3 {
+            for c in &form.coordinates {
+                let (unicode, latex) = print::pretty(&c.name, dots);
+                let plain = match dots {
+                    0 => c.name.clone(),
+                    1 => format!("{}_dot", c.name),
+                    _ => format!("{}_ddot", c.name),
+                };
+                names.push([unicode, latex, plain]);
+                moving.push(true);
+            }
+        }
+        names.push(["t".into(), "t".into(), "t".into()]);
+        moving.push(true);
+        names.push(["π".into(), "\\pi".into(), "pi".into()]);
+        moving.push(false);
+        for (name, symbol) in form.parameters.iter().zip(symbols) {
+            // Unicode as the file's symbol (`m₁`), LaTeX from the name (`m_{1}`).
+            let (pretty, latex) = print::pretty(name, 0);
+            let unicode = if symbol != name { symbol.clone() } else { pretty };
+            names.push([unicode, latex, name.clone()]);
+            moving.push(false);
+        }
+        for k in 0..multipliers {
+            let (unicode, latex) = print::pretty(&format!("lambda{}", k + 1), 0);
+            names.push([unicode, latex, format!("lambda{}", k + 1)]);
+            moving.push(true);
+        }
+        Self { n, parameters: form.parameters.clone(), names: Names { names, moving, order: n } }
+    }
+
+    fn resolve(&self, name: &str) -> Result<Symbol, Unsupported> {
+        if name == "t" {
+            return Ok(self.t());
+        }
+        if name == "pi" {
+            return Ok(self.pi());
+        }
+        if let Some(k) = self.parameters.iter().position(|p| p == name) {
+            return Ok(self.parameter(k));
+        }
+        let coordinate = |n: &str| (0..self.n).find(|&i| self.names.names[i][2] == n);
+        if let Some(i) = coordinate(name) {
+            return Ok(self.q(i));
+        }
+        if let Some(i) = name.strip_suffix("_dot").and_then(coordinate) {
+            return Ok(self.rate(i));
+        }
+        Err(Unsupported(format!("unknown name `{name}`")))
+    }
+
+    fn poly(&self, ast: &Ast) -> Result<Poly, Unsupported> {
+        Ok(match ast {
+            Ast::Number(v, _) => Poly::constant(Rational::from_f64(*v)?),
+            Ast::Name(name, _) => Poly::sym(self.resolve(name)?),
+            Ast::Neg(a, _) => self.poly(a)?.neg(),
+            Ast::Binary(op, a, b, _) => {
+                let (pa, pb) = (self.poly(a)?, self.poly(b)?);
+                match op {
+                    BinaryOp::Add => pa.add(&pb)?,
+                    BinaryOp::Sub => pa.sub(&pb)?,
+                    BinaryOp::Mul => pa.mul(&pb)?,
+                    BinaryOp::Div => pa.mul(&pb.powi(-1)?)?,
+                    BinaryOp::Pow => match pb.as_constant() {
+                        Some(r) => pa.powr(r)?,
+                        None => return Err(Unsupported("a power with a variable exponent".into())),
+                    },
+                }
+            }
+            Ast::Call(Function::Atan2, args, _) => {
+                Poly::atom(Atom::Atan2(Box::new(self.poly(&args[0])?), Box::new(self.poly(&args[1])?)))
+            }
+            Ast::Call(f, args, _) => self.poly(&args[0])?.apply(*f)?,
+        })
+    }
+
+    fn located(&self, e: Option<&Located>) -> Result<Poly, Unsupported> {
+        e.map_or(Ok(Poly::zero()), |e| self.poly(&e.ast))
+    }
+
+    /// `d/dt f = Σ_j (∂f/∂q_j q̇_j + ∂f/∂q̇_j q̈_j) + ∂f/∂t`.
+    fn time_derivative(&self, f: &Poly) -> Result<Poly, Unsupported> {
+        let mut out = f.diff(self.t())?;
+        for j in 0..self.n {
+            out = out.add(&f.diff(self.q(j))?.mul(&Poly::sym(self.rate(j)))?)?;
+            out = out.add(&f.diff(self.rate(j))?.mul(&Poly::sym(self.accel(j)))?)?;
+        }
+        Ok(out)
+    }
+
+    fn formula(&self, p: &Poly) -> Formula {
+        Formula {
+            unicode: print::write(p, &self.names, Style::Unicode),
+            latex: print::write(p, &self.names, Style::Latex),
+            plain: print::write(p, &self.names, Style::Plain),
+        }
+    }
+
+    fn equation(&self, label: String, left: &Poly, right: &Poly) -> Equation {
+        Equation { label, left: self.formula(left), right: self.formula(right) }
+    }
+}
+
+/// Derive the equations of a coordinates-form file with the parameter symbols `symbols`.
+pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equations, Unsupported> {
+    let (m, k) = (form.constraints.len(), form.velocity_constraints.len());
+    let table = Table::new(form, symbols, m + k);
+    let one_half = Rational::new(1, 2)?;
+    let (kinetic, potential, lagrangian) = match &form.lagrangian {
+        Some(l) => (None, None, table.poly(&l.ast)?),
+        None => {
+            let gravity = table.located(form.gravity.as_ref())?;
+            let (mut t, mut v) = (Poly::zero(), table.located(form.potential.as_ref())?);
+            for b in &form.bodies {
+                let mass = table.poly(&b.mass.ast)?;
+                let inertia = table.located(b.inertia.as_ref())?;
+                let (x, y, angle) = (table.poly(&b.x.ast)?, table.poly(&b.y.ast)?, table.located(b.angle.as_ref())?);
+                let (vx, vy, w) =
+                    (table.time_derivative(&x)?, table.time_derivative(&y)?, table.time_derivative(&angle)?);
+                let translation = mass.mul(&vx.mul(&vx)?.add(&vy.mul(&vy)?)?)?;
+                t = t.add(&translation.add(&inertia.mul(&w.mul(&w)?)?)?.scale(one_half)?)?;
+                v = v.add(&mass.mul(&gravity)?.mul(&y)?)?;
+            }
+            let (t, v) = (t.simplify()?, v.simplify()?);
+            let l = t.sub(&v)?;
+            (Some(t), Some(v), l)
+        }
+    };
+    let lagrangian = lagrangian.simplify()?;
+    let constraints: Vec<Poly> = form.constraints.iter().map(|(_, c)| table.poly(&c.ast)).collect::<Result<_, _>>()?;
+    let velocity: Vec<Poly> =
+        form.velocity_constraints.iter().map(|(_, c)| table.poly(&c.ast)).collect::<Result<_, _>>()?;
+    let mut forces = vec![Poly::zero(); table.n];
+    for (i, f) in &form.forces {
+        forces[*i] = forces[*i].add(&table.poly(&f.ast)?)?;
+    }
+
+    let mut equations = Vec::new();
+    let mut mass_rows = Vec::new();
+    let mut right_sides = Vec::new();
+    let mut momenta = Vec::new();
+    for i in 0..table.n {
+        let momentum = lagrangian.diff(table.rate(i))?.simplify()?;
+        let mut residual = table.time_derivative(&momentum)?.sub(&lagrangian.diff(table.q(i))?)?.sub(&forces[i])?;
+        for (k, phi) in constraints.iter().enumerate() {
+            residual = residual.add(&Poly::sym(table.multiplier(k)).mul(&phi.diff(table.q(i))?)?)?;
+        }
+        for (k, psi) in velocity.iter().enumerate() {
+            residual = residual.add(&Poly::sym(table.multiplier(m + k)).mul(&psi.diff(table.rate(i))?)?)?;
+        }
+        let residual = residual.simplify()?;
+        let mut left = Poly::zero();
+        let mut row = Vec::new();
+        for j in 0..table.n {
+            let coefficient = residual.diff(table.accel(j))?.simplify()?;
+            left = left.add(&coefficient.mul(&Poly::sym(table.accel(j)))?)?;
+            row.push(coefficient);
+        }
+        let right = left.sub(&residual)?.simplify()?;
+        equations.push(table.equation(table.names.names[i][0].clone(), &left, &right));
+        mass_rows.push(row);
+        right_sides.push(right);
+        momenta.push(momentum);
+    }
+
+    let involves = |p: &Poly, s: Symbol| p.contains(&|x| x == s);
+    let mut conserved_momenta = Vec::new();
+    for i in 0..table.n {
+        let cyclic = !involves(&lagrangian, table.q(i))
+            && forces[i].is_zero()
+            && !constraints.iter().any(|c| involves(c, table.q(i)))
+            && !velocity.iter().any(|c| involves(c, table.rate(i)) || involves(c, table.q(i)));
+        if cyclic {
+            let [unicode, latex, plain] = &table.names.names[i];
+            let left = Formula {
+                unicode: format!("p_{unicode}"),
+                latex: format!("p_{{{latex}}}"),
+                plain: format!("p_{plain}"),
+            };
+            conserved_momenta.push(Equation { label: unicode.clone(), left, right: table.formula(&momenta[i]) });
+        }
+    }
+    let autonomous = !involves(&lagrangian, table.t())
+        && forces.iter().all(Poly::is_zero)
+        && !constraints.iter().chain(&velocity).any(|c| involves(c, table.t()));
+    let conserved_energy = if autonomous {
+        // h = Σ q̇_i ∂L/∂q̇_i − L (= T + V for bodies whose poses do not depend on t).
+        let mut h = lagrangian.neg();
+        for (i, p) in momenta.iter().enumerate() {
+            h = h.add(&Poly::sym(table.rate(i)).mul(p)?)?;
+        }
+        let left = Formula { unicode: "E".into(), latex: "E".into(), plain: "E".into() };
+        Some(Equation { label: "E".into(), left, right: table.formula(&h.simplify()?) })
+    } else {
+        None
+    };
+
+    // q̈ in closed form: a constant, diagonal mass matrix and no constraints.
+    let moving = |p: &Poly| p.contains(&|s| table.names.moving[s as usize]);
+    let mut accelerations = Vec::new();
+    let diagonal = mass_rows
+        .iter()
+        .enumerate()
+        .all(|(i, row)| row.iter().enumerate().all(|(j, c)| (i == j) != c.is_zero() && !moving(c)));
+    if m + k == 0 && diagonal {
+        for i in 0..table.n {
+            let value = right_sides[i].mul(&mass_rows[i][i].powi(-1)?)?.simplify()?;
+            accelerations.push(table.equation(
+                table.names.names[2 * table.n + i][0].clone(),
+                &Poly::sym(table.accel(i)),
+                &value,
+            ));
+        }
+    }
+
+    let mut constraint_equations = Vec::new();
+    for (k, ((name, _), p)) in
+        form.constraints.iter().chain(&form.velocity_constraints).zip(constraints.iter().chain(&velocity)).enumerate()
+    {
+        let label = format!("{name} ({})", table.names.names[table.multiplier(k) as usize][0]);
+        constraint_equations.push(table.equation(label, &p.simplify()?, &Poly::zero()));
+    }
+    Ok(Equations {
+        coordinates: form
+            .coordinates
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (table.names.names[i][0].clone(), c.unit().to_string()))
+            .collect(),
+        kinetic: kinetic.as_ref().map(|t| table.formula(t)),
+        potential: potential.as_ref().map(|v| table.formula(v)),
+        lagrangian: table.formula(&lagrangian),
+        equations,
+        constraints: constraint_equations,
+        conserved_momenta,
+        conserved_energy,
+        accelerations,
+    })
+}
