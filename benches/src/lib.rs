@@ -102,6 +102,9 @@ pub mod tables {
     /// `--bench rapier`: one step of every scene, ours and rapier's.
     pub const RAPIER: &[&str] =
         &["scene", "reduced RK4 step", "rapier impulse", "rapier multibody", "impulse f32", "multibody f32"];
+    /// `--bench files`: a scene file's `q̈` against the built-in scene's.
+    pub const FILES: &[&str] =
+        &["scene", "built-in q̈", "built-in q̈, generic path", "file q̈", "file / built-in", "file / generic path"];
     /// `--bench implicit`, first table: one Gauss4 step and the AD Jacobian beside RK4.
     pub const IMPLICIT_STEP: &[&str] = &["scene", "RK4 step", "Gauss4 step", "Gauss4 / RK4", "AD Jacobian ∂q̈/∂(q, q̇)"];
     /// `--bench implicit`, second table: whole stiff runs.
@@ -156,11 +159,12 @@ pub mod tables {
             let start = readme.find("\n## Performance\n").expect("the README has a performance section");
             let end = readme[start + 1..].find("\n## ").map_or(readme.len(), |i| start + 1 + i);
             let section = &readme[start..end];
-            let known: Vec<String> = [EOM, CONSTRAINTS, RAPIER, IMPLICIT_STEP, IMPLICIT_STIFF, SCALING, SINGULAR_FLAT]
-                .iter()
-                .map(|columns| header(columns))
-                .chain([header(&singular())])
-                .collect();
+            let known: Vec<String> =
+                [EOM, CONSTRAINTS, RAPIER, IMPLICIT_STEP, IMPLICIT_STIFF, SCALING, SINGULAR_FLAT, FILES]
+                    .iter()
+                    .map(|columns| header(columns))
+                    .chain([header(&singular())])
+                    .collect();
             let lines: Vec<&str> = section.lines().collect();
             let mut tables = 0;
             let mut i = 0;

@@ -214,3 +214,27 @@ fn no_heap_allocation_per_step_for_joint_graphs() {
         assert_no_allocation_per_step(&name, &model, &state);
     }
 }
+
+/// Scene files: the tapes evaluate into a per-thread buffer kept for the thread's life, so a
+/// file scene steps without allocating, as the scene it writes again.
+#[test]
+fn no_heap_allocation_per_step_for_scene_files() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/scenes");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).expect("examples/scenes") {
+        let path = entry.expect("an entry").path();
+        let name = path.display().to_string();
+        if !name.ends_with(".toml") || name.ends_with(".graph.toml") {
+            continue;
+        }
+        let scene = lagrange_file::load_coordinates(&path).unwrap_or_else(|e| panic!("{}", e.render()));
+        let params = lagrange_scenes::Scene::default_params(&scene);
+        let initial = lagrange_scenes::Scene::default_state(&scene, &params).expect("valid");
+        match scene.model(&params).expect("valid") {
+            lagrange_file::FileModel::Bodies(model) => assert_no_allocation_per_step(&name, &*model, &initial),
+            lagrange_file::FileModel::Raw(model) => assert_no_allocation_per_step(&name, &*model, &initial),
+        }
+        checked += 1;
+    }
+    assert!(checked >= 13, "{checked} coordinates-form files");
+}

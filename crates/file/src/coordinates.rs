@@ -81,6 +81,8 @@ pub(crate) struct CoordinateForm {
     pub velocity_constraints: Vec<(String, Located)>,
     pub lagrangian: Option<Located>,
     pub region: Vec<(Located, bool, f64)>,
+    /// Whether the poses are affine in the coordinates (a constant mass matrix).
+    pub constant_mass_matrix: bool,
     /// Where each coordinate is declared (for errors the engine finds at the initial state).
     pub coordinate_spans: Vec<Range<usize>>,
     /// Where each constraint is declared.
@@ -311,7 +313,8 @@ impl CoordinateForm {
             }
             region.push((quantity, above, limit));
         }
-        let form = Self {
+        let mut form = Self {
+            constant_mass_matrix: false,
             parameters,
             coordinates,
             initial,
@@ -327,6 +330,7 @@ impl CoordinateForm {
             constraint_spans,
         };
         form.check_shape(reader, file)?;
+        form.constant_mass_matrix = crate::symbolic::constant_mass_matrix(&form);
         Ok(form)
     }
 
@@ -433,9 +437,12 @@ impl CoordinateForm {
         let functions = Functions {
             poses: tape(&pose_items)?,
             potential: self.potential.as_ref().map(|v| tape(&[(v, Context::Position)])).transpose()?,
+            // Forces that the parameters make 0 (a damping coefficient c = 0) are no forces: the
+            // engine then skips the stage, as for a built-in scene.
             forces: (!self.forces.is_empty())
                 .then(|| tape(&self.forces.iter().map(|(_, f)| (f, Context::Motion)).collect::<Vec<_>>()))
-                .transpose()?,
+                .transpose()?
+                .filter(|t| !t.is_zero()),
             forced: self.forces.iter().map(|(i, _)| *i).collect(),
             constraints: tape(&self.constraints.iter().map(|(_, c)| (c, Context::Position)).collect::<Vec<_>>())?,
             velocity: tape(&self.velocity_constraints.iter().map(|(_, c)| (c, Context::Motion)).collect::<Vec<_>>())?,
@@ -466,6 +473,9 @@ impl CoordinateForm {
         description.bodies = bodies;
         description.constraints = self.constraints.iter().map(|(n, _)| n.clone()).collect();
         description.velocity_constraints = self.velocity_constraints.iter().map(|(n, _)| n.clone()).collect();
+        // Poses affine in q (Atwood machines, the wedge): M is factored once (the engine checks
+        // the declaration at its probe states).
+        description.constant_mass_matrix = self.constant_mass_matrix;
         Ok(Compiled::Bodies(FileMechanism::new(description, functions), initial))
     }
 }

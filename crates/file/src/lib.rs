@@ -67,6 +67,6 @@ mod write;
 
 pub use diagnostic::Diagnostic;
 pub use mechanism::{FileLagrangian, FileMechanism};
-pub use read::{FileError, eom, load, parse, register};
-pub use scene::FileScene;
+pub use read::{FileError, eom, load, load_coordinates, parse, register};
+pub use scene::{FileModel, FileScene};
 pub use write::graph_file;

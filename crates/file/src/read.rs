@@ -26,6 +26,12 @@ pub enum FileError {
     /// A scene with the file's id is known already (a built-in scene, or a file loaded before).
     #[error("{0}")]
     Registered(Error),
+    /// A coordinates-form file was asked for and the file is a joint graph.
+    #[error("`{path}` is a joint-graph file, not the coordinates form")]
+    NotCoordinates {
+        /// The path as given.
+        path: String,
+    },
     /// The file's equations cannot be printed.
     #[error("cannot print the equations of `{path}`: {why}")]
     NoEquations {
@@ -147,6 +153,20 @@ pub fn eom(path: impl AsRef<Path>) -> Result<crate::symbolic::Equations, FileErr
             path: shown,
             why: "it is a joint graph; the printed equations are those of the coordinates form".into(),
         }),
+    }
+}
+
+/// Read the coordinates-form scene file at `path` as its typed scene.
+///
+/// # Errors
+/// As [`load`]; [`FileError::NotCoordinates`] for a joint-graph file.
+pub fn load_coordinates(path: impl AsRef<Path>) -> Result<FileScene, FileError> {
+    let path = path.as_ref();
+    let shown = path.display().to_string();
+    let source = std::fs::read_to_string(path).map_err(|source| FileError::Read { path: shown.clone(), source })?;
+    match read(&shown, &source)? {
+        Parsed::Coordinates(scene) => Ok(*scene),
+        Parsed::Graph(_) => Err(FileError::NotCoordinates { path: shown }),
     }
 }
 

@@ -21,6 +21,15 @@ pub struct FileScene {
     coordinates: Vec<Coordinate>,
 }
 
+/// The engine's model of a coordinates-form file ([`FileScene::model`]).
+#[derive(Clone, Debug)]
+pub enum FileModel {
+    /// Bodies placed by expressions.
+    Bodies(Box<lagrange::Model<crate::FileMechanism>>),
+    /// A raw Lagrangian.
+    Raw(Box<lagrange::RawModel<crate::FileLagrangian>>),
+}
+
 /// A string that lives as long as the program (a loaded scene's names, as a registered
 /// [`GraphScene`](lagrange_scenes::GraphScene)'s).
 pub(crate) fn leak(s: String) -> &'static str {
@@ -81,6 +90,18 @@ impl FileScene {
         held[0] = true;
         let state = system.assemble(&initial, &held)?;
         Ok((system, state))
+    }
+
+    /// The engine's typed model of the file with `params` (for code that needs the
+    /// [`Dynamics`](lagrange::Dynamics) interface rather than [`System`]).
+    ///
+    /// # Errors
+    /// As [`Scene::build`].
+    pub fn model(&self, params: &Params) -> Result<FileModel, Error> {
+        Ok(match self.compiled(params)? {
+            Compiled::Bodies(m, _) => FileModel::Bodies(Box::new(lagrange::Model::new(m)?)),
+            Compiled::Raw(l, _) => FileModel::Raw(Box::new(lagrange::RawModel::new(l)?)),
+        })
     }
 
     /// The coordinates-form file's parts.

@@ -34,6 +34,13 @@ enum Op {
     Pow(u32, u32),
     Call(Function, u32),
     Atan2(u32, u32),
+    /// `sin a` here and `cos a` into slot `c` (later), from one `sin_cos`: a tape holding both
+    /// computes the trigonometry once, as hand-written code does.
+    SinCos(u32, u32),
+    /// `cos a` here and `sin a` into slot `c` (later).
+    CosSin(u32, u32),
+    /// A slot an earlier `SinCos` or `CosSin` filled.
+    Filled,
 }
 
 /// A node of a tape being built: the index of its operation.
@@ -228,14 +235,43 @@ impl TapeBuilder {
             }
         }
         let outputs = self.outputs.iter().map(|&o| renumber[o as usize]).collect();
-        Tape { ops, outputs }
+        Tape { ops: fuse_sin_cos(ops), outputs }
     }
+}
+
+/// Where a tape computes both `sin a` and `cos a`, compute them together at the first of the
+/// two slots and mark the second filled.
+fn fuse_sin_cos(mut ops: Vec<Op>) -> Vec<Op> {
+    let mut first: HashMap<(u32, bool), u32> = HashMap::new();
+    for (i, op) in ops.iter().enumerate() {
+        if let Op::Call(f @ (Function::Sin | Function::Cos), a) = *op {
+            first.entry((a, f == Function::Sin)).or_insert(i as u32);
+        }
+    }
+    for (&(a, is_sin), &i) in &first {
+        if !is_sin {
+            continue;
+        }
+        if let Some(&j) = first.get(&(a, false)) {
+            let (at, other) = (i.min(j), i.max(j));
+            // The op at `at` is the one listed first: it keeps its own value and fills the other.
+            if i < j {
+                ops[at as usize] = Op::SinCos(a, other);
+            } else {
+                ops[at as usize] = Op::CosSin(a, other);
+            }
+            ops[other as usize] = Op::Filled;
+        }
+    }
+    ops
 }
 
 fn operands(op: Op) -> impl Iterator<Item = u32> {
     let (a, b) = match op {
-        Op::Constant(_) | Op::Input(_) => (None, None),
-        Op::Neg(a) | Op::PowI(a, _) | Op::PowF(a, _) | Op::Call(_, a) => (Some(a), None),
+        Op::Constant(_) | Op::Input(_) | Op::Filled => (None, None),
+        Op::Neg(a) | Op::PowI(a, _) | Op::PowF(a, _) | Op::Call(_, a) | Op::SinCos(a, _) | Op::CosSin(a, _) => {
+            (Some(a), None)
+        }
         Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Pow(a, b) | Op::Atan2(a, b) => {
             (Some(a), Some(b))
         }
@@ -245,7 +281,9 @@ fn operands(op: Op) -> impl Iterator<Item = u32> {
 
 fn map_operands(op: Op, f: impl Fn(u32) -> u32) -> Op {
     match op {
-        Op::Constant(_) | Op::Input(_) => op,
+        Op::Constant(_) | Op::Input(_) | Op::Filled => op,
+        Op::SinCos(a, c) => Op::SinCos(f(a), f(c)),
+        Op::CosSin(a, c) => Op::CosSin(f(a), f(c)),
         Op::Neg(a) => Op::Neg(f(a)),
         Op::PowI(a, n) => Op::PowI(f(a), n),
         Op::PowF(a, c) => Op::PowF(f(a), c),
@@ -320,6 +358,11 @@ impl Tape {
         self.ops.is_empty()
     }
 
+    /// Whether every output is the constant 0 (a force that the parameters switch off).
+    pub fn is_zero(&self) -> bool {
+        self.outputs.iter().all(|&o| self.ops[o as usize] == Op::Constant(0.0_f64.to_bits()))
+    }
+
     /// The number of outputs.
     pub fn outputs(&self) -> usize {
         self.outputs.len()
@@ -346,6 +389,17 @@ impl Tape {
                 Op::Pow(a, b) => s(a).powd(s(b)),
                 Op::Call(f, a) => apply(f, s(a)),
                 Op::Atan2(a, b) => s(a).atan2(s(b)),
+                Op::SinCos(a, c) => {
+                    let (sin, cos) = s(a).sin_cos();
+                    slots[c as usize] = cos;
+                    sin
+                }
+                Op::CosSin(a, c) => {
+                    let (sin, cos) = s(a).sin_cos();
+                    slots[c as usize] = sin;
+                    cos
+                }
+                Op::Filled => continue,
             };
             slots[i] = value;
         }
@@ -419,6 +473,41 @@ mod tests {
             approx::assert_relative_eq!(value.re(), f, max_relative = 1e-14);
             approx::assert_relative_eq!(value.eps, df, max_relative = 1e-13);
             let _ = text;
+        }
+    }
+}
+
+#[cfg(test)]
+mod fusion {
+    use super::*;
+    use crate::expr::parse;
+
+    #[test]
+    fn sine_and_cosine_of_one_argument_are_one_sin_cos_in_either_order() {
+        for texts in [["r*cos(theta)", "r*sin(theta)"], ["r*sin(theta)", "r*cos(theta)"]] {
+            let mut builder = TapeBuilder::new();
+            for text in texts {
+                let node = builder
+                    .compile(&parse(text).unwrap(), &mut |name: &str, _: &Span| {
+                        Ok::<_, ()>(Leaf::Input(usize::from(name == "theta")))
+                    })
+                    .unwrap();
+                builder.output(node);
+            }
+            let tape = builder.finish();
+            assert_eq!(
+                tape.ops.iter().filter(|op| matches!(op, Op::SinCos(..) | Op::CosSin(..))).count(),
+                1,
+                "{tape:?}"
+            );
+            let mut out = [0.0; 2];
+            tape.eval(&[2.0, 0.3], &mut vec![0.0; tape.len()], &mut out);
+            let expected = if texts[0].contains("cos") {
+                [2.0 * 0.3_f64.cos(), 2.0 * 0.3_f64.sin()]
+            } else {
+                [2.0 * 0.3_f64.sin(), 2.0 * 0.3_f64.cos()]
+            };
+            assert_eq!(out, expected);
         }
     }
 }

@@ -202,6 +202,25 @@ impl Table {
     }
 }
 
+/// Whether every body's pose is affine in the coordinates with constant coefficients and free
+/// of `t` (so the mass matrix is constant): each `∂(x, y, φ)/∂q_i` is free of the coordinates
+/// and of time. `false` where the derivation does not take an expression.
+pub(crate) fn constant_mass_matrix(form: &CoordinateForm) -> bool {
+    if form.lagrangian.is_some() {
+        return false;
+    }
+    let names: Vec<String> = form.parameters.clone();
+    let table = Table::new(form, &names, 0);
+    let moving = |p: &Poly| p.contains(&|s| (s as usize) < table.n || s == table.t());
+    form.bodies.iter().all(|b| {
+        [Some(&b.x), Some(&b.y), b.angle.as_ref()].into_iter().flatten().all(|e| {
+            table.poly(&e.ast).is_ok_and(|p| {
+                !p.contains(&|s| s == table.t()) && (0..table.n).all(|i| p.diff(table.q(i)).is_ok_and(|d| !moving(&d)))
+            })
+        })
+    })
+}
+
 /// Derive the equations of a coordinates-form file with the parameter symbols `symbols`.
 pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equations, Unsupported> {
     let (m, k) = (form.constraints.len(), form.velocity_constraints.len());
