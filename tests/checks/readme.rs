@@ -65,3 +65,18 @@ fn every_path_and_package_named_exists() {
         assert!(manifest("examples").contains(&format!("name = \"{name}\"")), "no example `{name}`");
     }
 }
+
+/// The README's scene files and printed equations are the shipped files and the golden output,
+/// verbatim.
+#[test]
+fn scene_files_and_equations_are_the_shipped_ones_verbatim() {
+    let readme = readme();
+    for file in [
+        "examples/scenes/double_pendulum.toml",
+        "examples/scenes/four_bar.graph.toml",
+        "crates/cli/tests/golden/eom/double_pendulum.txt",
+    ] {
+        let text = std::fs::read_to_string(root().join(file)).unwrap();
+        assert!(readme.contains(&text), "the README does not show {file} verbatim");
+    }
+}

@@ -80,6 +80,10 @@ fn a_joint_graph_file_the_project_does_not_ship_is_compared_and_reported() {
     let cartesian = rows.iter().find(|r| r["engine"] == "cartesian").unwrap();
     assert!(cartesian["max_error"].as_f64().unwrap() < 1e-9, "{cartesian}");
 
+    let described = text(&lagrange(&["scenes", "--describe", "tests/files/watt_six_bar.toml"]).stdout);
+    assert!(described.contains("constraints: 4 holonomic, 0 velocity"), "{described}");
+    assert!(described.contains("joint graph: 5 bodies, 7 joints (2 marked closing)"), "{described}");
+
     let out_dir = std::env::temp_dir().join(format!("lagrange-watt-report-{}", std::process::id()));
     let out = lagrange(&[
         "report",

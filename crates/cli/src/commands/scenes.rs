@@ -16,10 +16,17 @@ pub struct Args {
     /// own from (scenes that are joint graphs).
     #[arg(long, value_name = "ID|FILE", conflicts_with = "json")]
     export: Option<String>,
+    /// What the engine understood of a scene (a built-in id or a file): its parameters,
+    /// coordinates, bodies, optional terms, constraints and joint graph.
+    #[arg(long, value_name = "ID|FILE", conflicts_with_all = ["json", "export"])]
+    describe: Option<String>,
 }
 
-/// Print the scene list, or one scene as a file.
+/// Print the scene list, one scene as a file, or what the engine understood of one.
 pub fn run(args: &Args) -> Result<(), CliError> {
+    if let Some(id) = &args.describe {
+        return print(&describe(crate::args::scene(id)?)?);
+    }
     if let Some(id) = &args.export {
         let scene = crate::args::scene(id)?;
         let params = scene.default_params();
@@ -34,4 +41,59 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         print(&terminal::catalogue(&scenes))?;
     }
     Ok(())
+}
+
+/// What the engine understood of `scene` at its default parameters, in words.
+fn describe(scene: &dyn lagrange_scenes::Scene) -> Result<String, CliError> {
+    use std::fmt::Write as _;
+    let params = scene.default_params();
+    let system = scene.build(&params)?;
+    let state = scene.default_state(&params)?;
+    let mut out = String::new();
+    let w = &mut out;
+    let _ = writeln!(w, "{} — {}\n  from: {}", scene.id(), scene.title(), scene.reference());
+    let _ = writeln!(w, "parameters:");
+    for (spec, value) in params.iter() {
+        let _ = writeln!(w, "  {} ({}) = {value} {} [{}]", spec.name, spec.symbol, spec.unit, spec.domain);
+    }
+    let _ = writeln!(w, "coordinates (initial value, rate):");
+    let cyclic = system.cyclic_coordinates();
+    for (i, c) in system.coordinates().iter().enumerate() {
+        let note = if cyclic.get(i).copied().unwrap_or(false) { "  (cyclic)" } else { "" };
+        let _ = writeln!(w, "  {} [{}] = {}, {}{note}", c.name, c.unit(), state.q[i], state.qdot[i]);
+    }
+    let _ = writeln!(w, "bodies:");
+    for b in system.bodies() {
+        let _ = writeln!(w, "  {}: mass {} kg, inertia {} kg m²", b.name, b.mass, b.inertia);
+    }
+    let (m, k) = system.constraint_counts();
+    let _ = writeln!(w, "constraints: {m} holonomic, {k} velocity");
+    let _ = writeln!(
+        w,
+        "terms: {}; energy {}",
+        if system.has_external_forces() {
+            "forces that do work (generalized or applied)"
+        } else {
+            "no external forces"
+        },
+        if system.conserves_energy() { "conserved (L does not depend on t)" } else { "not conserved" }
+    );
+    match scene.joint_graph(&params)? {
+        Some(graph) => {
+            let closing = graph.joints.iter().filter(|j| j.role == lagrange::graph::Role::Closing).count();
+            let _ = writeln!(
+                w,
+                "joint graph: {} bodies, {} joints ({} marked closing), {} couplings, {} force elements; Cartesian and rapier builds",
+                graph.bodies.len(),
+                graph.joints.len(),
+                closing,
+                graph.couplings.len(),
+                graph.forces.len()
+            );
+        }
+        None => {
+            let _ = writeln!(w, "joint graph: none (no maximal-coordinate builds; its check is the engine's own)");
+        }
+    }
+    Ok(out)
 }
