@@ -373,12 +373,26 @@ impl Poly {
         Ok(out)
     }
 
-    /// One `k R sin²a + k R cos²a → k R`.
+    /// One `k R sin²a + k R cos²a → k R`, or `k R − k R cos²a → k R sin²a` (and with sine and
+    /// cosine exchanged).
     fn pythagoras(&self) -> R<Option<Poly>> {
         for (m, &c) in &self.0 {
             for (atom, &e) in m {
-                let Atom::Fun(Function::Sin, arg) = atom else { continue };
-                if e != 2 {
+                let (Atom::Fun(f @ (Function::Sin | Function::Cos), arg), 2) = (atom, e) else { continue };
+                let mut rest = m.clone();
+                rest.remove(atom);
+                if self.0.get(&rest) == Some(&-c) {
+                    // −k R cos²a + k R = k R sin²a
+                    let other = if *f == Function::Sin { Function::Cos } else { Function::Sin };
+                    let mut out = self.clone();
+                    out.0.remove(m);
+                    out.0.remove(&rest);
+                    let mut square = rest.clone();
+                    square.insert(Atom::Fun(other, arg.clone()), 2);
+                    out.add_term(square, -c)?;
+                    return Ok(Some(out));
+                }
+                if *f != Function::Sin {
                     continue;
                 }
                 let mut partner = m.clone();
@@ -574,6 +588,9 @@ mod tests {
         let m = Poly::sym(2).scale(Rational::int(3)).unwrap();
         let p = m.mul(&sa.powi(2).unwrap().add(&ca.powi(2).unwrap()).unwrap()).unwrap();
         assert_eq!(p.simplify().unwrap(), m);
+        // m − m cos²a = m sin²a
+        let p = m.sub(&m.mul(&ca.powi(2).unwrap()).unwrap()).unwrap();
+        assert_eq!(p.simplify().unwrap(), m.mul(&sa.powi(2).unwrap()).unwrap());
         // cos a cos b + sin a sin b = cos(a − b); cos(b − a) is the same atom.
         let p = ca.mul(&cb).unwrap().add(&sa.mul(&sb).unwrap()).unwrap();
         assert_eq!(p.simplify().unwrap(), a.sub(&b).unwrap().apply(Function::Cos).unwrap());

@@ -60,8 +60,8 @@ pub struct Equations {
     pub conserved_momenta: Vec<Equation>,
     /// The energy function, where it is conserved.
     pub conserved_energy: Option<Equation>,
-    /// `q̈` in closed form, where the mass matrix is constant and diagonal and there are no
-    /// constraints.
+    /// `q̈` in closed form, where the mass matrix is constant (diagonal, or of up to three
+    /// coordinates) and there are no constraints.
     pub accelerations: Vec<Equation>,
 }
 
@@ -315,20 +315,31 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
         None
     };
 
-    // q̈ in closed form: a constant, diagonal mass matrix and no constraints.
+    // q̈ in closed form where the mass matrix is constant and there are no constraints: each
+    // equation divided by its diagonal entry when M is diagonal, else Cramer's rule
+    // q̈ = adj(M) f / det M (up to three coordinates).
     let moving = |p: &Poly| p.contains(&|s| table.names.moving[s as usize]);
     let mut accelerations = Vec::new();
-    let diagonal = mass_rows
-        .iter()
-        .enumerate()
-        .all(|(i, row)| row.iter().enumerate().all(|(j, c)| (i == j) != c.is_zero() && !moving(c)));
-    if m + k == 0 && diagonal {
+    let constant = mass_rows.iter().flatten().all(|c| !moving(c));
+    let diagonal =
+        mass_rows.iter().enumerate().all(|(i, row)| row.iter().enumerate().all(|(j, c)| (i == j) != c.is_zero()));
+    if m + k == 0 && constant && (diagonal || table.n <= 3) {
+        let inverse_det = if diagonal { None } else { Some(determinant(&mass_rows)?.simplify()?.powi(-1)?) };
         for i in 0..table.n {
-            let value = right_sides[i].mul(&mass_rows[i][i].powi(-1)?)?.simplify()?;
+            let value = match &inverse_det {
+                None => right_sides[i].mul(&mass_rows[i][i].powi(-1)?)?,
+                Some(inverse) => {
+                    let mut numerator = Poly::zero();
+                    for (j, f) in right_sides.iter().enumerate() {
+                        numerator = numerator.add(&cofactor(&mass_rows, j, i)?.mul(f)?)?;
+                    }
+                    numerator.simplify()?.mul(inverse)?
+                }
+            };
             accelerations.push(table.equation(
                 table.names.names[2 * table.n + i][0].clone(),
                 &Poly::sym(table.accel(i)),
-                &value,
+                &value.simplify()?,
             ));
         }
     }
@@ -356,4 +367,31 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
         conserved_energy,
         accelerations,
     })
+}
+
+/// `det a` of a square matrix of polynomials, by expansion along the first row.
+fn determinant(a: &[Vec<Poly>]) -> Result<Poly, Unsupported> {
+    if a.len() == 1 {
+        return Ok(a[0][0].clone());
+    }
+    let mut det = Poly::zero();
+    for j in 0..a.len() {
+        det = det.add(&a[0][j].mul(&cofactor(a, 0, j)?)?)?;
+    }
+    Ok(det)
+}
+
+/// The cofactor `(−1)^(i+j) det` of `a` without row `i` and column `j`.
+fn cofactor(a: &[Vec<Poly>], i: usize, j: usize) -> Result<Poly, Unsupported> {
+    if a.len() == 1 {
+        return Ok(Poly::constant(Rational::int(1)));
+    }
+    let minor: Vec<Vec<Poly>> = a
+        .iter()
+        .enumerate()
+        .filter(|(r, _)| *r != i)
+        .map(|(_, row)| row.iter().enumerate().filter(|(c, _)| *c != j).map(|(_, p)| p.clone()).collect())
+        .collect();
+    let det = determinant(&minor)?;
+    Ok(if (i + j).is_multiple_of(2) { det } else { det.neg() })
 }
