@@ -165,15 +165,7 @@ pub fn write(p: &Poly, names: &Names, style: Style) -> String {
     let mut out = String::new();
     for (i, (key, coefficient_poly)) in ordered.into_iter().enumerate() {
         let (negative, text) = group(coefficient_poly, key, names, style);
-        let sign = match (i, negative, style) {
-            (0, true, Style::Unicode) => "−",
-            (0, true, _) => "-",
-            (0, false, _) => "",
-            (_, true, Style::Unicode) => " − ",
-            (_, true, _) => " - ",
-            (_, false, _) => " + ",
-        };
-        out.push_str(sign);
+        out.push_str(sign(i, negative, style));
         out.push_str(&text);
     }
     out
@@ -222,6 +214,18 @@ fn group(coefficient_poly: &Poly, key: &Monomial, names: &Names, style: Style) -
     (negative, join(numerator, denominator, style))
 }
 
+/// The sign that joins term `i` of a sum: none before a positive first term.
+fn sign(i: usize, negative: bool, style: Style) -> &'static str {
+    match (i, negative, style) {
+        (0, true, Style::Unicode) => "−",
+        (0, true, _) => "-",
+        (0, false, _) => "",
+        (_, true, Style::Unicode) => " − ",
+        (_, true, _) => " - ",
+        (_, false, _) => " + ",
+    }
+}
+
 /// `p` term by term, ungrouped (a factored group's sum, a function's argument).
 fn terms(p: &Poly, names: &Names, style: Style) -> String {
     if p.is_zero() {
@@ -242,20 +246,8 @@ fn terms(p: &Poly, names: &Names, style: Style) -> String {
             }
             None => {}
         }
-        let numerator_before = numerator.len();
         factors(m, names, style, &mut numerator, &mut denominator);
-        if numerator.len() > numerator_before && numerator.first().is_some_and(|f| f == "1") {
-            numerator.remove(0);
-        }
-        let sign = match (i, negative, style) {
-            (0, true, Style::Unicode) => "−",
-            (0, true, _) => "-",
-            (0, false, _) => "",
-            (_, true, Style::Unicode) => " − ",
-            (_, true, _) => " - ",
-            (_, false, _) => " + ",
-        };
-        out.push_str(sign);
+        out.push_str(sign(i, negative, style));
         out.push_str(&join(numerator, denominator, style));
     }
     out
