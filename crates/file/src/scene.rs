@@ -191,7 +191,7 @@ impl Scene for FileScene {
 fn check(n: usize, q: usize, qdot: usize) -> Result<(), Error> {
     for (what, got) in [("q", q), ("q̇", qdot)] {
         if got != n {
-            return Err(Error::DimensionMismatch { what: if what == "q" { "q" } else { "q̇" }, expected: n, got });
+            return Err(Error::DimensionMismatch { what, expected: n, got });
         }
     }
     Ok(())

@@ -297,22 +297,9 @@ fn map_operands(op: Op, f: impl Fn(u32) -> u32) -> Op {
     }
 }
 
+/// `f(x)` (`f(x, y)` for `atan2`) in f64, for folding: the same arithmetic as the tape's.
 fn evaluate_call(function: Function, x: f64, y: f64) -> f64 {
-    match function {
-        Function::Sin => x.sin(),
-        Function::Cos => x.cos(),
-        Function::Tan => x.tan(),
-        Function::Asin => x.asin(),
-        Function::Acos => x.acos(),
-        Function::Atan => x.atan(),
-        Function::Atan2 => x.atan2(y),
-        Function::Sinh => x.sinh(),
-        Function::Cosh => x.cosh(),
-        Function::Exp => x.exp(),
-        Function::Ln => x.ln(),
-        Function::Sqrt => x.sqrt(),
-        Function::Abs => x.abs(),
-    }
+    if function == Function::Atan2 { x.atan2(y) } else { apply(function, x) }
 }
 
 fn apply<S: Scalar>(function: Function, x: S) -> S {
