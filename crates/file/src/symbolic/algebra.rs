@@ -6,11 +6,59 @@ use crate::expr::Function;
 use std::collections::BTreeMap;
 use std::fmt;
 
-/// An exact rational number `n / d` (`d > 0`, lowest terms).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct Rational {
-    n: i128,
-    d: i128,
+/// A coefficient: an exact rational number `n / d` (`d > 0`, lowest terms) while it fits in
+/// 128 bits, else a float ([`Rational::Float`]: sixteen significant digits of a geometry given
+/// in decimals, whose exact products outgrow any fixed width).
+#[derive(Clone, Copy, Debug)]
+pub enum Rational {
+    /// `n / d`.
+    Exact {
+        /// Numerator.
+        n: i128,
+        /// Denominator, positive.
+        d: i128,
+    },
+    /// A value beyond exact 128-bit arithmetic.
+    Float(f64),
+}
+
+impl Rational {
+    /// What orders, compares and hashes it: exact values first.
+    fn key(&self) -> (u8, i128, i128, u64) {
+        match *self {
+            Rational::Exact { n, d } => (0, n, d, 0),
+            Rational::Float(v) => (1, 0, 0, v.to_bits()),
+        }
+    }
+}
+
+impl PartialEq for Rational {
+    fn eq(&self, other: &Self) -> bool {
+        self.key() == other.key()
+    }
+}
+
+impl Eq for Rational {}
+
+impl PartialOrd for Rational {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Rational {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        match (self, other) {
+            (Rational::Float(a), Rational::Float(b)) => a.total_cmp(b),
+            _ => self.key().cmp(&other.key()),
+        }
+    }
+}
+
+impl std::hash::Hash for Rational {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.key().hash(state);
+    }
 }
 
 /// Why an expression has no exact symbolic form here.
@@ -31,8 +79,6 @@ fn gcd(a: i128, b: i128) -> i128 {
     a
 }
 
-const OVERFLOW: &str = "a coefficient outgrew exact arithmetic (128-bit rationals)";
-
 impl Rational {
     /// `n / d`.
     pub fn new(n: i128, d: i128) -> Result<Self, Unsupported> {
@@ -41,75 +87,107 @@ impl Rational {
         }
         let g = gcd(n, d).max(1);
         let s = if d < 0 { -1 } else { 1 };
-        Ok(Self { n: s * n / g, d: s * d / g })
+        Ok(Self::Exact { n: s * n / g, d: s * d / g })
     }
 
     /// An integer.
     pub const fn int(n: i128) -> Self {
-        Self { n, d: 1 }
+        Self::Exact { n, d: 1 }
     }
 
-    /// The exact value of a decimal number as written (its shortest round-trip form).
+    /// The exact value of a decimal number as written (its shortest round-trip form), or the
+    /// float itself where that does not fit in 128 bits.
     pub fn from_f64(v: f64) -> Result<Self, Unsupported> {
-        let text = format!("{v:e}");
-        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
-        let exponent: i32 = exponent.parse().map_err(|_| Unsupported(format!("{v}")))?;
+        if !v.is_finite() {
+            return Err(Unsupported(format!("{v} is not a number")));
+        }
+        Ok(Self::decimal(&format!("{v:e}")).unwrap_or(Self::Float(v)))
+    }
+
+    /// The decimal `text` (`d.ddde±k`) as an exact fraction, if it fits.
+    fn decimal(text: &str) -> Option<Self> {
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((text, "0"));
+        let exponent: i32 = exponent.parse().ok()?;
         let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
-        let digits: i128 = format!("{int}{frac}").parse().map_err(|_| Unsupported(format!("{v}")))?;
+        let digits: i128 = format!("{int}{frac}").parse().ok()?;
         let scale = exponent - frac.len() as i32;
-        let ten = |k: i32| {
-            10_i128
-                .checked_pow(k.unsigned_abs())
-                .ok_or_else(|| Unsupported(format!("{v} is too large or small to print exactly")))
-        };
-        if scale >= 0 {
-            Ok(Self::int(digits.checked_mul(ten(scale)?).ok_or_else(|| Unsupported(OVERFLOW.into()))?))
-        } else {
-            Self::new(digits, ten(scale)?)
+        let ten = 10_i128.checked_pow(scale.unsigned_abs())?;
+        if scale >= 0 { Some(Self::int(digits.checked_mul(ten)?)) } else { Self::new(digits, ten).ok() }
+    }
+
+    /// A float result: exact again when it is within four units in the last place of a
+    /// decimal of twelve significant digits (`0.75000000000000011` → ¾), which keeps sums of
+    /// squared sines and cosines of decimal angles printable.
+    fn float(v: f64) -> Self {
+        if v == 0.0 {
+            return Self::int(0);
+        }
+        let short = format!("{v:.11e}");
+        match short.parse::<f64>() {
+            Ok(r) if (r - v).abs() <= 4.0 * f64::EPSILON * v.abs() => Self::decimal(&short).unwrap_or(Self::Float(v)),
+            _ => Self::Float(v),
         }
     }
 
-    /// Numerator.
-    pub fn numer(self) -> i128 {
-        self.n
+    /// `(n, d)` of an exact value.
+    pub fn exact(self) -> Option<(i128, i128)> {
+        match self {
+            Self::Exact { n, d } => Some((n, d)),
+            Self::Float(_) => None,
+        }
     }
 
-    /// Denominator (positive).
-    pub fn denom(self) -> i128 {
-        self.d
+    /// Below zero?
+    pub fn is_negative(self) -> bool {
+        match self {
+            Self::Exact { n, .. } => n < 0,
+            Self::Float(v) => v < 0.0,
+        }
     }
 
     /// Zero?
     pub fn is_zero(self) -> bool {
-        self.n == 0
+        match self {
+            Self::Exact { n, .. } => n == 0,
+            Self::Float(v) => v == 0.0,
+        }
     }
 
     /// As a float.
     pub fn to_f64(self) -> f64 {
-        self.n as f64 / self.d as f64
-    }
-
-    fn checked(n: Option<i128>, d: Option<i128>) -> Result<Self, Unsupported> {
-        match (n, d) {
-            (Some(n), Some(d)) => Self::new(n, d),
-            _ => Err(Unsupported(OVERFLOW.into())),
+        match self {
+            Self::Exact { n, d } => n as f64 / d as f64,
+            Self::Float(v) => v,
         }
     }
 
     /// `self + other`.
     pub fn checked_add(self, other: Self) -> Result<Self, Unsupported> {
-        let n = self.n.checked_mul(other.d).and_then(|a| other.n.checked_mul(self.d).and_then(|b| a.checked_add(b)));
-        Self::checked(n, self.d.checked_mul(other.d))
+        if let (Self::Exact { n: a, d: b }, Self::Exact { n: c, d }) = (self, other) {
+            let n = a.checked_mul(d).and_then(|x| c.checked_mul(b).and_then(|y| x.checked_add(y)));
+            if let (Some(n), Some(d)) = (n, b.checked_mul(d)) {
+                return Self::new(n, d);
+            }
+        }
+        Ok(Self::float(self.to_f64() + other.to_f64()))
     }
 
     /// `self · other`.
     pub fn checked_mul(self, other: Self) -> Result<Self, Unsupported> {
-        Self::checked(self.n.checked_mul(other.n), self.d.checked_mul(other.d))
+        if let (Self::Exact { n: a, d: b }, Self::Exact { n: c, d }) = (self, other)
+            && let (Some(n), Some(d)) = (a.checked_mul(c), b.checked_mul(d))
+        {
+            return Self::new(n, d);
+        }
+        Ok(Self::float(self.to_f64() * other.to_f64()))
     }
 
     /// `1 / self`.
     pub fn recip(self) -> Result<Self, Unsupported> {
-        Self::new(self.d, self.n)
+        match self {
+            Self::Exact { n, d } => Self::new(d, n),
+            Self::Float(v) => Ok(Self::float(1.0 / v)),
+        }
     }
 }
 
@@ -118,7 +196,10 @@ impl std::ops::Neg for Rational {
 
     /// `−self`.
     fn neg(self) -> Self {
-        Self { n: -self.n, d: self.d }
+        match self {
+            Self::Exact { n, d } => Self::Exact { n: -n, d },
+            Self::Float(v) => Self::Float(-v),
+        }
     }
 }
 
@@ -241,7 +322,23 @@ impl Poly {
                         m.insert(atom.clone(), total);
                     }
                 }
-                out.add_term(m, ca.checked_mul(cb)?)?;
+                let c = ca.checked_mul(cb)?;
+                // A root raised to a multiple of its index is a power of its radicand:
+                // (√p)² = p (a real square root's radicand is not negative).
+                let whole = m.iter().find_map(|(a, &e)| match a {
+                    Atom::Pow(p, r) => match r.exact() {
+                        Some((1, b)) if b > 1 && e % b as i32 == 0 => Some((a.clone(), p.clone(), e / b as i32)),
+                        _ => None,
+                    },
+                    _ => None,
+                });
+                match whole {
+                    None => out.add_term(m, c)?,
+                    Some((atom, radicand, k)) => {
+                        m.remove(&atom);
+                        out = out.add(&Poly(BTreeMap::from([(m, c)])).mul(&radicand.powi(k)?)?)?;
+                    }
+                }
             }
         }
         Ok(out)
@@ -270,11 +367,23 @@ impl Poly {
 
     /// `self^r` for a rational `r`.
     pub fn powr(&self, r: Rational) -> R<Poly> {
-        if r.denom() == 1 && r.numer().abs() <= 64 {
-            return self.powi(r.numer() as i32);
+        if let Some((n, 1)) = r.exact()
+            && n.abs() <= 64
+        {
+            return self.powi(n as i32);
         }
         if self.is_zero() {
             return Ok(Poly::zero());
+        }
+        // p^(a/b) = (p^(1/b))^a: one atom per root, whose integer powers multiply, cancel
+        // (√p / √p = 1) and reduce ((√p)² = p).
+        if let Some((a, b)) = r.exact()
+            && b > 1
+            && b <= 64
+            && a.abs() <= 64
+            && a != 1
+        {
+            return Poly::atom(Atom::Pow(Box::new(self.clone()), Rational::new(1, b)?)).powi(a as i32);
         }
         // A monomial whose exponents r divides evenly stays a monomial (√(a²) is not simplified
         // to a: signs are unknown, so only even powers under a positive coefficient would be).
@@ -296,7 +405,7 @@ impl Poly {
         if f == Function::Sqrt {
             return self.powr(Rational::new(1, 2)?);
         }
-        let negative = self.0.values().next().is_some_and(|c| c.numer() < 0);
+        let negative = self.0.values().next().is_some_and(|c| c.is_negative());
         if negative && (odd || even) {
             let inner = Poly::atom(Atom::Fun(f, Box::new(self.neg())));
             return Ok(if odd { inner.neg() } else { inner });
@@ -576,7 +685,12 @@ mod tests {
         assert_eq!(Rational::from_f64(1e-3).unwrap(), q(1, 1000));
         assert_eq!(Rational::from_f64(2.5e3).unwrap(), Rational::int(2500));
         assert_eq!(q(1, 3).checked_add(q(1, 6)).unwrap(), q(1, 2));
-        assert!(Rational::from_f64(1e300).is_err());
+        // Beyond 128 bits: the float, until a result is near a short decimal again.
+        assert_eq!(Rational::from_f64(1e300).unwrap(), Rational::Float(1e300));
+        let root = Rational::from_f64(0.8660254037844387).unwrap();
+        let square = root.checked_mul(root).unwrap();
+        assert!(square.exact().is_some());
+        assert_eq!(square.checked_mul(square).unwrap(), q(9, 16));
     }
 
     #[test]

@@ -112,9 +112,41 @@ fn superscript(k: i32) -> String {
     if k < 0 { format!("⁻{digits}") } else { digits }
 }
 
-/// The rational number as a coefficient in front of a product (`None` for 1).
+/// A coefficient written as a decimal: a float, or a long fraction whose denominator is
+/// `2^a 5^b` (`9987502603949663/10¹⁶` is `0.9987502603949663`, exactly).
+fn decimal(c: Rational) -> Option<String> {
+    let Some((n, d)) = c.exact() else { return Some(float(c.to_f64())) };
+    let digits = |v: i128| v.unsigned_abs().to_string().len();
+    if d == 1 || digits(n) + digits(d) <= 8 {
+        return None;
+    }
+    let (mut rest, mut twos, mut fives) = (d, 0_u32, 0_u32);
+    while rest % 2 == 0 {
+        rest /= 2;
+        twos += 1;
+    }
+    while rest % 5 == 0 {
+        rest /= 5;
+        fives += 1;
+    }
+    if rest != 1 {
+        return None;
+    }
+    let k = twos.max(fives);
+    let scaled = n.checked_mul(2_i128.checked_pow(k - twos)?)?.checked_mul(5_i128.checked_pow(k - fives)?)?;
+    let body = format!("{:0>width$}", scaled.unsigned_abs(), width = k as usize + 1);
+    let (int, frac) = body.split_at(body.len() - k as usize);
+    let sign = if n < 0 { "-" } else { "" };
+    Some(format!("{sign}{int}.{}", frac.trim_end_matches('0')))
+}
+
+/// The coefficient in front of a product (`None` for 1); a float or a long decimal fraction as
+/// a decimal.
 fn coefficient(c: Rational, style: Style) -> Option<String> {
-    let (n, d) = (c.numer(), c.denom());
+    if let Some(text) = decimal(c) {
+        return Some(text);
+    }
+    let Some((n, d)) = c.exact() else { return Some(float(c.to_f64())) };
     match (n, d, style) {
         (1, 1, _) => None,
         (1, 2, Style::Unicode) => Some("½".into()),
@@ -127,6 +159,12 @@ fn coefficient(c: Rational, style: Style) -> Option<String> {
         (_, _, Style::Plain) => Some(format!("({n}/{d})")),
         (_, _, Style::Unicode) => Some(format!("{n}/{d}")),
     }
+}
+
+/// A float coefficient: the shortest decimal that reads back to it (`1e-20`, not twenty zeros).
+fn float(v: f64) -> String {
+    let text = format!("{v:?}");
+    if text.contains('e') || text.len() <= 20 { text } else { format!("{v:e}") }
 }
 
 /// Write `p`, grouped and factored.
@@ -182,31 +220,37 @@ fn moves(a: &Atom, names: &Names) -> bool {
 /// One group `c · (sum) · common · key`, with its sign apart.
 fn group(coefficient_poly: &Poly, key: &Monomial, names: &Names, style: Style) -> (bool, String) {
     let (content, common, rest) = factor(coefficient_poly);
-    let negative = content.numer() < 0;
+    let negative = content.is_negative();
     let content = if negative { -content } else { content };
     let mut numerator: Vec<String> = Vec::new();
     let mut denominator: Vec<String> = Vec::new();
-    let (n, d) = (content.numer(), content.denom());
     let fraction = coefficient(content, style);
-    // ½, ⅓, … in Unicode and \frac{n}{d} in LaTeX stand in front; otherwise n above, d below.
-    let special = (style == Style::Unicode
-        && fraction.as_deref().is_some_and(|f| f.chars().count() == 1 && !f.chars().all(|c| c.is_ascii_digit())))
-        || (style == Style::Latex && d != 1);
-    if special {
-        numerator.push(fraction.unwrap_or_default());
-    } else {
-        if n != 1 {
-            numerator.push(n.to_string());
+    match content.exact().filter(|_| decimal(content).is_none()) {
+        // ½, ⅓, … in Unicode and \frac{n}{d} in LaTeX stand in front; otherwise n above, d below.
+        Some((n, d)) => {
+            let special = (style == Style::Unicode
+                && fraction
+                    .as_deref()
+                    .is_some_and(|f| f.chars().count() == 1 && !f.chars().all(|c| c.is_ascii_digit())))
+                || (style == Style::Latex && d != 1);
+            if special {
+                numerator.push(fraction.unwrap_or_default());
+            } else {
+                if n != 1 {
+                    numerator.push(n.to_string());
+                }
+                if d != 1 {
+                    denominator.push(d.to_string());
+                }
+            }
         }
-        if d != 1 {
-            denominator.push(d.to_string());
-        }
+        None => numerator.extend(fraction),
     }
     if rest.0.len() > 1 {
         numerator.push(paren(&terms(&rest, names, style), style));
     } else if let Some((m, c)) = rest.0.iter().next() {
         // A single remaining term (content 1 after factoring): its own atoms.
-        debug_assert_eq!(*c, Rational::int(1));
+        debug_assert!(*c == Rational::int(1) || c.exact().is_none());
         factors(m, names, style, &mut numerator, &mut denominator);
     }
     factors(&common, names, style, &mut numerator, &mut denominator);
@@ -233,18 +277,18 @@ fn terms(p: &Poly, names: &Names, style: Style) -> String {
     }
     let mut out = String::new();
     for (i, (m, &c)) in p.0.iter().enumerate() {
-        let negative = c.numer() < 0;
+        let negative = c.is_negative();
         let magnitude = if negative { -c } else { c };
         let (mut numerator, mut denominator) = (Vec::new(), Vec::new());
-        match coefficient(magnitude, style) {
-            Some(text) if magnitude.denom() == 1 || style != Style::Unicode || text.chars().count() == 1 => {
-                numerator.push(text)
+        match (coefficient(magnitude, style), magnitude.exact().filter(|_| decimal(magnitude).is_none())) {
+            (Some(_), Some((n, d)))
+                if d != 1 && style == Style::Unicode && !(n == 1 && d <= 4) && (n, d) != (2, 3) && (n, d) != (3, 4) =>
+            {
+                numerator.push(n.to_string());
+                denominator.push(d.to_string());
             }
-            Some(_) => {
-                numerator.push(magnitude.numer().to_string());
-                denominator.push(magnitude.denom().to_string());
-            }
-            None => {}
+            (Some(text), _) => numerator.push(text),
+            (None, _) => {}
         }
         factors(m, names, style, &mut numerator, &mut denominator);
         out.push_str(sign(i, negative, style));
@@ -285,7 +329,7 @@ fn factors(m: &Monomial, names: &Names, style: Style, numerator: &mut Vec<String
     for (atom, &e) in m {
         let (text, e) = match atom {
             // A power of a sum to a negative rational power goes below as a positive one.
-            Atom::Pow(p, r) if r.numer() < 0 => {
+            Atom::Pow(p, r) if r.is_negative() => {
                 let text = if -*r == Rational::int(1) {
                     paren(&terms(p, names, style), style)
                 } else {
@@ -362,10 +406,13 @@ fn atom_text(atom: &Atom, names: &Names, style: Style) -> String {
             match style {
                 Style::Unicode if half => format!("√({inner})"),
                 Style::Latex if half => format!("\\sqrt{{{inner}}}"),
-                Style::Unicode if r.denom() == 1 => format!("({inner}){}", superscript(r.numer() as i32)),
-                Style::Unicode => format!("({inner})^({}/{})", r.numer(), r.denom()),
-                Style::Latex => format!("\\left({inner}\\right)^{{{}/{}}}", r.numer(), r.denom()),
-                Style::Plain => format!("({inner})^({}/{})", r.numer(), r.denom()),
+                _ => match (r.exact(), style) {
+                    (Some((n, 1)), Style::Unicode) => format!("({inner}){}", superscript(n as i32)),
+                    (Some((n, d)), Style::Unicode | Style::Plain) => format!("({inner})^({n}/{d})"),
+                    (Some((n, d)), Style::Latex) => format!("\\left({inner}\\right)^{{{n}/{d}}}"),
+                    (None, Style::Latex) => format!("\\left({inner}\\right)^{{{}}}", float(r.to_f64())),
+                    (None, _) => format!("({inner})^({})", float(r.to_f64())),
+                },
             }
         }
     }
@@ -377,7 +424,7 @@ fn factor(p: &Poly) -> (Rational, Monomial, Poly) {
     let mut terms = p.0.iter();
     let Some((first, &c0)) = terms.next() else { return (Rational::int(0), Monomial::new(), Poly::zero()) };
     let mut common: Monomial = first.clone();
-    let (mut num, mut den) = (c0.numer().abs(), c0.denom());
+    let mut content = c0.exact().map(|(n, d)| (n.abs(), d));
     for (m, &c) in terms {
         common = common
             .iter()
@@ -389,11 +436,18 @@ fn factor(p: &Poly) -> (Rational, Monomial, Poly) {
                 Some((a.clone(), if e > 0 { e.min(f) } else { e.max(f) }))
             })
             .collect();
-        num = gcd(num, c.numer().abs());
-        den = lcm(den, c.denom());
+        content = match (content, c.exact()) {
+            (Some((num, den)), Some((n, d))) => Some((gcd(num, n.abs()), lcm(den, d))),
+            _ => None,
+        };
     }
-    let sign = if c0.numer() < 0 { -1 } else { 1 };
-    let content = Rational::new(sign * num, den).unwrap_or(Rational::int(1));
+    let sign = if c0.is_negative() { -1 } else { 1 };
+    // Floats share no content; a lone float term is its own.
+    let content = match content {
+        Some((num, den)) => Rational::new(sign * num, den).unwrap_or(Rational::int(1)),
+        None if p.0.len() == 1 => c0,
+        None => Rational::int(sign),
+    };
     let inverse = Poly(BTreeMap::from([(
         common.iter().map(|(a, &e)| (a.clone(), -e)).collect(),
         content.recip().unwrap_or(Rational::int(1)),
