@@ -158,18 +158,26 @@ fn suggestions_name_the_closest_known_name() {
 fn printed_equations_agree_with_the_engine() {
     use lagrange_file::tape::{Leaf, TapeBuilder};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(27);
-    let mut checked = 0;
-    for path in toml_files(&workspace().join("examples/scenes")) {
-        if path.to_string_lossy().ends_with(".graph.toml") {
-            continue;
-        }
+    let (mut checked, mut graphs_checked) = (0, 0);
+    let mut files = toml_files(&workspace().join("examples/scenes"));
+    files.push(workspace().join("tests/files/watt_six_bar.toml"));
+    for path in files {
         let equations = lagrange_file::eom(&path).unwrap_or_else(|e| panic!("{}", e.render()));
         let scene = lagrange_file::load(&path).unwrap();
-        let params = scene.default_params();
-        let mut system = scene.build(&params).unwrap();
-        let names: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
+        let mut system = scene.build(&scene.default_params()).unwrap();
+        // The names in the formulas: the file's own, or for a joint graph its coordinates
+        // form's (whose poses and forces are composed from the graph; the engine evaluated
+        // against is the graph's).
+        let form = match lagrange_file::coordinates_file(scene.as_ref(), &scene.default_params(), "printed").unwrap() {
+            Some(text) => lagrange_file::parse("printed.toml", &text).unwrap_or_else(|e| panic!("{}", e.render())),
+            None => lagrange_file::load(&path).unwrap(),
+        };
+        let graph = scene.joint_graph(&scene.default_params()).unwrap().is_some();
+        assert_eq!(!equations.poses.is_empty(), graph, "{}: poses for a joint graph only", path.display());
+        let params = form.default_params();
+        let names: Vec<String> = form.build(&params).unwrap().coordinates().iter().map(|c| c.name.clone()).collect();
         let n = names.len();
-        let initial = scene.default_state(&params).unwrap();
+        let initial = scene.default_state(&scene.default_params()).unwrap();
         let constrained = system.constraint_counts() != (0, 0);
         for sample in 0..10 {
             let (t, q, qdot) = if constrained || sample == 0 {
@@ -241,6 +249,7 @@ fn printed_equations_agree_with_the_engine() {
                     &format!("{} = {}", e.left.unicode, e.right.unicode),
                 );
                 checked += 1;
+                graphs_checked += usize::from(graph);
             }
             for e in &equations.constraints {
                 holds(value(&e.left.plain), 0.0, &e.label);
@@ -257,5 +266,146 @@ fn printed_equations_agree_with_the_engine() {
             }
         }
     }
-    assert!(checked >= 50, "{checked}");
+    eprintln!("{checked} printed equations checked, {graphs_checked} of joint graphs");
+    assert!(checked >= 50 && graphs_checked >= 200, "{checked}, {graphs_checked}");
+}
+
+/// A joint graph with every kind of joint and force element the shipped graphs lack: an absolute
+/// clockwise angle, a slide, a fixed joint, a coupled joint, a joint that runs backwards, a
+/// driven body, a point spring, a joint spring, both dampers, a torque and a force.
+fn every_element_graph() -> lagrange_scenes::GraphScene {
+    use lagrange::graph::{ForceElement, GraphBody, GraphJoint, JointGraph, Point, Profile};
+    let graph = JointGraph::new("every_element", 9.81)
+        .with_body(GraphBody::rigid("arm", 1.0, 0.1))
+        .with_body(GraphBody::rigid("slider", 0.5, 0.01))
+        .with_body(GraphBody::rigid("tab", 0.2, 0.005))
+        .with_body(GraphBody::rigid("wheel", 0.3, 0.02))
+        .with_body(GraphBody::rigid("tip", 0.1, 0.001))
+        .with_body(GraphBody::rigid("driven", 0.4, 0.03))
+        .with_joint(GraphJoint::revolute("a", "ground", [0.0, 0.0], "arm", [-0.5, 0.0]).absolute().clockwise())
+        .with_joint(GraphJoint::prismatic("s", "arm", [0.0, 0.0], "slider", [0.0, 0.05], [0.6, 0.8]))
+        .with_joint(GraphJoint::fixed("f", "slider", [0.1, 0.0], "tab", [0.0, -0.02], 0.3))
+        .with_joint(GraphJoint::revolute("w", "arm", [0.5, 0.0], "wheel", [0.0, 0.0]))
+        .with_joint(GraphJoint::revolute("r", "tip", [0.05, 0.0], "arm", [0.4, 0.1]))
+        .with_joint(GraphJoint::revolute("d", "ground", [2.0, 0.0], "driven", [0.0, 0.3]).driven(Profile {
+            constant: 0.2,
+            rate: 0.1,
+            amplitude: 0.3,
+            frequency: 2.0,
+            phase: 0.4,
+        }))
+        .with_coupling("w", "a", 2.0, 0.1)
+        .with_force(ForceElement::Spring {
+            a: Point::on("tab", [0.02, 0.0]),
+            b: Point::on("driven", [0.0, -0.3]),
+            stiffness: 20.0,
+            rest_length: 0.5,
+        })
+        .with_force(ForceElement::JointSpring { joint: "a".into(), stiffness: 3.0, rest: 0.2 })
+        .with_force(ForceElement::Damper {
+            a: Point::world([0.0, -1.0]),
+            b: Point::on("tip", [0.01, 0.02]),
+            coefficient: 0.7,
+        })
+        .with_force(ForceElement::JointDamper { joint: "s".into(), coefficient: 0.4 })
+        .with_force(ForceElement::Torque { body: "wheel".into(), torque: Profile::harmonic(0.5, 3.0) })
+        .with_force(ForceElement::Force {
+            at: Point::on("slider", [0.03, -0.01]),
+            force: [Profile::ramp(1.0, 0.5), Profile::constant(-2.0)],
+        });
+    lagrange_scenes::GraphScene::new(graph, lagrange::State::new(0.0, vec![0.4, 0.3, -0.5], vec![0.7, -0.2, 1.1]))
+        .expect("a valid graph")
+}
+
+/// Every joint graph written in the coordinates form (`lagrange scenes --export ID --form
+/// coordinates`) gives the graph's `q̈`, multipliers and energy function: the file's poses,
+/// constraints and forces are expressions composed from the graph, evaluated by the file's tapes,
+/// against the graph's own forward kinematics and force elements.
+#[test]
+fn the_coordinates_form_of_every_graph_gives_the_graph() {
+    let mut scenes: Vec<Box<dyn Scene>> = vec![Box::new(every_element_graph())];
+    let mut files = toml_files(&workspace().join("examples/scenes"));
+    files.push(workspace().join("tests/files/watt_six_bar.toml"));
+    for path in files {
+        let scene = lagrange_file::load(&path).unwrap_or_else(|e| panic!("{}", e.render()));
+        if scene.joint_graph(&scene.default_params()).unwrap().is_some() {
+            scenes.push(scene);
+        }
+    }
+    assert!(scenes.len() >= 15, "{}", scenes.len());
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(28);
+    let (mut worst, mut independent) = (0.0_f64, 0);
+    for graph in &scenes {
+        let params = graph.default_params();
+        let id = format!("{}_unfolded", graph.id());
+        let text = lagrange_file::coordinates_file(graph.as_ref(), &params, &id).unwrap().expect("a joint graph");
+        let file =
+            lagrange_file::parse(&format!("{id}.toml"), &text).unwrap_or_else(|e| panic!("{}\n{text}", e.render()));
+        let fp = file.default_params();
+        let initial = graph.default_state(&params).unwrap();
+        let state = file.default_state(&fp).unwrap();
+        // The file's initial state is the graph's, projected again onto the constraints.
+        assert!(relative_gap(&state.q, &initial.q) <= ROUND_OFF, "{id}: {state:?} vs {initial:?}");
+        assert!(relative_gap(&state.qdot, &initial.qdot) <= ROUND_OFF, "{id}: {state:?} vs {initial:?}");
+        let (mut a, mut b) = (file.build(&fp).unwrap(), graph.build(&params).unwrap());
+        let constrained = b.constraint_counts() != (0, 0);
+        for sample in 0..10 {
+            // Unconstrained: anywhere near the initial state; constrained: the initial state at
+            // other times with other rates.
+            let t = if sample == 0 { 0.0 } else { rng.random_range(0.0..2.0) };
+            let q: Vec<f64> = if constrained || sample == 0 {
+                initial.q.clone()
+            } else {
+                initial.q.iter().map(|v| v + rng.random_range(-0.3..0.3)).collect()
+            };
+            let qdot: Vec<f64> = if sample == 0 {
+                initial.qdot.clone()
+            } else {
+                initial.qdot.iter().map(|_| rng.random_range(-1.0..1.0)).collect()
+            };
+            // Constrained: rates projected onto the velocity constraints (off them, redundant
+            // rows ask for contradicting accelerations and q̈ is a least-squares compromise).
+            let (q, qdot) = if constrained {
+                let held = vec![false; q.len()];
+                let s = b.assemble(&lagrange::State::new(t, q, qdot), &held).unwrap();
+                (s.q, s.qdot)
+            } else {
+                (q, qdot)
+            };
+            let qa = a.accelerations(t, &q, &qdot).unwrap().to_vec();
+            let qb = b.accelerations(t, &q, &qdot).unwrap().to_vec();
+            let gap = relative_gap(&qa, &qb);
+            worst = worst.max(gap);
+            assert!(gap <= ROUND_OFF, "{id}: q̈ {qa:?} vs {qb:?} ({gap:e}) at t = {t}, {q:?}, {qdot:?}");
+            let (ea, eb) = (a.energy_function(t, &q, &qdot).unwrap(), b.energy_function(t, &q, &qdot).unwrap());
+            assert!((ea - eb).abs() <= ROUND_OFF * (1.0 + eb.abs()), "{id}: energy {ea} vs {eb}");
+            let la = a.constraint_multipliers(t, &q, &qdot).unwrap().map(<[f64]>::to_vec);
+            let lb = b.constraint_multipliers(t, &q, &qdot).unwrap().map(<[f64]>::to_vec);
+            match (la, lb) {
+                (Some(la), Some(lb)) => {
+                    // The generalized constraint force Gᵀλ is unique; λ itself only where the
+                    // rows are independent (at a redundancy the engine's minimum-norm λ is
+                    // found by a regularized solve, to its precision, not to round-off).
+                    let ga = a.constraint_jacobian(t, &q, &qdot).unwrap().expect("constrained").to_vec();
+                    let gb = b.constraint_jacobian(t, &q, &qdot).unwrap().expect("constrained").to_vec();
+                    let (c, n) = (lb.len(), q.len());
+                    let force = |g: &[f64], l: &[f64]| -> Vec<f64> {
+                        (0..n).map(|i| (0..c).map(|k| g[k * n + i] * l[k]).sum()).collect()
+                    };
+                    let (fa, fb) = (force(&ga, &la), force(&gb, &lb));
+                    assert!(relative_gap(&fa, &fb) <= ROUND_OFF, "{id}: Gᵀλ {fa:?} vs {fb:?}");
+                    let ggt: Vec<f64> =
+                        (0..c * c).map(|e| (0..n).map(|i| gb[(e / c) * n + i] * gb[(e % c) * n + i]).sum()).collect();
+                    if lagrange_tests::condition_number(c, &ggt) < 1e8 {
+                        independent += 1;
+                        assert!(relative_gap(&la, &lb) <= ROUND_OFF, "{id}: λ {la:?} vs {lb:?}");
+                    }
+                }
+                (None, None) => {}
+                (la, lb) => panic!("{id}: multipliers {la:?} vs {lb:?}"),
+            }
+        }
+    }
+    assert!(independent >= 50, "{independent} samples with independent constraints");
+    eprintln!("largest relative gap in q̈ between a graph and its coordinates form: {worst:.2e}");
 }

@@ -28,9 +28,9 @@ pub enum CliError {
         "`{0}` is not a joint graph: only joint-graph scenes export to a file (coordinates-form files of built-in scenes are in examples/scenes)"
     )]
     NotAGraph(String),
-    /// `eom` of a built-in scene id: its equations are Rust code.
+    /// `eom` of a built-in scene written in Rust (not a joint graph).
     #[error(
-        "`{0}` is not a scene file: the built-in scenes are Rust code; print the equations of a coordinates-form file (examples/scenes/<scene>.toml)"
+        "`{0}` is written in Rust, not as a joint graph: print the equations of its coordinates-form file (examples/scenes/{0}.toml)"
     )]
     NotAFile(String),
     /// A `--param` that is not `NAME=VALUE`.

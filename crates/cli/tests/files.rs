@@ -17,8 +17,8 @@ fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
-/// The lecture's scenes, printed by `lagrange eom` exactly as the golden files under
-/// tests/golden/eom say (`UPDATE_GOLDEN=1` rewrites them; review the diff).
+/// The lecture's scenes, and three joint graphs, printed by `lagrange eom` exactly as the golden
+/// files under tests/golden/eom say (`UPDATE_GOLDEN=1` rewrites them; review the diff).
 #[test]
 fn eom_prints_the_golden_equations() {
     let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/eom");
@@ -31,6 +31,9 @@ fn eom_prints_the_golden_equations() {
         "nonminimal_pendulum",
         "rolling_disc",
         "kepler",
+        "four_bar.graph",
+        "slider_crank.graph",
+        "wedge.graph",
     ] {
         let file = format!("examples/scenes/{scene}.toml");
         let out = lagrange(&["eom", &file]);
@@ -57,12 +60,22 @@ fn eom_prints_the_lectures_forms() {
     assert_eq!(json["equations"][0]["right"]["plain"], "(m1 - m2)*g");
     let latex = text(&lagrange(&["eom", "examples/scenes/atwood.toml", "--latex"]).stdout);
     assert!(latex.starts_with("\\begin{align*}"), "{latex}");
-    // A joint graph and a built-in id have no printed equations: exit 2 with the reason.
+    // A joint graph, as a file or a built-in id: its coordinates, the poses they give, and the
+    // equations of the coordinates form.
     for arg in ["examples/scenes/four_bar.graph.toml", "four_bar"] {
         let out = lagrange(&["eom", arg]);
-        assert_eq!(out.status.code(), Some(2), "{arg}");
-        assert!(!text(&out.stderr).is_empty());
+        assert!(out.status.success(), "{arg}: {}", text(&out.stderr));
+        let printed = text(&out.stdout);
+        assert!(
+            printed.contains("coupler:  x = cos θ₂/5 + 3 cos θ₃/10,  y = sin θ₂/5 + 3 sin θ₃/10,  φ = θ₃"),
+            "{printed}"
+        );
+        assert!(printed.contains("B (x) (λ₁):  −½ + cos θ₂/5 + 3 cos θ₃/5 − ½ cos θ₄ = 0"), "{printed}");
     }
+    // A built-in scene written in Rust: exit 2, naming its file.
+    let out = lagrange(&["eom", "kepler"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("examples/scenes/kepler.toml"), "{}", text(&out.stderr));
 }
 
 #[test]
@@ -109,4 +122,32 @@ fn a_malformed_file_is_drawn_on_its_text_and_exits_2() {
     assert!(err.contains("tests/files/bad/unknown_name.toml:24:13"), "{err}");
     assert!(err.contains("help: did you mean `theta`?"), "{err}");
     assert!(text(&out.stdout).is_empty());
+}
+
+/// `scenes --export ID --form coordinates` writes a joint graph in the coordinates form: a file
+/// every command reads, whose accelerations are the graph's.
+#[test]
+fn a_joint_graph_exports_in_the_coordinates_form() {
+    let out = lagrange(&["scenes", "--export", "slider_crank", "--form", "coordinates"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let written = text(&out.stdout);
+    assert!(written.contains("residual = \"0.1*cos(φ) + 0.4*cos(ψ) - x\""), "{written}");
+    let path = std::env::temp_dir().join(format!("lagrange-slider-crank-{}.toml", std::process::id()));
+    std::fs::write(&path, &written).unwrap();
+    let accel = |scene: &str| -> serde_json::Value {
+        let out = lagrange(&["accel", scene, "--json"]);
+        assert!(out.status.success(), "{scene}: {}", text(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let (file, graph) = (accel(path.to_str().unwrap()), accel("slider_crank"));
+    let values = |v: &serde_json::Value| -> Vec<f64> {
+        v["qddot"].as_array().expect("q̈").iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    // The same equations evaluated two ways: round-off (1e-12 relative, as tests/checks/files.rs).
+    for (a, b) in values(&file).iter().zip(values(&graph)) {
+        assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "{file} vs {graph}");
+    }
+    let _ = std::fs::remove_file(&path);
+    // A scene written in Rust has no graph to export.
+    assert_eq!(lagrange(&["scenes", "--export", "kepler", "--form", "coordinates"]).status.code(), Some(2));
 }

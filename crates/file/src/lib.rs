@@ -63,10 +63,11 @@ mod scene;
 pub mod schema;
 pub mod symbolic;
 pub mod tape;
+mod unfold;
 mod write;
 
 pub use diagnostic::Diagnostic;
 pub use mechanism::{FileLagrangian, FileMechanism};
-pub use read::{FileError, eom, load, load_coordinates, parse, register};
+pub use read::{FileError, eom, load, load_coordinates, parse, register, scene_equations};
 pub use scene::{FileModel, FileScene};
-pub use write::graph_file;
+pub use write::{coordinates_file, graph_file};

@@ -137,23 +137,60 @@ pub(crate) enum Parsed {
     Graph(Box<dyn Scene>),
 }
 
-/// The equations of the coordinates-form scene file at `path`, derived symbolically and
-/// written as a textbook writes them ([`Equations`](crate::symbolic::Equations)).
+/// The equations of the scene file at `path`, derived symbolically and written as a textbook
+/// writes them ([`Equations`](crate::symbolic::Equations)); for a joint-graph file, those of its
+/// coordinates form ([`coordinates_file`](crate::coordinates_file)), with the body poses its
+/// coordinates give.
 ///
 /// # Errors
-/// As [`load`]; [`FileError::NoEquations`] for a joint-graph file or an expression the
-/// symbolic derivation does not take (`abs`, a variable exponent).
+/// As [`load`]; [`FileError::NoEquations`] for an expression the symbolic derivation does not
+/// take (`abs`, a variable exponent, a coefficient beyond exact 128-bit rationals).
 pub fn eom(path: impl AsRef<Path>) -> Result<crate::symbolic::Equations, FileError> {
     let path = path.as_ref();
     let shown = path.display().to_string();
     let source = std::fs::read_to_string(path).map_err(|source| FileError::Read { path: shown.clone(), source })?;
     match read(&shown, &source)? {
         Parsed::Coordinates(scene) => scene.equations().map_err(|e| FileError::NoEquations { path: shown, why: e.0 }),
-        Parsed::Graph(_) => Err(FileError::NoEquations {
-            path: shown,
-            why: "it is a joint graph; the printed equations are those of the coordinates form".into(),
-        }),
+        Parsed::Graph(scene) => graph_equations(scene.as_ref(), &scene.default_params(), &shown),
     }
+}
+
+/// The equations of a joint-graph scene (a built-in one, or one read from a file) with
+/// `params`: those of its coordinates form, with the body poses its coordinates give. `None`
+/// for a scene that is not a joint graph (a built-in scene written in Rust: its coordinates-form
+/// file is in examples/scenes).
+///
+/// # Errors
+/// [`FileError::NoEquations`] if the graph cannot be written in the coordinates form or its
+/// derivation fails.
+pub fn scene_equations(
+    scene: &dyn Scene,
+    params: &lagrange_scenes::Params,
+) -> Result<Option<crate::symbolic::Equations>, FileError> {
+    match scene.joint_graph(params) {
+        Ok(None) => Ok(None),
+        _ => graph_equations(scene, params, scene.id()).map(Some),
+    }
+}
+
+fn graph_equations(
+    scene: &dyn Scene,
+    params: &lagrange_scenes::Params,
+    shown: &str,
+) -> Result<crate::symbolic::Equations, FileError> {
+    let fail = |why: String| FileError::NoEquations { path: shown.to_string(), why };
+    let id = format!("{}_coordinates", scene.id());
+    let text = crate::coordinates_file(scene, params, &id)
+        .map_err(|e| fail(e.to_string()))?
+        .ok_or_else(|| fail("it is not a joint graph".into()))?;
+    let Parsed::Coordinates(form) =
+        read(&format!("{shown} (coordinates form)"), &text).map_err(|d| fail(d.render()))?
+    else {
+        return Err(fail("its coordinates form did not read as one".into()));
+    };
+    let mut equations = form.equations().map_err(|e| fail(e.0))?;
+    equations.poses = form.poses().map_err(|e| fail(e.0))?;
+    Ok(equations)
 }
 
 /// Read the coordinates-form scene file at `path` as its typed scene.

@@ -119,6 +119,12 @@ impl FileScene {
         let symbols: Vec<String> = self.params.iter().map(|p| p.symbol.to_string()).collect();
         crate::symbolic::derive(&self.form, &symbols)
     }
+
+    /// Every body's pose as the derivation simplifies it.
+    pub(crate) fn poses(&self) -> Result<Vec<crate::symbolic::BodyPose>, crate::symbolic::algebra::Unsupported> {
+        let symbols: Vec<String> = self.params.iter().map(|p| p.symbol.to_string()).collect();
+        crate::symbolic::poses(&self.form, &symbols)
+    }
 }
 
 impl Scene for FileScene {

@@ -55,3 +55,32 @@ pub fn graph_file(scene: &dyn Scene, params: &Params, id: &str) -> Result<Option
         scene.id()
     )))
 }
+
+/// The coordinates form of `scene` with `params`, under the id `id`: the joint graph's
+/// coordinates, each body's pose as an expression in them, the loop-closing joints as
+/// constraints, springs as the potential and the other force elements as generalized forces
+/// (the conventions of [`GraphMechanism`](lagrange::graph::GraphMechanism), so the file gives the
+/// graph's `q̈` and multipliers). `None` for a scene that is not a joint graph.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for parameters that are not the scene's or an initial time other
+/// than 0 (the coordinates form starts at `t = 0`); the graph's own errors.
+pub fn coordinates_file(scene: &dyn Scene, params: &Params, id: &str) -> Result<Option<String>, Error> {
+    let Some(graph) = scene.joint_graph(params)? else { return Ok(None) };
+    let state = scene.default_state(params)?;
+    let quoted = |s: &str| toml::Value::String(s.to_string()).to_string();
+    let mut header = format!(
+        "# `{}` in the coordinates form (docs/files.md), written by `lagrange scenes --export {} --form coordinates`:\n\
+         # the joint graph's coordinates and the body poses they give.\nversion = {}\nid = {}\ntitle = {}\nreference = {}\n",
+        scene.id(),
+        scene.id(),
+        crate::schema::VERSION,
+        quoted(id),
+        quoted(scene.title()),
+        quoted(scene.reference()),
+    );
+    if let Some(h) = scene.horizon() {
+        header.push_str(&format!("horizon = {}\n", toml::Value::Float(h)));
+    }
+    crate::unfold::coordinates_text(&graph, &state, &header).map(Some)
+}

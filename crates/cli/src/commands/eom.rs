@@ -1,5 +1,6 @@
-//! `lagrange eom FILE`: the equations of a coordinates-form scene file, derived symbolically
-//! and printed as a textbook prints them ([`lagrange_file::symbolic`]).
+//! `lagrange eom SCENE`: the equations of a scene file or a joint-graph scene, derived
+//! symbolically and printed as a textbook prints them ([`lagrange_file::symbolic`]); for a joint
+//! graph, also the coordinates it chose and the body poses they give.
 
 use crate::error::CliError;
 use crate::output::{outln, print};
@@ -8,7 +9,7 @@ use lagrange_file::symbolic::{Equation, Equations, Formula};
 /// Arguments of `lagrange eom`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// A coordinates-form scene file (`*.toml`, docs/files.md).
+    /// A scene file (`*.toml`, docs/files.md), or the id of a built-in joint-graph scene.
     file: String,
     /// Print LaTeX (an `align*` environment).
     #[arg(long, conflicts_with_all = ["json", "unicode"])]
@@ -24,10 +25,14 @@ pub struct Args {
 
 /// Print the equations.
 pub fn run(args: &Args) -> Result<(), CliError> {
-    if !args.file.ends_with(".toml") && !std::path::Path::new(&args.file).is_file() {
-        return Err(CliError::NotAFile(args.file.clone()));
-    }
-    let equations = lagrange_file::eom(&args.file).map_err(CliError::File)?;
+    let equations = if args.file.ends_with(".toml") || std::path::Path::new(&args.file).is_file() {
+        lagrange_file::eom(&args.file).map_err(CliError::File)?
+    } else {
+        let scene = crate::args::scene(&args.file)?;
+        lagrange_file::scene_equations(scene, &scene.default_params())
+            .map_err(CliError::File)?
+            .ok_or_else(|| CliError::NotAFile(args.file.clone()))?
+    };
     if args.json {
         return outln!("{}", serde_json::to_string_pretty(&equations)?);
     }
@@ -49,6 +54,18 @@ fn unicode(path: &str, e: &Equations) -> String {
     line(&mut out, &format!("Equations of {path}"));
     let coordinates: Vec<String> = e.coordinates.iter().map(|(name, unit)| format!("{name} ({unit})")).collect();
     line(&mut out, &format!("\ncoordinates: {}\n", coordinates.join(", ")));
+    if !e.poses.is_empty() {
+        line(&mut out, "body poses (the joint graph's forward kinematics):");
+        let width = e.poses.iter().map(|p| p.body.chars().count()).max().unwrap_or(0);
+        for p in &e.poses {
+            let pad = " ".repeat(width - p.body.chars().count());
+            line(
+                &mut out,
+                &format!("  {}:{pad}  x = {},  y = {},  φ = {}", p.body, side(&p.x), side(&p.y), side(&p.angle)),
+            );
+        }
+        line(&mut out, "");
+    }
     match (&e.kinetic, &e.potential) {
         (Some(t), Some(v)) => {
             line(&mut out, &format!("T = {}", side(t)));
@@ -100,6 +117,12 @@ fn block(out: &mut String, equations: &[Equation]) {
 /// The equations as one LaTeX `align*` environment.
 fn latex(e: &Equations) -> String {
     let mut rows = Vec::new();
+    for p in &e.poses {
+        let body = p.body.replace('_', "\\_");
+        rows.push(format!("x_{{\\text{{{body}}}}} &= {}", p.x.latex));
+        rows.push(format!("y_{{\\text{{{body}}}}} &= {}", p.y.latex));
+        rows.push(format!("\\varphi_{{\\text{{{body}}}}} &= {}", p.angle.latex));
+    }
     if let (Some(t), Some(v)) = (&e.kinetic, &e.potential) {
         rows.push(format!("T &= {}", t.latex));
         rows.push(format!("V &= {}", v.latex));

@@ -12,14 +12,28 @@ pub struct Args {
     /// Machine-readable output.
     #[arg(long)]
     json: bool,
-    /// Print the scene (a built-in id or a file) as a joint-graph scene file, to start one's
-    /// own from (scenes that are joint graphs).
+    /// Print the scene (a built-in id or a file) as a scene file, to start one's own from
+    /// (scenes that are joint graphs).
     #[arg(long, value_name = "ID|FILE", conflicts_with = "json")]
     export: Option<String>,
+    /// The form `--export` writes: the joint graph itself, or its coordinates form (the
+    /// coordinates the graph chose, each body's pose as an expression in them, the loop
+    /// closures as constraints).
+    #[arg(long, value_enum, default_value_t = Form::Graph, requires = "export")]
+    form: Form,
     /// What the engine understood of a scene (a built-in id or a file): its parameters,
     /// coordinates, bodies, optional terms, constraints and joint graph.
     #[arg(long, value_name = "ID|FILE", conflicts_with_all = ["json", "export"])]
     describe: Option<String>,
+}
+
+/// The two forms of a scene file.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Form {
+    /// `[graph]`: bodies, joints, force elements.
+    Graph,
+    /// Coordinates, bodies' poses, constraints.
+    Coordinates,
 }
 
 /// Print the scene list, one scene as a file, or what the engine understood of one.
@@ -30,8 +44,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(id) = &args.export {
         let scene = crate::args::scene(id)?;
         let params = scene.default_params();
-        let text = lagrange_file::graph_file(scene, &params, &format!("my_{}", scene.id()))?
-            .ok_or_else(|| CliError::NotAGraph(scene.id().to_string()))?;
+        let id = format!("my_{}", scene.id());
+        let text = match args.form {
+            Form::Graph => lagrange_file::graph_file(scene, &params, &id)?,
+            Form::Coordinates => lagrange_file::coordinates_file(scene, &params, &id)?,
+        }
+        .ok_or_else(|| CliError::NotAGraph(scene.id().to_string()))?;
         return print(&text);
     }
     let scenes = catalogue::entries()?;

@@ -41,11 +41,27 @@ pub struct Equation {
     pub right: Formula,
 }
 
+/// A body's pose, as printed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BodyPose {
+    /// The body's name.
+    pub body: String,
+    /// `x`.
+    pub x: Formula,
+    /// `y`.
+    pub y: Formula,
+    /// `φ`.
+    pub angle: Formula,
+}
+
 /// Everything `lagrange eom` prints.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Equations {
     /// The coordinates, as printed, with their kind.
     pub coordinates: Vec<(String, String)>,
+    /// For a joint graph, the body poses its coordinates give (forward kinematics along the
+    /// spanning tree); empty for the coordinates form, whose file writes them.
+    pub poses: Vec<BodyPose>,
     /// Kinetic energy (none for a raw Lagrangian).
     pub kinetic: Option<Formula>,
     /// Potential energy, gravity included (none for a raw Lagrangian).
@@ -358,6 +374,7 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
             .enumerate()
             .map(|(i, c)| (table.names.names[i][0].clone(), c.unit().to_string()))
             .collect(),
+        poses: Vec::new(),
         kinetic: kinetic.as_ref().map(|t| table.formula(t)),
         potential: potential.as_ref().map(|v| table.formula(v)),
         lagrangian: table.formula(&lagrangian),
@@ -367,6 +384,25 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
         conserved_energy,
         accelerations,
     })
+}
+
+/// Every body's pose, simplified and printed.
+pub(crate) fn poses(form: &CoordinateForm, symbols: &[String]) -> Result<Vec<BodyPose>, Unsupported> {
+    let table = Table::new(form, symbols, 0);
+    form.bodies
+        .iter()
+        .map(|b| {
+            let formula = |e: Option<&Located>| -> Result<Formula, Unsupported> {
+                Ok(table.formula(&table.located(e)?.simplify()?))
+            };
+            Ok(BodyPose {
+                body: b.name.clone(),
+                x: formula(Some(&b.x))?,
+                y: formula(Some(&b.y))?,
+                angle: formula(b.angle.as_ref())?,
+            })
+        })
+        .collect()
 }
 
 /// `det a` of a square matrix of polynomials, by expansion along the first row.
