@@ -340,18 +340,20 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
     let diagonal =
         mass_rows.iter().enumerate().all(|(i, row)| row.iter().enumerate().all(|(j, c)| (i == j) != c.is_zero()));
     if m + k == 0 && constant && (diagonal || table.n <= 3) {
-        let inverse_det = if diagonal { None } else { Some(determinant(&mass_rows)?.simplify()?.powi(-1)?) };
+        let det = if diagonal { None } else { Some(determinant(&mass_rows)?.simplify()?) };
         for i in 0..table.n {
-            let value = match &inverse_det {
-                None => right_sides[i].mul(&mass_rows[i][i].powi(-1)?)?,
-                Some(inverse) => {
+            let (numerator, denominator) = match &det {
+                None => (right_sides[i].clone(), mass_rows[i][i].clone()),
+                Some(det) => {
                     let mut numerator = Poly::zero();
                     for (j, f) in right_sides.iter().enumerate() {
                         numerator = numerator.add(&cofactor(&mass_rows, j, i)?.mul(f)?)?;
                     }
-                    numerator.simplify()?.mul(inverse)?
+                    (numerator.simplify()?, det.clone())
                 }
             };
+            let (numerator, denominator) = cancel(&numerator, &denominator)?;
+            let value = numerator.mul(&denominator.powi(-1)?)?;
             accelerations.push(table.equation(
                 table.names.names[2 * table.n + i][0].clone(),
                 &Poly::sym(table.accel(i)),
@@ -403,6 +405,31 @@ pub(crate) fn poses(form: &CoordinateForm, symbols: &[String]) -> Result<Vec<Bod
             })
         })
         .collect()
+}
+
+/// The factors of every term of `p` (atoms to a positive power), each to its least power.
+fn common_factors(p: &Poly) -> algebra::Monomial {
+    let mut terms = p.0.keys();
+    let Some(first) = terms.next() else { return algebra::Monomial::new() };
+    let mut common: algebra::Monomial = first.iter().filter(|(_, e)| **e > 0).map(|(a, e)| (a.clone(), *e)).collect();
+    for m in terms {
+        common =
+            common.into_iter().filter_map(|(a, e)| m.get(&a).filter(|f| **f > 0).map(|f| (a, e.min(*f)))).collect();
+    }
+    common
+}
+
+/// `n / d` with the factors common to every term of both divided out (the wedge's
+/// `−m² g sin α cos α/(M m + m² sin² α)` is `−m g sin α cos α/(M + m sin² α)`).
+fn cancel(n: &Poly, d: &Poly) -> Result<(Poly, Poly), Unsupported> {
+    let (of_n, of_d) = (common_factors(n), common_factors(d));
+    let shared: algebra::Monomial =
+        of_n.iter().filter_map(|(a, e)| of_d.get(a).map(|f| (a.clone(), -(*e).min(*f)))).collect();
+    if shared.is_empty() || n.is_zero() {
+        return Ok((n.clone(), d.clone()));
+    }
+    let inverse = Poly(std::collections::BTreeMap::from([(shared, Rational::int(1))]));
+    Ok((n.mul(&inverse)?, d.mul(&inverse)?))
 }
 
 /// `det a` of a square matrix of polynomials, by expansion along the first row.
