@@ -96,6 +96,11 @@ fn a_joint_graph_file_the_project_does_not_ship_is_compared_and_reported() {
     let described = text(&lagrange(&["scenes", "--describe", "tests/files/watt_six_bar.toml"]).stdout);
     assert!(described.contains("constraints: 4 holonomic, 0 velocity"), "{described}");
     assert!(described.contains("joint graph: 5 bodies, 7 joints (2 marked closing)"), "{described}");
+    assert!(described.contains("spanning tree: O2, A, O4, C, E; loop-closing: B, D"), "{described}");
+    let described = text(&lagrange(&["scenes", "--describe", "examples/scenes/kepler.toml"]).stdout);
+    assert!(described.contains("M(q) assembled") && described.contains("region: r above 0"), "{described}");
+    let described = text(&lagrange(&["scenes", "--describe", "double_pendulum"]).stdout);
+    assert!(described.contains("q̈ by the articulated-body algorithm"), "{described}");
 
     let out_dir = std::env::temp_dir().join(format!("lagrange-watt-report-{}", std::process::id()));
     let out = lagrange(&[

@@ -120,6 +120,17 @@ impl FileScene {
         crate::symbolic::derive(&self.form, &symbols)
     }
 
+    /// The bounds of the admissible region as written (`r above 0`), empty without one.
+    pub fn region(&self) -> Vec<String> {
+        self.form
+            .region
+            .iter()
+            .map(|(quantity, above, limit)| {
+                format!("{} {} {limit}", quantity.text, if *above { "above" } else { "below" })
+            })
+            .collect()
+    }
+
     /// Every body's pose as the derivation simplifies it.
     pub(crate) fn poses(&self) -> Result<Vec<crate::symbolic::BodyPose>, crate::symbolic::algebra::Unsupported> {
         let symbols: Vec<String> = self.params.iter().map(|p| p.symbol.to_string()).collect();

@@ -39,7 +39,9 @@ pub enum Form {
 /// Print the scene list, one scene as a file, or what the engine understood of one.
 pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(id) = &args.describe {
-        return print(&describe(crate::args::scene(id)?)?);
+        // A coordinates-form file is read as one before it is registered as a scene.
+        let file = std::path::Path::new(id).is_file().then(|| lagrange_file::load_coordinates(id).ok()).flatten();
+        return print(&describe(file.as_ref(), crate::args::scene(id)?)?);
     }
     if let Some(id) = &args.export {
         let scene = crate::args::scene(id)?;
@@ -61,8 +63,84 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     Ok(())
 }
 
+/// How the engine computes `q̈` for a model: the articulated-body tree, a constant mass matrix,
+/// or `M(q)` assembled; and whether it checks an admissible region.
+fn path<M: lagrange::Mechanism>(model: &lagrange::Model<M>) -> String {
+    let solve = if model.uses_tree_path() {
+        "the articulated-body algorithm on the mechanism's joint tree (O(n), no mass matrix)"
+    } else if model.has_constant_mass_matrix() {
+        "a constant mass matrix, factored once"
+    } else {
+        "M(q) assembled from the poses' Jacobians and factored at every evaluation"
+    };
+    let constraints = if model.is_constrained() { ", the constraints through their multipliers" } else { "" };
+    let region = if model.has_admissible_region() { "checked" } else { "none (every state is admissible)" };
+    format!("q̈ by {solve}{constraints}; admissible region: {region}")
+}
+
+/// How a raw Lagrangian's `q̈` is computed.
+const RAW: &str =
+    "q̈ from the raw Lagrangian: M = ∂²L/∂q̇² and the rest of Lagrange's equations by automatic differentiation";
+
+/// The built-in mechanism's [`path`].
+struct Path;
+
+impl lagrange_scenes::MechanismVisitor for Path {
+    type Output = Result<String, lagrange::Error>;
+
+    fn visit<M: lagrange::Mechanism + lagrange_scenes::ClosedForm + Clone + Send + Sync + 'static>(
+        self,
+        mechanism: M,
+    ) -> Self::Output {
+        lagrange::Model::new(mechanism).map(|model| path(&model))
+    }
+}
+
+/// How `scene` computes its equations (`file`: the scene as its coordinates-form file).
+fn equations_path(
+    file: Option<&lagrange_file::FileScene>,
+    scene: &dyn lagrange_scenes::Scene,
+) -> Result<Option<String>, CliError> {
+    let params = scene.default_params();
+    if let Some(graph) = scene.joint_graph(&params)? {
+        let mechanism = lagrange::graph::GraphMechanism::new(graph)?;
+        let joints = |tree: bool| -> Vec<String> {
+            let graph = mechanism.graph();
+            (0..graph.joints.len())
+                .filter(|&j| mechanism.in_tree(j) == tree)
+                .map(|j| graph.joints[j].name.clone())
+                .collect()
+        };
+        let (tree, closing) = (joints(true), joints(false));
+        let model = lagrange::Model::new(mechanism)?;
+        let closing = if closing.is_empty() { "none".to_string() } else { closing.join(", ") };
+        return Ok(Some(format!(
+            "{}
+spanning tree: {}; loop-closing: {closing}",
+            path(&model),
+            tree.join(", ")
+        )));
+    }
+    if let Some(file) = file {
+        let mut text = match file.model(&params)? {
+            lagrange_file::FileModel::Bodies(model) => path(&model),
+            lagrange_file::FileModel::Raw(_) => RAW.to_string(),
+        };
+        let region = file.region();
+        if !region.is_empty() {
+            text.push_str(&format!("\nregion: {}", region.join(", ")));
+        }
+        return Ok(Some(text));
+    }
+    match lagrange_scenes::visit_mechanism(scene.id(), &params, Path) {
+        Ok(Some(text)) => Ok(Some(text?)),
+        Ok(None) => Ok(Some(RAW.to_string())),
+        Err(_) => Ok(None),
+    }
+}
+
 /// What the engine understood of `scene` at its default parameters, in words.
-fn describe(scene: &dyn lagrange_scenes::Scene) -> Result<String, CliError> {
+fn describe(file: Option<&lagrange_file::FileScene>, scene: &dyn lagrange_scenes::Scene) -> Result<String, CliError> {
     use std::fmt::Write as _;
     let params = scene.default_params();
     let system = scene.build(&params)?;
@@ -96,6 +174,9 @@ fn describe(scene: &dyn lagrange_scenes::Scene) -> Result<String, CliError> {
         },
         if system.conserves_energy() { "conserved (L does not depend on t)" } else { "not conserved" }
     );
+    if let Some(text) = equations_path(file, scene)? {
+        let _ = writeln!(w, "{text}");
+    }
     match scene.joint_graph(&params)? {
         Some(graph) => {
             let closing = graph.joints.iter().filter(|j| j.role == lagrange::graph::Role::Closing).count();
