@@ -236,5 +236,5 @@ fn no_heap_allocation_per_step_for_scene_files() {
         }
         checked += 1;
     }
-    assert!(checked >= 13, "{checked} coordinates-form files");
+    assert!(checked >= 22, "{checked} coordinates-form files");
 }

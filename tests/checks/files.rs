@@ -39,6 +39,45 @@ fn relative_gap(a: &[f64], b: &[f64]) -> f64 {
 /// shipped files' samples; 1e-12 leaves a factor of about 300 for conditioning at other states.
 const ROUND_OFF: f64 = 1e-12;
 
+/// The multipliers of two systems with the same constraints agree: `Gᵀλ` (the generalized
+/// constraint force, unique) to round-off, and `λ` itself where the rows are independent (at a
+/// redundancy the engine's minimum-norm `λ` comes from a regularized solve, to its precision,
+/// not to round-off). Whether the rows were independent.
+fn same_multipliers(
+    what: &str,
+    a: &mut dyn lagrange::System,
+    b: &mut dyn lagrange::System,
+    t: f64,
+    q: &[f64],
+    qdot: &[f64],
+) -> bool {
+    let la = a.constraint_multipliers(t, q, qdot).unwrap().map(<[f64]>::to_vec);
+    let lb = b.constraint_multipliers(t, q, qdot).unwrap().map(<[f64]>::to_vec);
+    match (la, lb) {
+        (Some(la), Some(lb)) => {
+            let ga = a.constraint_jacobian(t, q, qdot).unwrap().expect("constrained").to_vec();
+            let gb = b.constraint_jacobian(t, q, qdot).unwrap().expect("constrained").to_vec();
+            let (c, n) = (lb.len(), q.len());
+            let force = |g: &[f64], l: &[f64]| -> Vec<f64> {
+                (0..n).map(|i| (0..c).map(|k| g[k * n + i] * l[k]).sum()).collect()
+            };
+            let (fa, fb) = (force(&ga, &la), force(&gb, &lb));
+            assert!(relative_gap(&fa, &fb) <= ROUND_OFF, "{what}: Gᵀλ {fa:?} vs {fb:?}");
+            let ggt: Vec<f64> =
+                (0..c * c).map(|e| (0..n).map(|i| gb[(e / c) * n + i] * gb[(e % c) * n + i]).sum()).collect();
+            // cond(G Gᵀ) at the shipped scenes' states: 1 … 1.2e2 with independent rows,
+            // 1.3e16 (1/ε) at the redundant parallelogram; 1e8 splits them with a wide margin.
+            let independent = lagrange_tests::condition_number(c, &ggt) < 1e8;
+            if independent {
+                assert!(relative_gap(&la, &lb) <= ROUND_OFF, "{what}: λ {la:?} vs {lb:?}");
+            }
+            independent
+        }
+        (None, None) => false,
+        (la, lb) => panic!("{what}: multipliers {la:?} vs {lb:?}"),
+    }
+}
+
 #[test]
 fn every_example_file_gives_its_built_in_scene() {
     let files = toml_files(&workspace().join("examples/scenes"));
@@ -54,6 +93,14 @@ fn every_example_file_gives_its_built_in_scene() {
             let theirs = built_in.joint_graph(&bp).unwrap().expect("the twin is a joint graph");
             graph.name.clone_from(&theirs.name);
             assert_eq!(graph, theirs, "{}", path.display());
+        } else if let Some(shipped) = std::fs::read_to_string(&path)
+            .ok()
+            .filter(|text| text.starts_with(&format!("# `{}` in the coordinates form", built_in.id())))
+        {
+            // A joint graph's coordinates form, as `scenes --export ID --form coordinates`
+            // writes it today (its parameters are the graph's: `g`, `m_<body>`, `I_<body>`).
+            let written = lagrange_file::coordinates_file(built_in, &bp, file.id()).unwrap().expect("a joint graph");
+            assert_eq!(shipped, written, "{}: regenerate it with `lagrange scenes --export`", path.display());
         } else {
             // The coordinates form: the built-in scene's parameters, by name or symbol.
             for (spec, value) in fp.iter() {
@@ -86,15 +133,7 @@ fn every_example_file_gives_its_built_in_scene() {
             assert!(gap <= ROUND_OFF, "{}: q̈ {qa:?} vs {qb:?} ({gap:e}) at {q:?}, {qdot:?}", path.display());
             let (ea, eb) = (a.energy_function(t, &q, &qdot).unwrap(), b.energy_function(t, &q, &qdot).unwrap());
             assert!((ea - eb).abs() <= ROUND_OFF * (1.0 + eb.abs()), "{}: energy {ea} vs {eb}", path.display());
-            let la = a.constraint_multipliers(t, &q, &qdot).unwrap().map(<[f64]>::to_vec);
-            let lb = b.constraint_multipliers(t, &q, &qdot).unwrap().map(<[f64]>::to_vec);
-            match (la, lb) {
-                (Some(la), Some(lb)) => {
-                    assert!(relative_gap(&la, &lb) <= ROUND_OFF, "{}: λ {la:?} vs {lb:?}", path.display())
-                }
-                (None, None) => {}
-                (la, lb) => panic!("{}: multipliers {la:?} vs {lb:?}", path.display()),
-            }
+            same_multipliers(&path.display().to_string(), a.as_mut(), b.as_mut(), t, &q, &qdot);
         }
     }
     eprintln!("largest relative gap in q̈ between a file and its built-in scene: {worst:.2e}");
@@ -379,31 +418,7 @@ fn the_coordinates_form_of_every_graph_gives_the_graph() {
             assert!(gap <= ROUND_OFF, "{id}: q̈ {qa:?} vs {qb:?} ({gap:e}) at t = {t}, {q:?}, {qdot:?}");
             let (ea, eb) = (a.energy_function(t, &q, &qdot).unwrap(), b.energy_function(t, &q, &qdot).unwrap());
             assert!((ea - eb).abs() <= ROUND_OFF * (1.0 + eb.abs()), "{id}: energy {ea} vs {eb}");
-            let la = a.constraint_multipliers(t, &q, &qdot).unwrap().map(<[f64]>::to_vec);
-            let lb = b.constraint_multipliers(t, &q, &qdot).unwrap().map(<[f64]>::to_vec);
-            match (la, lb) {
-                (Some(la), Some(lb)) => {
-                    // The generalized constraint force Gᵀλ is unique; λ itself only where the
-                    // rows are independent (at a redundancy the engine's minimum-norm λ is
-                    // found by a regularized solve, to its precision, not to round-off).
-                    let ga = a.constraint_jacobian(t, &q, &qdot).unwrap().expect("constrained").to_vec();
-                    let gb = b.constraint_jacobian(t, &q, &qdot).unwrap().expect("constrained").to_vec();
-                    let (c, n) = (lb.len(), q.len());
-                    let force = |g: &[f64], l: &[f64]| -> Vec<f64> {
-                        (0..n).map(|i| (0..c).map(|k| g[k * n + i] * l[k]).sum()).collect()
-                    };
-                    let (fa, fb) = (force(&ga, &la), force(&gb, &lb));
-                    assert!(relative_gap(&fa, &fb) <= ROUND_OFF, "{id}: Gᵀλ {fa:?} vs {fb:?}");
-                    let ggt: Vec<f64> =
-                        (0..c * c).map(|e| (0..n).map(|i| gb[(e / c) * n + i] * gb[(e % c) * n + i]).sum()).collect();
-                    if lagrange_tests::condition_number(c, &ggt) < 1e8 {
-                        independent += 1;
-                        assert!(relative_gap(&la, &lb) <= ROUND_OFF, "{id}: λ {la:?} vs {lb:?}");
-                    }
-                }
-                (None, None) => {}
-                (la, lb) => panic!("{id}: multipliers {la:?} vs {lb:?}"),
-            }
+            independent += usize::from(same_multipliers(&id, a.as_mut(), b.as_mut(), t, &q, &qdot));
         }
     }
     assert!(independent >= 50, "{independent} samples with independent constraints");
