@@ -31,6 +31,7 @@ fn eom_prints_the_golden_equations() {
         "nonminimal_pendulum",
         "rolling_disc",
         "kepler",
+        "spring_pendulum",
         "four_bar.graph",
         "slider_crank.graph",
         "wedge.graph",
@@ -53,6 +54,10 @@ fn eom_prints_the_lectures_forms() {
     let out = text(&lagrange(&["eom", "examples/scenes/cart_pendulum.toml"]).stdout);
     // Dots are combining characters (X + U+0307), never a precomposed letter.
     assert!(out.contains("T = ½ (M + m) X\u{307}² + m r X\u{307} θ\u{307} cos θ + ½ m r² θ\u{307}²"), "{out}");
+    // A spring's energy as a completed square, its force factored.
+    let out = text(&lagrange(&["eom", "examples/scenes/spring_pendulum.toml"]).stdout);
+    assert!(out.contains("V = −m g r cos θ + ½ k (r − L₀)²"), "{out}");
+    assert!(out.contains("m r̈ = m r θ̇² + m g cos θ − k (r − L₀)"), "{out}");
     let out = text(&lagrange(&["eom", "examples/scenes/atwood.toml"]).stdout);
     assert!(out.contains("(m₁ + m₂ + I/a²) x\u{308} = (m₁ − m₂) g"), "{out}");
     let json: serde_json::Value =

@@ -661,7 +661,8 @@ impl Atom {
         })
     }
 
-    fn contains(&self, set: &impl Fn(Symbol) -> bool) -> bool {
+    /// Whether any symbol in `set` occurs in it.
+    pub fn contains(&self, set: &impl Fn(Symbol) -> bool) -> bool {
         match self {
             Atom::Sym(s) => set(*s),
             Atom::Fun(_, p) | Atom::Pow(p, _) => p.contains(set),

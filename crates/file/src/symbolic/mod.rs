@@ -10,6 +10,7 @@
 //! engine's.
 
 pub mod algebra;
+mod present;
 pub mod print;
 
 use crate::coordinates::{CoordinateForm, Located};
@@ -263,6 +264,10 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
         }
     };
     let lagrangian = lagrangian.simplify()?;
+    // Printed forms: the potential's squares completed, their shifts factored in the equations.
+    let moves = |s: Symbol| table.names.moving[s as usize];
+    let mut presenter = present::Presenter::new((0..table.n).map(|i| table.q(i)).collect(), &moves);
+    let potential_printed = potential.as_ref().map(|v| presenter.energy(v)).transpose()?;
     let constraints: Vec<Poly> = form.constraints.iter().map(|(_, c)| table.poly(&c.ast)).collect::<Result<_, _>>()?;
     let velocity: Vec<Poly> =
         form.velocity_constraints.iter().map(|(_, c)| table.poly(&c.ast)).collect::<Result<_, _>>()?;
@@ -293,7 +298,7 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
             row.push(coefficient);
         }
         let right = left.sub(&residual)?.simplify()?;
-        equations.push(table.equation(table.names.names[i][0].clone(), &left, &right));
+        equations.push(table.equation(table.names.names[i][0].clone(), &left, &presenter.force(&right)?));
         mass_rows.push(row);
         right_sides.push(right);
         momenta.push(momentum);
@@ -326,7 +331,7 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
             h = h.add(&Poly::sym(table.rate(i)).mul(p)?)?;
         }
         let left = Formula { unicode: "E".into(), latex: "E".into(), plain: "E".into() };
-        Some(Equation { label: "E".into(), left, right: table.formula(&h.simplify()?) })
+        Some(Equation { label: "E".into(), left, right: table.formula(&presenter.energy(&h.simplify()?)?) })
     } else {
         None
     };
@@ -378,7 +383,7 @@ pub(crate) fn derive(form: &CoordinateForm, symbols: &[String]) -> Result<Equati
             .collect(),
         poses: Vec::new(),
         kinetic: kinetic.as_ref().map(|t| table.formula(t)),
-        potential: potential.as_ref().map(|v| table.formula(v)),
+        potential: potential_printed.as_ref().map(|v| table.formula(v)),
         lagrangian: table.formula(&lagrangian),
         equations,
         constraints: constraint_equations,

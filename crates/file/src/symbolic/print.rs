@@ -407,7 +407,10 @@ fn atom_text(atom: &Atom, names: &Names, style: Style) -> String {
                 Style::Unicode if half => format!("√({inner})"),
                 Style::Latex if half => format!("\\sqrt{{{inner}}}"),
                 _ => match (r.exact(), style) {
+                    (Some((1, 1)), _) => paren(&inner, style),
                     (Some((n, 1)), Style::Unicode) => format!("({inner}){}", superscript(n as i32)),
+                    (Some((n, 1)), Style::Plain) => format!("({inner})^{n}"),
+                    (Some((n, 1)), Style::Latex) => format!("\\left({inner}\\right)^{{{n}}}"),
                     (Some((n, d)), Style::Unicode | Style::Plain) => format!("({inner})^({n}/{d})"),
                     (Some((n, d)), Style::Latex) => format!("\\left({inner}\\right)^{{{n}/{d}}}"),
                     (None, Style::Latex) => format!("\\left({inner}\\right)^{{{}}}", float(r.to_f64())),
