@@ -158,6 +158,20 @@ fn a_joint_graph_exports_in_the_coordinates_form() {
         assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "{file} vs {graph}");
     }
     let _ = std::fs::remove_file(&path);
+    // A graph whose motion starts later: its equations print (they do not depend on the start);
+    // its coordinates form, which starts at t = 0, is refused with the reason.
+    let late = std::fs::read_to_string(workspace().join("examples/scenes/four_bar.graph.toml"))
+        .unwrap()
+        .replace("\nt = 0.0\n", "\nt = 2.5\n")
+        .replace("id = \"four_bar_graph\"", "id = \"late_four_bar\"");
+    let path = std::env::temp_dir().join(format!("lagrange-late-four-bar-{}.toml", std::process::id()));
+    std::fs::write(&path, late).unwrap();
+    let out = lagrange(&["eom", path.to_str().unwrap()]);
+    assert!(out.status.success() && text(&out.stdout).contains("B (x) (λ₁)"), "{}", text(&out.stderr));
+    let out = lagrange(&["scenes", "--export", path.to_str().unwrap(), "--form", "coordinates"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("starts its motion at t = 0"), "{}", text(&out.stderr));
+    let _ = std::fs::remove_file(&path);
     // A scene written in Rust has no graph to export.
     assert_eq!(lagrange(&["scenes", "--export", "kepler", "--form", "coordinates"]).status.code(), Some(2));
 }

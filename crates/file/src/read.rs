@@ -180,7 +180,8 @@ fn graph_equations(
 ) -> Result<crate::symbolic::Equations, FileError> {
     let fail = |why: String| FileError::NoEquations { path: shown.to_string(), why };
     let id = format!("{}_coordinates", scene.id());
-    let text = crate::coordinates_file(scene, params, &id)
+    // The equations do not depend on when the motion starts: the form starts at t = 0.
+    let text = crate::write::coordinates_from(scene, params, &id, |state| lagrange::State { t: 0.0, ..state })
         .map_err(|e| fail(e.to_string()))?
         .ok_or_else(|| fail("it is not a joint graph".into()))?;
     let Parsed::Coordinates(form) =

@@ -1,8 +1,8 @@
 //! Writing a scene as a file: any scene that is a joint graph, in the joint-graph form (a
 //! built-in scene to start one's own from).
 
-use lagrange::Error;
 use lagrange::graph::JointGraph;
+use lagrange::{Error, State};
 use lagrange_scenes::{Params, Scene};
 use serde::Serialize;
 
@@ -66,8 +66,18 @@ pub fn graph_file(scene: &dyn Scene, params: &Params, id: &str) -> Result<Option
 /// [`Error::InvalidParameter`] for parameters that are not the scene's or an initial time other
 /// than 0 (the coordinates form starts at `t = 0`); the graph's own errors.
 pub fn coordinates_file(scene: &dyn Scene, params: &Params, id: &str) -> Result<Option<String>, Error> {
+    coordinates_from(scene, params, id, |state| state)
+}
+
+/// [`coordinates_file`] from the initial state `start` makes of the scene's.
+pub(crate) fn coordinates_from(
+    scene: &dyn Scene,
+    params: &Params,
+    id: &str,
+    start: impl FnOnce(State) -> State,
+) -> Result<Option<String>, Error> {
     let Some(graph) = scene.joint_graph(params)? else { return Ok(None) };
-    let state = scene.default_state(params)?;
+    let state = start(scene.default_state(params)?);
     let quoted = |s: &str| toml::Value::String(s.to_string()).to_string();
     let mut header = format!(
         "# `{}` in the coordinates form (docs/files.md), written by `lagrange scenes --export {} --form coordinates`:\n\
