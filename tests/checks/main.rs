@@ -10,6 +10,7 @@ mod health;
 mod identities;
 mod integrators;
 mod layering;
+mod modes;
 mod properties;
 mod raw_path;
 mod reactions;

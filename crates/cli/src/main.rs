@@ -64,6 +64,9 @@ enum Command {
     /// The equations of a scene file: T, V, L, Lagrange's equations, constraints, constants of
     /// the motion, derived symbolically and printed as a textbook prints them.
     Eom(commands::eom::Args),
+    /// The equilibrium nearest a configuration and the normal modes about it: natural
+    /// frequencies, mode shapes, zero modes, unstable directions.
+    Modes(commands::modes::Args),
 }
 
 /// The command line, with every numeric option accepting a value that starts with `-`
@@ -117,6 +120,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => commands::compare::run(&args),
         Command::Report(args) => commands::report::run(&args),
         Command::Eom(args) => commands::eom::run(&args),
+        Command::Modes(args) => commands::modes::run(&args),
     };
     match result.and_then(|()| output::flush()) {
         Ok(()) => ExitCode::SUCCESS,

@@ -229,3 +229,23 @@ fn a_bad_argument_exits_2_and_a_failure_at_run_time_exits_1() {
     assert_eq!(status, Some(1), "{err}");
     assert!(err.contains(&format!("cannot write {}", missing.display())), "{err}");
 }
+
+/// `lagrange modes`: the cart pendulum's frequency and zero mode, a file's modes, JSON, and a
+/// mechanism that cannot rest refused with exit 1.
+#[test]
+fn modes_prints_frequencies_and_refuses_what_cannot_rest() {
+    let out = lagrange(&["modes", "cart_pendulum"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let printed = stdout(&out);
+    assert!(printed.contains("zero mode: a free motion along X, a cyclic coordinate"), "{printed}");
+    // ω² = g (M + m)/(M r) = 9.81 · 3/2 at the defaults.
+    let json: serde_json::Value =
+        serde_json::from_slice(&lagrange(&["modes", "cart_pendulum", "--json"]).stdout).unwrap();
+    let omega = json["modes"][1]["omega"].as_f64().unwrap();
+    assert!((omega - (9.81_f64 * 3.0 / 2.0).sqrt()).abs() < 1e-12, "{json}");
+    let out = lagrange(&["modes", concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/scenes/spring_pendulum.toml")]);
+    assert!(stdout(&out).contains("ω = 10 rad/s"), "{}", stdout(&out));
+    let out = lagrange(&["modes", "kepler"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("no equilibrium near q = [1, 0]"), "{}", stderr(&out));
+}

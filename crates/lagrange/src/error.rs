@@ -324,6 +324,16 @@ pub enum Error {
         /// The id.
         id: String,
     },
+    /// No configuration at rest near the one given ([`normal_modes`](crate::modes::normal_modes)):
+    /// a mechanism that cannot rest there (Kepler's problem, a block sliding down a wedge) or
+    /// whose equations move its rest with time (a driven pendulum).
+    #[error("no equilibrium near q = {}: {why}", compact_all(.q))]
+    NoEquilibrium {
+        /// The configuration the search started from.
+        q: Vec<f64>,
+        /// Why.
+        why: String,
+    },
     /// A mechanism declared a property that its functions contradict.
     #[error("inconsistent mechanism: {what}")]
     Inconsistent {

@@ -270,6 +270,7 @@ mod workspace;
 mod ode;
 
 pub mod integrate;
+pub mod modes;
 
 mod system;
 

@@ -6,6 +6,7 @@ pub mod compare;
 pub mod eom;
 pub mod files;
 pub mod long_work;
+pub mod modes;
 pub mod report;
 pub mod scenes;
 pub mod simulate;
