@@ -198,13 +198,14 @@ fn assert_documented(command: &str, args: &[&str]) -> Value {
 }
 
 #[test]
-fn the_json_of_scenes_accel_and_compare_is_documented_field_by_field() {
+fn the_json_of_scenes_accel_compare_and_modes_is_documented_field_by_field() {
     assert_documented("scenes", &["scenes", "--json"]);
     assert_documented("accel", &["accel", "wedge", "--q", "0,0", "--qdot", "0,0", "--json"]);
     // One engine that builds the scene and one that does not: every row field appears.
     let json = assert_documented("compare", &["compare", "atwood", "--t-end", "0.5", "--json"]);
     let rows = json["rows"].as_array().expect("rows");
     assert!(rows.iter().any(|r| r["unbuildable"].is_string()) && rows.iter().any(|r| r["max_error"].is_f64()));
+    assert_documented("modes", &["modes", "cart_pendulum", "--json"]);
 }
 
 #[test]
