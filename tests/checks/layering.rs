@@ -18,6 +18,8 @@ const LAYERS: &[&[&str]] = &[
     &["ode"],
     &["integrate"],
     &["system"],
+    // Normal modes: linearizes any system through its facade.
+    &["modes"],
     // What most programs import: re-exports from every layer below.
     &["prelude"],
 ];
