@@ -195,20 +195,20 @@ pub fn normal_modes(system: &mut dyn System, t: f64, q: &[f64]) -> Result<Modes,
     };
     let mut x = project(system, q)?;
     let scale = 1.0 + x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let mut converged = false;
     let mut residual = f64::INFINITY;
+    let mut equilibrium = None;
     for _ in 0..ITERATIONS {
         let r = at_rest(system, t, &x)?;
         let metric = r.tangent.transpose() * &r.mass;
         let force = &metric * &r.accelerations;
+        let reduced = &metric * &r.jacobian * &r.tangent;
         // The size q̈ is measured against: how much it changes over the configuration's scale.
-        let reference = (&metric * &r.jacobian * &r.tangent).amax() * scale + f64::MIN_POSITIVE;
-        residual = force.amax() / reference;
+        residual = force.amax() / (reduced.amax() * scale + f64::MIN_POSITIVE);
         if residual <= 16.0 * f64::EPSILON {
-            converged = true;
+            equilibrium = Some(r);
             break;
         }
-        let step = &r.tangent * least_squares(&(&metric * &r.jacobian * &r.tangent), &(-force));
+        let step = &r.tangent * least_squares(&reduced, &(-force));
         if step.amax() == 0.0 {
             break;
         }
@@ -218,22 +218,21 @@ pub fn normal_modes(system: &mut dyn System, t: f64, q: &[f64]) -> Result<Modes,
             return Err(no_equilibrium(q, "Newton's method runs away from it (q̈ does not vanish nearby)".into()));
         }
     }
-    if !converged {
+    let Some(r) = equilibrium else {
         return Err(no_equilibrium(
             q,
             format!(
                 "q̈ at rest does not vanish nearby (relative residual {residual:.1e} after Newton's method; a mechanism that cannot rest, or a force that does not depend on q)"
             ),
         ));
-    }
+    };
     // An equilibrium holds at every time: a drive or a time-varying force moves it.
+    let metric = r.tangent.transpose() * &r.mass;
+    let reference = (&metric * &r.jacobian * &r.tangent).amax() * scale;
+    let rest = vec![0.0; n];
     for dt in [0.37, 1.3, 2.9] {
-        let rest = vec![0.0; n];
-        let later = system.accelerations(t + dt, &x, &rest)?.to_vec();
-        let r = at_rest(system, t, &x)?;
-        let drift = (r.tangent.transpose() * &r.mass * DVector::from_vec(later)).amax();
-        let reference = (r.tangent.transpose() * &r.mass * &r.jacobian * &r.tangent).amax() * scale;
-        if drift > 1e-8 * reference {
+        let later = DVector::from_column_slice(system.accelerations(t + dt, &x, &rest)?);
+        if (&metric * later).amax() > 1e-8 * reference {
             return Err(no_equilibrium(
                 q,
                 format!(
@@ -244,7 +243,6 @@ pub fn normal_modes(system: &mut dyn System, t: f64, q: &[f64]) -> Result<Modes,
         }
     }
 
-    let r = at_rest(system, t, &x)?;
     let stiffness = -(&r.mass * &r.jacobian);
     let damped = r.velocity_jacobian.amax() > 1e-12 * (r.jacobian.amax() + 1.0);
     let mass_r = r.tangent.transpose() * &r.mass * &r.tangent;
