@@ -405,12 +405,11 @@ impl Unfolded<'_> {
                 vec![sub(a0, c0), sub(a1, c1), sub(sub(child.angle, parent.angle), Num(angle))]
             }
         };
-        if let Some(drive) = spec.drive {
+        if let Some(drive) = self.mechanism.drive(j) {
             rows.push(sub(self.value(j), profile(&drive)));
-        } else if let Some(coupling) = self.graph().couplings.iter().find(|k| k.joint == spec.name) {
-            let source =
-                self.graph().joints.iter().position(|k| k.name == coupling.source).expect("a checked coupling");
-            rows.push(sub(sub(self.value(j), mul(Num(coupling.ratio), self.tree_value(source))), Num(coupling.offset)));
+        } else if let Some((source, ratio)) = self.mechanism.coupling(j) {
+            let coupled = add(mul(Num(ratio), self.tree_value(source)), Num(self.offset(j)));
+            rows.push(sub(self.value(j), coupled));
         }
         rows
     }
