@@ -117,6 +117,7 @@ impl Scene for BoxedScene {
         conserved_quantities(params: &lagrange_scenes::Params) -> Result<Vec<lagrange_scenes::Conserved>, Error>;
         joint_graph(params: &lagrange_scenes::Params) -> Result<Option<lagrange::graph::JointGraph>, Error>;
         rapier_deviations(multibody: bool) -> &'static [lagrange_scenes::RapierDeviation];
+        body_poses(params: &lagrange_scenes::Params, states: &[(f64, &[f64])]) -> Result<Option<Vec<Vec<[f64; 3]>>>, Error>;
     }
 }
 

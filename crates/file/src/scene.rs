@@ -203,6 +203,21 @@ impl Scene for FileScene {
     fn rapier_deviations(&self, _multibody: bool) -> &'static [RapierDeviation] {
         &[]
     }
+
+    fn body_poses(&self, params: &Params, states: &[(f64, &[f64])]) -> Result<Option<Vec<Vec<[f64; 3]>>>, Error> {
+        let Compiled::Bodies(mechanism, _) = self.compiled(params)? else { return Ok(None) };
+        let bodies = lagrange::Mechanism::description(&mechanism).bodies.len();
+        let mut poses = vec![lagrange::Pose::<f64>::default(); bodies];
+        states
+            .iter()
+            .map(|&(t, q)| {
+                check(self.coordinates.len(), q.len(), q.len())?;
+                lagrange::Mechanism::poses(&mechanism, t, q, &mut poses);
+                Ok(poses.iter().map(|p| [p.x, p.y, p.angle]).collect())
+            })
+            .collect::<Result<Vec<_>, Error>>()
+            .map(Some)
+    }
 }
 
 fn check(n: usize, q: usize, qdot: usize) -> Result<(), Error> {

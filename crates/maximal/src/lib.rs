@@ -23,8 +23,10 @@ mod engine;
 pub mod maps;
 pub mod rapier;
 mod scenes;
+pub mod sketch;
 
 pub use engine::{BodyState, BuildError, Built, Engine, MaximalSimulation, Settings};
+pub use sketch::{Sketch, sketch};
 
 use lagrange::State;
 use lagrange::graph::{GraphMechanism, JointGraph};

@@ -100,6 +100,18 @@ pub trait Scene: Send + Sync {
     /// The parameters a rapier build with multibody (`multibody`) or impulse joints changes
     /// where they are 0 ([`SceneType::rapier_deviations`]).
     fn rapier_deviations(&self, multibody: bool) -> &'static [RapierDeviation];
+
+    /// Where the bodies are at each `(t, q)` of `states` — `(x, y, φ)` per body, in the order
+    /// of the system's bodies — for a scene that no maximal description reads back
+    /// (`lagrange_maximal::maps::ReadBack` places the bodies of every built-in scene); `None`
+    /// by default and where the coordinates place no bodies (a raw Lagrangian).
+    ///
+    /// # Errors
+    /// Invalid parameters, or a state of the wrong size.
+    fn body_poses(&self, params: &Params, states: &[(f64, &[f64])]) -> Result<Option<Vec<Vec<[f64; 3]>>>, Error> {
+        let _ = (params, states);
+        Ok(None)
+    }
 }
 
 /// A scene as one type: its identity, its parameter table and constructor from parameters, its

@@ -4,6 +4,7 @@ use super::MaximalScene;
 use crate::cartesian::constraints::{Constraint, Frame, VelocityConstraint};
 use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
+use crate::sketch::{Anchor, Figure, Sketch, Slide};
 use lagrange::{Scalar, State};
 use lagrange_scenes::ChaplyginSleigh;
 
@@ -42,4 +43,12 @@ impl MaximalScene for ChaplyginSleigh {
 
     /// Not reached: [`rapier_unbuildable`](MaximalScene::rapier_unbuildable) refuses every mode.
     fn rapier(&self, _draft: &mut Draft, _initial: &State) {}
+
+    /// The sleigh as a bar from its centre of mass to the knife edge, and the blade along its
+    /// axis there.
+    fn sketch(&self) -> Sketch {
+        let blade = Slide { at: Anchor::Body { body: 0, at: [self.offset, 0.0] }, axis: [1.0, 0.0] };
+        let body = Figure::Link { points: vec![[0.0, 0.0], [self.offset, 0.0]] };
+        Sketch { bodies: vec![body], slides: vec![blade], ..Sketch::of_bodies(&[]) }
+    }
 }

@@ -6,6 +6,7 @@ use crate::cartesian::constraints::{Constraint, no_turning};
 use crate::cartesian::system::AppliedForce;
 use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
+use crate::sketch::Sketch;
 use lagrange::{Scalar, State};
 use lagrange_scenes::ChargedParticle;
 
@@ -38,5 +39,10 @@ impl MaximalScene for ChargedParticle {
             draft.reduced(0);
         }
         draft.forces.lorentz = self.charge * self.field;
+    }
+
+    /// The particle alone (the field is uniform, out of the plane).
+    fn sketch(&self) -> Sketch {
+        Sketch::of_bodies(&[lagrange::Body::point("particle", 1.0)])
     }
 }

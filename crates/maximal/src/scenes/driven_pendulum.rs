@@ -4,6 +4,7 @@ use super::{MaximalScene, angle_from_down};
 use crate::cartesian::constraints::{Anchor, Constraint, Joint, no_turning};
 use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::{Draft, NO_RHEONOMIC_MULTIBODY};
+use crate::sketch::{self, Link, LinkKind, Sketch, Slide};
 use lagrange::{Scalar, State};
 use lagrange_scenes::DrivenPendulum;
 
@@ -32,5 +33,19 @@ impl MaximalScene for DrivenPendulum {
         let support = draft.support(self.amplitude, self.drive_frequency, initial.t);
         let bob = draft.reduced(0);
         draft.rope(support, bob, self.length);
+    }
+
+    /// The bob on a rod from the support, which slides along a horizontal rail.
+    fn sketch(&self) -> Sketch {
+        let support =
+            sketch::Anchor::Harmonic { centre: [0.0, 0.0], amplitude: self.amplitude, frequency: self.drive_frequency };
+        let rod = Link { kind: LinkKind::Rod, a: support.clone(), b: sketch::Anchor::Body { body: 0, at: [0.0, 0.0] } };
+        let rail = Slide { at: sketch::Anchor::World { at: [0.0, 0.0] }, axis: [1.0, 0.0] };
+        Sketch {
+            links: vec![rod],
+            pins: vec![support],
+            slides: vec![rail],
+            ..Sketch::of_bodies(&[lagrange::Body::point("bob", 1.0)])
+        }
     }
 }

@@ -3,6 +3,7 @@
 use super::{MaximalScene, polar};
 use crate::cartesian::constraints::{Constraint, no_turning};
 use crate::rapier::scenes::Draft;
+use crate::sketch::Sketch;
 use lagrange::{Scalar, State};
 use lagrange_scenes::Kepler;
 
@@ -21,5 +22,10 @@ impl MaximalScene for Kepler {
     fn rapier(&self, draft: &mut Draft, initial: &State) {
         draft.polar(initial, [1.0, 0.0]);
         draft.forces.potential = true;
+    }
+
+    /// The particle and the centre of attraction.
+    fn sketch(&self) -> Sketch {
+        Sketch { fixed: vec![[0.0, 0.0]], ..Sketch::of_bodies(&[lagrange::Body::point("particle", 1.0)]) }
     }
 }

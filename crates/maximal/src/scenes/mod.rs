@@ -78,6 +78,9 @@ pub(crate) trait MaximalScene: SceneType {
         None
     }
 
+    /// How the scene is drawn (docs/animation.md): its bodies' figures and what joins them.
+    fn sketch(&self) -> crate::sketch::Sketch;
+
     /// Write the rapier construction into `draft` (its bodies, joints, couplings and per-step
     /// forces), starting from the reduced `initial` state.
     fn rapier(&self, draft: &mut Draft, initial: &State);

@@ -4,6 +4,7 @@ use super::MaximalScene;
 use crate::cartesian::constraints::{Anchor, Constraint, Joint, no_turning};
 use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
+use crate::sketch::{self, Link, LinkKind, Sketch};
 use lagrange::{Scalar, State};
 use lagrange_scenes::NonminimalPendulum;
 
@@ -39,6 +40,22 @@ impl MaximalScene for NonminimalPendulum {
                 let (ground, bob) = (draft.ground(), draft.reduced(0));
                 draft.revolute(ground, bob, [0.0, 0.0], [-x, -y]);
             }
+        }
+    }
+
+    /// The bob on a rod from the origin.
+    fn sketch(&self) -> Sketch {
+        let rod = Link {
+            kind: LinkKind::Rod,
+            a: sketch::Anchor::World { at: [0.0, 0.0] },
+            b: sketch::Anchor::Body { body: 0, at: [0.0, 0.0] },
+        };
+        let pin = sketch::Anchor::World { at: [0.0, 0.0] };
+        Sketch {
+            links: vec![rod],
+            pins: vec![pin],
+            fixed: vec![[0.0, 0.0]],
+            ..Sketch::of_bodies(&[lagrange::Body::point("bob", 1.0)])
         }
     }
 }

@@ -4,6 +4,7 @@ use super::MaximalScene;
 use crate::cartesian::constraints::{Constraint, Frame, VelocityConstraint, X, Y, linear};
 use crate::rapier::plan::Shape;
 use crate::rapier::scenes::Draft;
+use crate::sketch::{Anchor, Figure, Sketch, Slide};
 use lagrange::{Scalar, State};
 use lagrange_scenes::RollingDisc;
 
@@ -61,5 +62,12 @@ impl MaximalScene for RollingDisc {
         draft.collider(incline, Shape::Cuboid { half_extents: [INCLINE_HALF_LENGTH, half_thickness] }, friction);
         let disc = draft.reduced(0);
         draft.collider(disc, Shape::Ball { radius }, friction);
+    }
+
+    /// The disc on the incline (its centre runs along the line through the origin at angle α).
+    fn sketch(&self) -> Sketch {
+        let (sin, cos) = self.incline.sin_cos();
+        let incline = Slide { at: Anchor::World { at: [self.radius * sin, -self.radius * cos] }, axis: [cos, sin] };
+        Sketch { bodies: vec![Figure::Disc { radius: self.radius }], slides: vec![incline], ..Sketch::of_bodies(&[]) }
     }
 }
