@@ -2,6 +2,7 @@
 //! finite differences and its own second (raw-Lagrangian) path. One module per kind of check.
 
 mod analytic;
+mod animation;
 mod bad_input;
 mod constant_mass;
 mod constraints;

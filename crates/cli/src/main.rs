@@ -67,6 +67,9 @@ enum Command {
     /// The equilibrium nearest a configuration and the normal modes about it: natural
     /// frequencies, mode shapes, zero modes, unstable directions.
     Modes(commands::modes::Args),
+    /// The motion as one self-contained HTML page: the reduced solution and each maximal engine
+    /// drawn over one another, their errors against time beside it; or a normal mode (--mode).
+    Animate(commands::animate::Args),
 }
 
 /// The command line, with every numeric option accepting a value that starts with `-`
@@ -121,6 +124,7 @@ fn main() -> ExitCode {
         Command::Report(args) => commands::report::run(&args),
         Command::Eom(args) => commands::eom::run(&args),
         Command::Modes(args) => commands::modes::run(&args),
+        Command::Animate(args) => commands::animate::run(&args),
     };
     match result.and_then(|()| output::flush()) {
         Ok(()) => ExitCode::SUCCESS,

@@ -249,3 +249,32 @@ fn modes_prints_frequencies_and_refuses_what_cannot_rest() {
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr(&out).contains("no equilibrium near q = [1, 0]"), "{}", stderr(&out));
 }
+
+#[test]
+fn animate_writes_one_self_contained_page() {
+    let dir = std::env::temp_dir().join(format!("lagrange-cli-animate-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let page = dir.join("atwood.html");
+    let output = lagrange(&["animate", "atwood", "--t-end", "1", "--out", page.to_str().expect("a UTF-8 path")]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let err = stderr(&output);
+    // What was drawn, and why the impulse builds have no frames.
+    assert!(err.contains("301 frames over 1 s; reduced, cartesian, rapier-multibody, rapier-multibody-f32"), "{err}");
+    assert!(err.contains("rapier-impulse: no frames: joint `rope to m2` is coupled"), "{err}");
+    let html = std::fs::read_to_string(&page).expect("the page is written");
+    assert!(html.starts_with("<!DOCTYPE html>") && html.contains(r#"<canvas id="view""#));
+    assert!(!html.contains("http://") && !html.contains("https://") && !html.contains(" src="), "fetches nothing");
+    std::fs::remove_dir_all(&dir).expect("cleaned up");
+}
+
+#[test]
+fn animate_refuses_what_it_cannot_draw() {
+    assert_one_line_error(&["animate", "four_bar", "--engine", "bullet"], "unknown engine `bullet`");
+    assert_one_line_error(&["animate", "four_bar", "--t-end", "-1"], "--t-end must be positive");
+    // The cart's free translation is mode 0 (ω = 0); the upright four-bar's one mode is unstable;
+    // Kepler has no equilibrium.
+    assert_one_line_error(&["animate", "cart_pendulum", "--mode", "0"], "mode 0: is a zero mode");
+    assert_one_line_error(&["animate", "four_bar", "--mode", "0"], "is unstable");
+    assert_one_line_error(&["animate", "kepler", "--mode", "0"], "no equilibrium near");
+    assert_one_line_error(&["animate", "cart_pendulum", "--mode", "7"], "has 2 modes");
+}

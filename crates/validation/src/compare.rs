@@ -55,6 +55,9 @@ pub struct Comparison {
     pub steps: usize,
     /// Wall time per engine step (s).
     pub seconds_per_step: f64,
+    /// The engine's body poses `(x, y, φ)` at each sample, bodies in the reduced model's order
+    /// (the frames of an animation, [`crate::animation`]).
+    pub poses: Vec<Vec<[f64; 3]>>,
 }
 
 /// Run `scene` from `initial` to `t_end` in `engine` and in the reduced solver, sampling every
@@ -92,6 +95,7 @@ pub fn compare(
         reduced.cyclic_coordinates().iter().enumerate().filter(|(_, c)| **c).map(|(j, _)| j).collect();
     let p0 = reduced.momenta(initial.t, &initial.q, &initial.qdot)?.to_vec();
     let (mut momentum_drift, mut force_error) = (0.0, None::<f64>);
+    let mut poses = Vec::with_capacity(times.len());
     let read_back = built.read_back.clone();
     let masses: Vec<f64> = read_back.bodies().iter().map(|b| b.mass).collect();
     let g = read_back.gravity();
@@ -103,6 +107,7 @@ pub fn compare(
     let error = |k: usize, q: &[f64]| max_abs_diff(q, exact.as_ref().map_or_else(|| reference.q(k), |e| &e[k]));
     let pass = measure::track(&mut built, reduced.as_mut(), initial, &times, error, |sample| {
         let Sample { t, q, qdot, bodies, simulation, reduced } = sample;
+        poses.push(bodies.iter().map(|b| b.pose).collect());
         if !cyclic.is_empty() {
             let p = reduced.momenta(t, q, qdot)?;
             for &j in &cyclic {
@@ -143,6 +148,7 @@ pub fn compare(
         force_error,
         steps,
         seconds_per_step: if steps > 0 { pass.advance_time / steps as f64 } else { 0.0 },
+        poses,
     })
 }
 

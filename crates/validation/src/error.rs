@@ -63,6 +63,21 @@ pub enum Error {
     /// `empty run`, `unbound orbit`): a bug in a stability case's setup.
     #[error("{0}")]
     Missing(&'static str),
+    /// A scene whose coordinates place no bodies (a raw Lagrangian without a maximal
+    /// description) cannot be drawn.
+    #[error("{scene} cannot be drawn: its coordinates place no bodies (a raw Lagrangian)")]
+    Undrawable {
+        /// The scene id.
+        scene: String,
+    },
+    /// A normal mode that cannot be played: no such mode, or one that does not oscillate.
+    #[error("mode {index}: {why}")]
+    Mode {
+        /// The mode's index (0: the lowest `ω²`).
+        index: usize,
+        /// Why, in one sentence.
+        why: String,
+    },
     /// A stability case could not be set up.
     #[error("stability case {case}: {source}")]
     Case {

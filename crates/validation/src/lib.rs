@@ -12,6 +12,7 @@
 //! writes the files itself.
 
 pub mod andrews;
+pub mod animation;
 pub mod assemble;
 pub mod catalogue;
 pub mod compare;

@@ -67,17 +67,17 @@ pub struct Args {
 ///
 /// # Errors
 /// [`CliError::TooCostly`].
-fn estimates(
-    args: &Args,
+pub(super) fn estimates(
+    (force, t_end): (bool, f64),
     scene: &'static dyn lagrange_scenes::Scene,
     (params, initial): (&lagrange_scenes::Params, &lagrange::State),
     settings: &Settings,
     engines: &[Engine],
 ) -> Result<Vec<Option<long_work::Estimate>>, CliError> {
-    let estimates: Vec<Option<long_work::Estimate>> = if args.force || args.max_seconds.is_some() {
+    let estimates: Vec<Option<long_work::Estimate>> = if force {
         vec![None; engines.len()]
     } else {
-        engines.iter().map(|&engine| compare_wall_time(engine, scene, params, initial, settings, args.t_end)).collect()
+        engines.iter().map(|&engine| compare_wall_time(engine, scene, params, initial, settings, t_end)).collect()
     };
     let total = long_work::Estimate {
         seconds: estimates.iter().flatten().map(|e| e.seconds).sum(),
@@ -87,13 +87,13 @@ fn estimates(
         let what = format!(
             "comparing {} over {} s in {} engine{} (rapier dt = {:e}, {} substeps)",
             scene.id(),
-            args.t_end,
+            t_end,
             engines.len(),
             if engines.len() == 1 { "" } else { "s" },
-            args.dt,
-            args.substeps
+            settings.dt,
+            settings.substeps
         );
-        long_work::check_time(Some(total), args.force, &what, "--t-end, --dt or --substeps")?;
+        long_work::check_time(Some(total), force, &what, "--t-end, --dt or --substeps")?;
     }
     Ok(estimates)
 }
@@ -121,7 +121,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let limit = long_work::max_seconds(args.max_seconds, args.force)?;
     let max_seconds = limit.as_ref().map(|(seconds, _)| *seconds);
     let started = std::time::Instant::now();
-    let estimates = estimates(args, scene, (&params, &initial), &settings, &engines)?;
+    let estimates = estimates(
+        (args.force || args.max_seconds.is_some(), args.t_end),
+        scene,
+        (&params, &initial),
+        &settings,
+        &engines,
+    )?;
     // Progress in estimated milliseconds (one unit per engine without estimates).
     let units = |estimate: Option<long_work::Estimate>| estimate.map_or(1, |e| (e.seconds * 1e3).ceil() as u64 + 1);
     let bar = long_work::progress_bar(estimates.iter().map(|&e| units(e)).sum());

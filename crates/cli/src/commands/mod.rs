@@ -2,6 +2,7 @@
 //! all) and [`long_work`] (cost estimates, refusals of absurd requests, progress bars).
 
 pub mod accel;
+pub mod animate;
 pub mod compare;
 pub mod eom;
 pub mod files;
