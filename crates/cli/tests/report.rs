@@ -160,6 +160,13 @@ fn check_scene(scene: &Value, dir: &Path) {
         let svg = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         assert!(svg.contains("<svg") && svg.contains(id), "{}", file.display());
     }
+    // The animation page, and the index page linking it.
+    let page = dir.join(scene["plots"]["animation"].as_str().expect("an animation page"));
+    let html = std::fs::read_to_string(&page).unwrap_or_else(|e| panic!("{}: {e}", page.display()));
+    assert!(html.contains(r#"<canvas id="view""#) && html.contains(id), "{}", page.display());
+    let index = std::fs::read_to_string(dir.join("index.html")).expect("index.html written");
+    let link = format!(r#"<a href="{id}.html">play</a>"#);
+    assert!(index.contains(&link), "index.html does not link {id}'s animation");
 }
 
 #[test]

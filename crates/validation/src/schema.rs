@@ -223,4 +223,6 @@ pub struct Plots {
     pub work_precision: String,
     /// Reference trajectory and errors over time.
     pub error: String,
+    /// The scene's animation page (`<scene>.html`), where it could be made.
+    pub animation: Option<String>,
 }

@@ -66,7 +66,12 @@ pub fn render(report: &Report, out: &Path, files: usize) -> String {
         report.total_wall_time_s
     );
     super::stability::terminal(&mut text, &report.stability);
-    let _ = writeln!(text, "wrote {} (report.json, report.md, {files} SVG plots)", out.display());
+    let animations = report.scenes.iter().filter(|s| s.plots.animation.is_some()).count();
+    let _ = writeln!(
+        text,
+        "wrote {} (report.json, report.md, {files} SVG plots; index.html and {animations} animations to open in a browser)",
+        out.display()
+    );
     text
 }
 

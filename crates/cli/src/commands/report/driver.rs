@@ -4,8 +4,11 @@
 use super::options::{Args, Options};
 use crate::error::CliError;
 use crate::output::{out, outln};
+use lagrange_maximal::{Engine, Settings};
+use lagrange_validation::animation::animate;
 use lagrange_validation::assemble::{self, scene_report};
-use lagrange_validation::render::{markdown, plots, terminal};
+use lagrange_validation::render::animation;
+use lagrange_validation::render::{index, markdown, plots, terminal};
 use lagrange_validation::runs::{ScenePlan, SceneRuns};
 use lagrange_validation::schema::Plots;
 
@@ -24,6 +27,30 @@ fn write(path: &Path, contents: &str) -> Result<(), CliError> {
 /// terminal).
 fn progress_bar(total: usize) -> ProgressBar {
     long_work::progress_bar(total as u64)
+}
+
+/// The scene's animation (`<scene>.html`): the reduced solution and every maximal engine over
+/// the scene's span, rapier's step scaled with the span as the sweeps' are (`scale`). An
+/// animation that cannot be made (an engine failing along the run) is left out with the reason
+/// on standard error: the report's own runs record that failure.
+///
+/// # Errors
+/// The page cannot be written.
+fn animation(scene_plan: &ScenePlan, scale: f64, out: &Path) -> Result<Option<String>, CliError> {
+    let settings = Settings { dt: Settings::default().dt * scale, ..Settings::default() };
+    let (scene, initial) = (scene_plan.scene, &scene_plan.initial);
+    let t_end = initial.t + scene_plan.plan.horizon;
+    match animate(scene, &scene_plan.params, initial, &Engine::ALL, &settings, t_end) {
+        Ok(animation) => {
+            let name = format!("{}.html", scene.id());
+            files::write(&out.join(&name), animation::page(&animation).as_bytes())?;
+            Ok(Some(name))
+        }
+        Err(error) => {
+            crate::output::warn(&format!("{}: no animation: {error}", scene.id()));
+            Ok(None)
+        }
+    }
 }
 
 /// Run the report.
@@ -54,8 +81,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             bar.inc(1);
         })?;
         let id = scene_plan.scene.id();
-        let names = Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg") };
         let own = &scene_plan.plan;
+        let animation = animation(scene_plan, own.horizon / plan.horizon, &options.out)?;
+        let names =
+            Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg"), animation };
         let plot = |name: &String, svg: Result<String, plots::PlotError>| {
             let path = options.out.join(name);
             let svg = svg.map_err(|source| CliError::Plot { path: path.clone(), source })?;
@@ -88,6 +117,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let json = serde_json::to_string_pretty(&report)?;
     write(&options.out.join("report.json"), &json)?;
     write(&options.out.join("report.md"), &markdown::render(&report))?;
+    write(&options.out.join("index.html"), &index::page(&report))?;
     if options.json {
         outln!("{json}")?;
     } else {
