@@ -278,6 +278,9 @@ pub enum CliError {
         /// Why (the deadline, or the projected time).
         why: String,
     },
+    /// The operating system refused the report's worker threads.
+    #[error("cannot start the report's threads: {0}")]
+    Threads(String),
     /// The validation library failed: a reference, a sweep or a stability case could not run.
     #[error(transparent)]
     Validation(#[from] lagrange_validation::Error),
@@ -384,7 +387,8 @@ impl CliError {
             | CliError::OutputDirectory { .. }
             | CliError::Stdout(_)
             | CliError::Json(_)
-            | CliError::Plot { .. } => FAILURE,
+            | CliError::Plot { .. }
+            | CliError::Threads(_) => FAILURE,
         }
     }
 }

@@ -415,7 +415,41 @@ fn bad_report_arguments_are_one_line_errors() {
     assert_one_line_error(&["report", "--quick", "--t-end", "0.07", "--out", out], "--t-end");
     assert_one_line_error(&["report", "--quick", "--t-end", "-1", "--out", out], "--t-end");
     assert_one_line_error(&["report", "--frobnicate"], "--frobnicate");
+    assert_one_line_error(&["report", "--quick", "--jobs", "0", "--out", out], "--jobs must be positive");
     // Nothing ran, so nothing was written.
     assert!(!Path::new(out).join("report.json").exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every run's errors, steps and status, in order (the fields that do not depend on timing).
+fn measurements(report: &Value) -> Vec<String> {
+    let mut out = Vec::new();
+    for scene in report["scenes"].as_array().expect("scenes") {
+        for method in scene["methods"].as_array().expect("methods") {
+            for run in method["runs"].as_array().expect("runs") {
+                let fields = ["status", "max_error", "final_error", "energy_error", "constraint_violation", "steps"];
+                out.push(format!("{} {} {:?}", scene["scene"], method["method"], fields.map(|f| run[f].to_string())));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_number_of_jobs_changes_no_result() {
+    // Two scenes on one thread and on two: every error, step count and status to the bit.
+    let run = |jobs: &str| {
+        let dir = temp_dir(&format!("jobs-{jobs}"));
+        let out = dir.to_str().unwrap().to_string();
+        let args =
+            ["report", "--quick", "--scene", "double_pendulum", "--scene", "four_bar", "--jobs", jobs, "--out", &out];
+        let output = lagrange(&args);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let report: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        measurements(&report)
+    };
+    let (serial, parallel) = (run("1"), run("2"));
+    assert!(serial.len() > 40, "{} runs", serial.len());
+    assert_eq!(serial, parallel);
 }

@@ -7,10 +7,14 @@ use crate::output::{out, outln};
 use lagrange_maximal::{Engine, Settings};
 use lagrange_validation::animation::animate;
 use lagrange_validation::assemble::{self, scene_report};
+use lagrange_validation::plan::Plan;
 use lagrange_validation::render::animation;
 use lagrange_validation::render::{index, markdown, plots, terminal};
 use lagrange_validation::runs::{ScenePlan, SceneRuns};
-use lagrange_validation::schema::Plots;
+use lagrange_validation::schema::{Plots, SceneReport};
+use rayon::prelude::*;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use crate::commands::{files, long_work};
 use indicatif::ProgressBar;
@@ -53,6 +57,31 @@ fn animation(scene_plan: &ScenePlan, scale: f64, out: &Path) -> Result<Option<St
     }
 }
 
+/// One scene: its runs, plots and animation, and its part of the report.
+///
+/// # Errors
+/// A failing reference, or a file that cannot be written.
+fn run_scene(scene_plan: &ScenePlan, plan: &Plan, out: &Path, bar: &ProgressBar) -> Result<SceneReport, CliError> {
+    let scene_start = Instant::now();
+    let runs = SceneRuns::execute(scene_plan, |label| {
+        bar.set_message(label.to_string());
+        bar.inc(1);
+    })?;
+    let id = scene_plan.scene.id();
+    let own = &scene_plan.plan;
+    let animation = animation(scene_plan, own.horizon / plan.horizon, out)?;
+    let names =
+        Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg"), animation };
+    let plot = |name: &String, svg: Result<String, plots::PlotError>| {
+        let path = out.join(name);
+        let svg = svg.map_err(|source| CliError::Plot { path: path.clone(), source })?;
+        files::write(&path, svg.as_bytes())
+    };
+    plot(&names.work_precision, plots::work_precision(&runs, own.horizon))?;
+    plot(&names.error, plots::errors_over_time(&runs, &own.times))?;
+    Ok(scene_report(&runs, names, scene_start.elapsed().as_secs_f64()))
+}
+
 /// Run the report.
 ///
 /// # Errors
@@ -63,38 +92,43 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let plan = &options.plan;
     let scene_plans: Vec<ScenePlan> =
         options.scenes.iter().map(|&scene| ScenePlan::new(scene, plan)).collect::<Result<_, _>>()?;
-    let bar = progress_bar(scene_plans.iter().map(ScenePlan::runs).sum());
-    let mut scenes = Vec::with_capacity(scene_plans.len());
-    let mut files = 0;
     let out_of_time = || options.max_seconds.is_some_and(|limit| start.elapsed().as_secs_f64() > limit);
+    let bar = progress_bar(scene_plans.iter().map(ScenePlan::runs).sum());
+    // Scenes on --jobs threads; results in the plan's order. Past --max-seconds no scene starts.
+    let stopped = AtomicBool::new(false);
+    let done = AtomicUsize::new(0);
+    let ticker = Mutex::new(long_work::ticker());
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.jobs)
+        .build()
+        .map_err(|e| CliError::Threads(e.to_string()))?;
+    let outcomes: Vec<Result<Option<SceneReport>, CliError>> = pool.install(|| {
+        scene_plans
+            .par_iter()
+            .map(|scene_plan| {
+                if stopped.load(Ordering::Relaxed) || out_of_time() {
+                    stopped.store(true, Ordering::Relaxed);
+                    return Ok(None);
+                }
+                if let Ok(mut ticker) = ticker.lock() {
+                    let finished = done.load(Ordering::Relaxed);
+                    ticker.tick(|| format!("report: {finished} of {} scenes done", scene_plans.len()));
+                }
+                let report = run_scene(scene_plan, plan, &options.out, &bar)?;
+                done.fetch_add(1, Ordering::Relaxed);
+                Ok(Some(report))
+            })
+            .collect()
+    });
+    let mut scenes = Vec::with_capacity(scene_plans.len());
     let mut left_out: Vec<&str> = Vec::new();
-    let mut ticker = long_work::ticker();
-    for scene_plan in &scene_plans {
-        if !left_out.is_empty() || out_of_time() {
-            left_out.push(scene_plan.scene.id());
-            continue;
+    for (scene_plan, outcome) in scene_plans.iter().zip(outcomes) {
+        match outcome? {
+            Some(report) => scenes.push(report),
+            None => left_out.push(scene_plan.scene.id()),
         }
-        ticker.tick(|| format!("report: {} of {} scenes done", scenes.len(), scene_plans.len()));
-        let scene_start = Instant::now();
-        let runs = SceneRuns::execute(scene_plan, |label| {
-            bar.set_message(label.to_string());
-            bar.inc(1);
-        })?;
-        let id = scene_plan.scene.id();
-        let own = &scene_plan.plan;
-        let animation = animation(scene_plan, own.horizon / plan.horizon, &options.out)?;
-        let names =
-            Plots { work_precision: format!("{id}_work_precision.svg"), error: format!("{id}_error.svg"), animation };
-        let plot = |name: &String, svg: Result<String, plots::PlotError>| {
-            let path = options.out.join(name);
-            let svg = svg.map_err(|source| CliError::Plot { path: path.clone(), source })?;
-            files::write(&path, svg.as_bytes())
-        };
-        plot(&names.work_precision, plots::work_precision(&runs, own.horizon))?;
-        plot(&names.error, plots::errors_over_time(&runs, &own.times))?;
-        files += 2;
-        scenes.push(scene_report(&runs, names, scene_start.elapsed().as_secs_f64()));
     }
+    let files = 2 * scenes.len();
     bar.finish_and_clear();
     // The stability cases of the requested scenes (all of them by default).
     let ids: Vec<&str> =

@@ -29,6 +29,11 @@ pub struct Args {
     /// exits 1 naming the scenes left out.
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     max_seconds: Option<f64>,
+    /// Scenes run at once, each on its own thread [default: the number of cores]. Each timed
+    /// run then shares the machine with at most N − 1 others, one per core
+    /// (docs/validation.md#measurement); `--jobs 1` times every run alone.
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
 }
 
 /// Validated options.
@@ -43,6 +48,8 @@ pub struct Options {
     pub json: bool,
     /// `--max-seconds`.
     pub max_seconds: Option<f64>,
+    /// `--jobs`, or the number of cores.
+    pub jobs: usize,
 }
 
 impl Options {
@@ -76,7 +83,12 @@ impl Options {
         let probe = out.join(".lagrange-report-write-test");
         std::fs::write(&probe, b"").map_err(failed("cannot write into it"))?;
         let _ = std::fs::remove_file(&probe);
-        Ok(Options { scenes, plan, out, json: args.json, max_seconds })
+        let jobs = match args.jobs {
+            Some(0) => return Err(CliError::NotPositive { flag: "--jobs", value: 0.0 }),
+            Some(jobs) => jobs,
+            None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
+        };
+        Ok(Options { scenes, plan, out, json: args.json, max_seconds, jobs })
     }
 
     /// Whether every scene is reported (no `--scene` given).
