@@ -258,3 +258,16 @@ pub fn hold(system: &mut dyn lagrange::System, initial: State, hold: Option<&str
     }
     Ok(system.assemble(&initial, &held)?)
 }
+
+/// `--jobs`: the threads a command runs its independent work on (the report's scenes,
+/// `compare`'s engines), by default the number of cores.
+///
+/// # Errors
+/// [`CliError::NotPositive`] for 0.
+pub fn jobs(jobs: Option<usize>) -> Result<usize, CliError> {
+    match jobs {
+        Some(0) => Err(CliError::NotPositive { flag: "--jobs", value: 0.0 }),
+        Some(jobs) => Ok(jobs),
+        None => Ok(std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)),
+    }
+}

@@ -278,3 +278,21 @@ fn animate_refuses_what_it_cannot_draw() {
     assert_one_line_error(&["animate", "kepler", "--mode", "0"], "no equilibrium near");
     assert_one_line_error(&["animate", "cart_pendulum", "--mode", "7"], "has 2 modes");
 }
+
+#[test]
+fn compare_gives_the_same_rows_on_one_thread_and_on_several() {
+    let run = |jobs: &str| {
+        let output = lagrange(&["compare", "double_pendulum", "--t-end", "1", "--jobs", jobs, "--json"]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let mut table: serde_json::Value = serde_json::from_str(&stdout(&output)).expect("valid JSON");
+        // Everything but the wall time per step.
+        for row in table["rows"].as_array_mut().expect("rows") {
+            row.as_object_mut().expect("a row").remove("microseconds_per_step");
+        }
+        table
+    };
+    let serial = run("1");
+    assert_eq!(serial["rows"].as_array().map(Vec::len), Some(5));
+    assert_eq!(serial, run("3"));
+    assert_one_line_error(&["compare", "double_pendulum", "--jobs", "0"], "--jobs must be positive");
+}

@@ -54,6 +54,10 @@ pub struct Args {
     /// Run a request whose estimated wall time is beyond the limit (2 minutes).
     #[arg(long)]
     force: bool,
+    /// Engines run at once, each on its own thread [default: the number of cores]; `--jobs 1`
+    /// times each engine's steps alone.
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
     /// Wall-time limit (s): an engine still running then is abandoned, the rows of the engines
     /// done are printed, and the command exits 1 naming the engines left out. With it, the
     /// cost is not estimated up front; without it (and without --force) a request estimated
@@ -109,6 +113,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     } else {
         vec![Engine::from_name(&args.engine).ok_or_else(|| CliError::UnknownEngine(args.engine.clone()))?]
     };
+    let jobs = args::jobs(args.jobs)?;
     if !(args.t_end.is_finite() && args.t_end > 0.0) {
         return Err(CliError::NotPositive { flag: "--t-end", value: args.t_end });
     }
@@ -134,29 +139,44 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let mut rows = Vec::new();
     let mut left_out: Vec<&'static str> = Vec::new();
     let mut ticker = long_work::ticker();
-    for (engine, estimate) in engines.into_iter().zip(estimates) {
-        bar.set_message(engine.name());
-        ticker.tick(|| format!("compare {}: {} rows done, running {}", scene.id(), rows.len(), engine.name()));
+    let runs: Vec<(Engine, Option<long_work::Estimate>)> = engines.into_iter().zip(estimates).collect();
+    // --jobs engines at once, each on its own thread (so that one still running at
+    // --max-seconds can be abandoned); rows in the order asked.
+    for batch in runs.chunks(jobs) {
         let remaining = max_seconds.map(|limit| limit - started.elapsed().as_secs_f64());
         if !left_out.is_empty() || remaining.is_some_and(|r| r <= 0.0) {
-            left_out.push(engine.name());
+            left_out.extend(batch.iter().map(|(engine, _)| engine.name()));
             continue;
         }
-        // On its own thread, so that one still running at --max-seconds can be abandoned.
-        let (send, receive) = std::sync::mpsc::channel();
-        let (p, i) = (params.clone(), initial.clone());
-        let t_end = args.t_end;
-        std::thread::spawn(move || {
-            let _ = send.send(compare(engine, scene, &p, &i, &settings, t_end, every));
-        });
-        let result = match remaining {
-            Some(r) => receive.recv_timeout(std::time::Duration::from_secs_f64(r)).ok(),
-            None => receive.recv().ok(),
-        };
-        bar.inc(units(estimate));
-        match result {
-            Some(result) => rows.push(Row::new(engine, result).map_err(|source| CliError::Compare { engine, source })?),
-            None => left_out.push(engine.name()),
+        let receivers: Vec<_> = batch
+            .iter()
+            .map(|&(engine, _)| {
+                let (send, receive) = std::sync::mpsc::channel();
+                let (p, i) = (params.clone(), initial.clone());
+                let t_end = args.t_end;
+                std::thread::spawn(move || {
+                    let _ = send.send(compare(engine, scene, &p, &i, &settings, t_end, every));
+                });
+                receive
+            })
+            .collect();
+        let names: Vec<&str> = batch.iter().map(|(engine, _)| engine.name()).collect();
+        bar.set_message(names.join(", "));
+        for (&(engine, estimate), receive) in batch.iter().zip(receivers) {
+            ticker.tick(|| format!("compare {}: {} rows done, running {}", scene.id(), rows.len(), names.join(", ")));
+            let remaining = max_seconds.map(|limit| limit - started.elapsed().as_secs_f64());
+            let result = match remaining {
+                Some(r) if r <= 0.0 => None,
+                Some(r) => receive.recv_timeout(std::time::Duration::from_secs_f64(r)).ok(),
+                None => receive.recv().ok(),
+            };
+            bar.inc(units(estimate));
+            match result {
+                Some(result) => {
+                    rows.push(Row::new(engine, result).map_err(|source| CliError::Compare { engine, source })?);
+                }
+                None => left_out.push(engine.name()),
+            }
         }
     }
     bar.finish_and_clear();

@@ -83,11 +83,7 @@ impl Options {
         let probe = out.join(".lagrange-report-write-test");
         std::fs::write(&probe, b"").map_err(failed("cannot write into it"))?;
         let _ = std::fs::remove_file(&probe);
-        let jobs = match args.jobs {
-            Some(0) => return Err(CliError::NotPositive { flag: "--jobs", value: 0.0 }),
-            Some(jobs) => jobs,
-            None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
-        };
+        let jobs = args::jobs(args.jobs)?;
         Ok(Options { scenes, plan, out, json: args.json, max_seconds, jobs })
     }
 
