@@ -14,8 +14,10 @@
 //! checked against theory or a derived bound (the cases involving the `--scene` scenes only).
 //!
 //! Output (`--out DIR`, default `report/`): `report.json` (schema in
-//! `crates/cli/REPORT_SCHEMA.md`), `report.md`, and per scene `<scene>_work_precision.svg` and
-//! `<scene>_error.svg`; a summary on standard output and a progress bar on standard error.
+//! `crates/cli/REPORT_SCHEMA.md`), `report.md`, `index.html`, and per scene
+//! `<scene>_work_precision.svg`, `<scene>_error.svg` and the animation `<scene>.html`; a summary
+//! on standard output and a progress bar on standard error. The scenes run on `--jobs` threads
+//! (default: the number of cores), the results the same whatever their number.
 //!
 //! The pipeline: [`options`] here → the validation library's [`plan`], [`runs`] (with
 //! [`reference`] and [`measure`]), [`assemble`] (with [`pareto`]) and [`schema`] → the library's
