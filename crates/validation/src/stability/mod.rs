@@ -449,9 +449,6 @@ struct CaseSpec {
     run: fn(&mut CaseBuilder, Effort) -> Result<(), Error>,
 }
 
-/// How many stability cases run at a time.
-const PARALLEL_CASES: usize = 2;
-
 /// Every case, in report order.
 const CASES: [CaseSpec; 11] = [
     stiff::STIFF_SPRING,
@@ -511,23 +508,29 @@ impl CaseSpec {
     }
 }
 
-/// Run every case that involves one of `scenes` (every case when empty), two at a time,
-/// calling `progress` with each case's id before it runs; the report lists them in their order.
-/// A case's reported seconds are its wall time while another case runs on the other core.
+/// Run every case that involves one of `scenes` (every case when empty), `jobs` at a time (at
+/// least one), calling `progress` with each case's id before it runs; the report lists them in
+/// their order. A case's reported seconds are its wall time while up to `jobs − 1` other cases
+/// run beside it.
 ///
 /// # Errors
 /// A case that cannot be set up (a bug in the case: its scenes and parameters are fixed).
-pub fn run(effort: Effort, scenes: &[&str], progress: impl FnMut(&str) + Send) -> Result<StabilityReport, Error> {
+pub fn run(
+    effort: Effort,
+    scenes: &[&str],
+    jobs: usize,
+    progress: impl FnMut(&str) + Send,
+) -> Result<StabilityReport, Error> {
     let start = Instant::now();
     let specs: Vec<&CaseSpec> = CASES.iter().filter(|c| selected(c, scenes)).collect();
     // The cases are independent and check theory, not speed (their seconds are reported costs),
-    // so two run at a time on a 2-core machine; the report keeps the cases' order.
+    // so they run `jobs` at a time; the report keeps the cases' order.
     let next = std::sync::atomic::AtomicUsize::new(0);
     let progress = std::sync::Mutex::new(progress);
     let results: Vec<std::sync::Mutex<Option<Result<Case, Error>>>> =
         specs.iter().map(|_| std::sync::Mutex::new(None)).collect();
     std::thread::scope(|scope| {
-        for _ in 0..PARALLEL_CASES {
+        for _ in 0..jobs.max(1) {
             scope.spawn(|| {
                 loop {
                     let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);

@@ -136,7 +136,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let effort = if plan.quick { Effort::Quick } else { Effort::Full };
     let stability = if left_out.is_empty() && !out_of_time() {
         let bar = progress_bar(stability::case_count(&ids));
-        let stability = stability::run(effort, &ids, |id| {
+        let stability = stability::run(effort, &ids, options.jobs, |id| {
             bar.set_message(format!("stability: {id}"));
             bar.inc(1);
         })?;
