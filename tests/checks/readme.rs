@@ -25,7 +25,7 @@ fn the_first_two_commands_are_the_main_job_and_the_tests() {
     let readme = readme();
     let block = readme.split("```bash\n").nth(1).expect("a bash block");
     let commands: Vec<&str> = block.lines().take(2).collect();
-    assert_eq!(commands, ["cargo run --release -p lagrange-cli -- report", "scripts/test"]);
+    assert_eq!(commands, ["cargo run --release -p lagrange-cli -- report", "cargo test --workspace"]);
     // CI runs the README's test line exactly as written, not a variant of it.
     let ci = std::fs::read_to_string(root().join(".ci/run")).expect(".ci/run exists");
     assert!(ci.lines().any(|l| l == commands[1]), "CI runs the README's test command");
