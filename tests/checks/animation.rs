@@ -150,7 +150,7 @@ fn a_mode_plays_beside_the_nonlinear_motion_it_predicts() {
     let s = scene("double_pendulum");
     let params = s.default_params();
     let gap = |amplitude: f64| {
-        let animation = animate_mode(s, &params, (0.0, &[0.0, 0.0]), 1, amplitude, 4.0).unwrap();
+        let animation = animate_mode(s, &params, (0.0, &[0.0, 0.0]), 1, amplitude, Some(4.0)).unwrap();
         check_sketch(&animation);
         assert_eq!(animation.tracks.len(), 2);
         let nonlinear = &animation.tracks[1];
@@ -167,20 +167,27 @@ fn a_mode_that_does_not_oscillate_is_refused() {
     let params = cart.default_params();
     let q = cart.default_state(&params).unwrap().q;
     // Mode 0 is the free cart's translation; there are two modes.
-    let zero = animate_mode(cart, &params, (0.0, &q), 0, 0.1, 1.0).unwrap_err();
+    let zero = animate_mode(cart, &params, (0.0, &q), 0, 0.1, Some(1.0)).unwrap_err();
     assert!(matches!(zero, Error::Mode { index: 0, .. }) && zero.to_string().contains("zero mode"), "{zero}");
-    let missing = animate_mode(cart, &params, (0.0, &q), 2, 0.1, 1.0).unwrap_err();
+    let missing = animate_mode(cart, &params, (0.0, &q), 2, 0.1, Some(1.0)).unwrap_err();
     assert!(missing.to_string().contains("has 2 modes"), "{missing}");
-    assert!(animate_mode(cart, &params, (0.0, &q), 1, 0.1, 1.0).is_ok());
+    // Without an end, four periods of ω² = g (M + m)/(M r).
+    let played = animate_mode(cart, &params, (0.0, &q), 1, 0.1, None).unwrap();
+    let (g, big, small, r) =
+        (params.get("gravity"), params.get("cart_mass"), params.get("bob_mass"), params.get("rod_length"));
+    let four_periods = 4.0 * std::f64::consts::TAU / (g * (big + small) / (big * r)).sqrt();
+    let end = *played.tracks[0].times.last().unwrap();
+    // The mode's ω is right to 1e-10 relative (tests/checks/modes.rs); frame times add round-off.
+    assert!((end - four_periods).abs() <= 1e-9 * four_periods, "{end} vs {four_periods}");
     // No equilibrium at all.
     let kepler = scene("kepler");
     let params = kepler.default_params();
-    let error = animate_mode(kepler, &params, (0.0, &[1.0, 0.0]), 0, 0.1, 1.0).unwrap_err();
+    let error = animate_mode(kepler, &params, (0.0, &[1.0, 0.0]), 0, 0.1, Some(1.0)).unwrap_err();
     assert!(matches!(error, Error::Engine(lagrange::Error::NoEquilibrium { .. })), "{error}");
     // Upright four-bar: its one mode is unstable.
     let four_bar = scene("four_bar");
     let params = four_bar.default_params();
     let q = four_bar.default_state(&params).unwrap().q;
-    let unstable = animate_mode(four_bar, &params, (0.0, &q), 0, 0.1, 1.0).unwrap_err();
+    let unstable = animate_mode(four_bar, &params, (0.0, &q), 0, 0.1, Some(1.0)).unwrap_err();
     assert!(unstable.to_string().contains("unstable"), "{unstable}");
 }

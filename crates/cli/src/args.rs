@@ -271,3 +271,70 @@ pub fn jobs(jobs: Option<usize>) -> Result<usize, CliError> {
         None => Ok(std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)),
     }
 }
+
+/// The scene and the state a run starts from, as `compare` and `animate` take them.
+#[derive(clap::Args, Debug)]
+pub struct Start {
+    /// Scene id (see `lagrange scenes`) or scene file (`*.toml`, docs/files.md).
+    pub scene: String,
+    /// Parameter override NAME=VALUE (name or symbol), repeatable.
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    pub params: Vec<String>,
+    /// Initial coordinates (default: the scene's initial state); with `animate --mode`, where
+    /// to start looking for the equilibrium.
+    #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
+    pub q: Option<String>,
+    /// Initial velocities (default: the scene's initial state).
+    #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
+    pub qdot: Option<String>,
+    /// For a mechanism with constraints among its coordinates (a four-bar): bring the initial
+    /// state onto them, keeping these coordinates and their rates (comma-separated names, e.g.
+    /// `θ2`); the others move as little as possible. Without it, a given state must already
+    /// satisfy the constraints.
+    #[arg(long, value_name = "NAME,..")]
+    pub hold: Option<String>,
+}
+
+impl Start {
+    /// The scene, its parameters and the given state (not yet brought onto the constraints).
+    ///
+    /// # Errors
+    /// An unknown scene, a bad parameter or a bad state vector.
+    pub fn resolve(&self) -> Result<(&'static dyn Scene, Params, State), CliError> {
+        let scene = scene(&self.scene)?;
+        let params = params(scene, &self.params)?;
+        let given = state(scene, &params, self.q.as_deref(), self.qdot.as_deref(), None)?;
+        Ok((scene, params, given))
+    }
+
+    /// [`resolve`](Self::resolve), the state brought onto the constraints as `--hold` says.
+    ///
+    /// # Errors
+    /// As `resolve`, and a state that cannot be held.
+    pub fn initial(&self) -> Result<(&'static dyn Scene, Params, State), CliError> {
+        let (scene, params, given) = self.resolve()?;
+        let initial = hold(build(scene, &params, &given)?.as_mut(), given, self.hold.as_deref())?;
+        Ok((scene, params, initial))
+    }
+}
+
+/// The maximal engines' numerical settings, as `compare` and `animate` take them.
+#[derive(clap::Args, Debug)]
+pub struct EngineSettings {
+    /// rapier step (s) [default: 1/240].
+    #[arg(long, default_value_t = 1.0 / 240.0, hide_default_value = true, allow_negative_numbers = true)]
+    pub dt: f64,
+    /// rapier substeps per step.
+    #[arg(long, default_value_t = 4)]
+    pub substeps: usize,
+    /// Tolerance of the Cartesian engine's integrator.
+    #[arg(long, default_value = "1e-12", allow_negative_numbers = true)]
+    pub tol: f64,
+}
+
+impl EngineSettings {
+    /// As the engines take them.
+    pub fn settings(&self) -> lagrange_maximal::Settings {
+        lagrange_maximal::Settings { dt: self.dt, substeps: self.substeps, tolerance: self.tol }
+    }
+}

@@ -211,7 +211,9 @@ impl Scene for FileScene {
         states
             .iter()
             .map(|&(t, q)| {
-                check(self.coordinates.len(), q.len(), q.len())?;
+                if q.len() != self.coordinates.len() {
+                    return Err(Error::DimensionMismatch { what: "q", expected: self.coordinates.len(), got: q.len() });
+                }
                 lagrange::Mechanism::poses(&mechanism, t, q, &mut poses);
                 Ok(poses.iter().map(|p| [p.x, p.y, p.angle]).collect())
             })

@@ -118,23 +118,43 @@ pub struct Slide {
     pub axis: [f64; 2],
 }
 
+/// How a body is drawn from its mass properties alone: a point mass as a dot, a body with
+/// inertia as the uniform rod of that inertia along its `x` axis (length `√(12 I/m)`), or a disc
+/// of radius 0.1 m for a body with inertia and no mass.
+fn figure(body: &Body) -> Figure {
+    match (body.mass > 0.0, body.inertia > 0.0) {
+        (_, false) => Figure::Dot,
+        (true, true) => {
+            let half = 0.5 * (12.0 * body.inertia / body.mass).sqrt();
+            Figure::Link { points: vec![[-half, 0.0], [half, 0.0]] }
+        }
+        (false, true) => Figure::Disc { radius: 0.1 },
+    }
+}
+
 impl Sketch {
-    /// The bodies alone: point masses as dots, bodies with inertia as the uniform rod of that
-    /// inertia along their `x` axis (length `√(12 I/m)`), or a disc of radius 0.1 m for a body
-    /// with inertia and no mass.
+    /// `bodies` figures and nothing else.
+    fn with(bodies: Vec<Figure>) -> Sketch {
+        Sketch { bodies, links: Vec::new(), pins: Vec::new(), slides: Vec::new(), fixed: Vec::new() }
+    }
+
+    /// The bodies alone, each drawn from its mass properties: point masses as dots, bodies with
+    /// inertia as the uniform rod of that inertia along their `x` axis (length `√(12 I/m)`), or
+    /// a disc of radius 0.1 m for a body with inertia and no mass.
     pub fn of_bodies(bodies: &[Body]) -> Sketch {
-        let figures = bodies
-            .iter()
-            .map(|body| match (body.mass > 0.0, body.inertia > 0.0) {
-                (_, false) => Figure::Dot,
-                (true, true) => {
-                    let half = 0.5 * (12.0 * body.inertia / body.mass).sqrt();
-                    Figure::Link { points: vec![[-half, 0.0], [half, 0.0]] }
-                }
-                (false, true) => Figure::Disc { radius: 0.1 },
-            })
+        Sketch::with(bodies.iter().map(figure).collect())
+    }
+
+    /// One point mass (body 0), and a fixed point at the origin it is held by: by a spring,
+    /// by a rod, or (none) by a central force.
+    pub(crate) fn particle_from_origin(kind: Option<LinkKind>) -> Sketch {
+        let origin = Anchor::World { at: [0.0, 0.0] };
+        let links = kind
+            .map(|kind| Link { kind, a: origin.clone(), b: Anchor::Body { body: 0, at: [0.0, 0.0] } })
+            .into_iter()
             .collect();
-        Sketch { bodies: figures, links: Vec::new(), pins: Vec::new(), slides: Vec::new(), fixed: Vec::new() }
+        let pins = if kind == Some(LinkKind::Rod) { vec![origin] } else { Vec::new() };
+        Sketch { links, pins, fixed: vec![[0.0, 0.0]], ..Sketch::with(vec![Figure::Dot]) }
     }
 
     /// The sketch of a joint graph (see the module's documentation).
@@ -144,7 +164,7 @@ impl Sketch {
             Some(body) => Anchor::Body { body, at },
             None => Anchor::World { at },
         };
-        let mut sketch = Sketch::of_bodies(&[]);
+        let mut sketch = Sketch::with(Vec::new());
         let fixed = |sketch: &mut Sketch, at: [f64; 2]| {
             if !sketch.fixed.contains(&at) {
                 sketch.fixed.push(at);

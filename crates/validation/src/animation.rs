@@ -104,6 +104,8 @@ pub fn animate(
     let count = ((t_end - initial.t) / every).round() as usize;
     let times: Vec<f64> = (0..=count).map(|k| initial.t + k as f64 * every).collect();
     let system = scene.build(params)?;
+    // The scene's read-back places the bodies (resolved once), where it has one.
+    let read_back = ReadBack::new(scene, params).ok();
     let run = system
         .simulate(initial, *times.last().unwrap_or(&initial.t), reference_method(), &Output::Times(times.clone()))
         .map_err(|source| Error::Reference { scene: scene.id().to_string(), source })?;
@@ -115,7 +117,7 @@ pub fn animate(
     } else {
         format!("the reduced solution (dop853, tol {REFERENCE_TOLERANCE:e})")
     };
-    let poses = place(scene, params, &times, &coordinates)?;
+    let poses = place((scene, params, read_back.as_ref()), &times, &coordinates)?;
     let mut tracks = vec![Track { label: "reduced".into(), times: times.clone(), poses, errors, note: None }];
     for &engine in engines {
         let track = match compare(engine, scene, params, initial, settings, t_end, every) {
@@ -140,7 +142,7 @@ pub fn animate(
     Ok(Animation {
         scene: scene.id().into(),
         title: scene.title().into(),
-        bodies: body_names(scene, params, system.bodies()),
+        bodies: body_names(read_back.as_ref(), system.bodies()),
         sketch: sketch(scene, params)?,
         reference,
         tracks,
@@ -150,8 +152,9 @@ pub fn animate(
 /// The animation of normal mode `index` (0: lowest `ω²`) about the equilibrium nearest `q`
 /// ([`lagrange::modes::normal_modes`]): the linear motion `q* + a v cos ωt` (mode shape `v`
 /// scaled to a largest entry of 1) and the nonlinear motion from `q* + a v` at rest (put back
-/// on the constraints of a loop), from `t0` to `t_end`, the nonlinear track's error measured
-/// against the linear motion — which it approaches as `a²` (docs/method.md#normal-modes).
+/// on the constraints of a loop), from `t0` to `t_end` (default: four periods of the mode), the
+/// nonlinear track's error measured against the linear motion — which it approaches as `a²`
+/// (docs/method.md#normal-modes).
 ///
 /// # Errors
 /// No equilibrium near `q` ([`lagrange::Error::NoEquilibrium`]); no mode `index`, or a zero or
@@ -162,9 +165,11 @@ pub fn animate_mode(
     (t0, q): (f64, &[f64]),
     index: usize,
     amplitude: f64,
-    t_end: f64,
+    t_end: Option<f64>,
 ) -> Result<Animation, Error> {
     let mut system = scene.build(params)?;
+    // The scene's read-back places the bodies (resolved once), where it has one.
+    let read_back = ReadBack::new(scene, params).ok();
     let modes = normal_modes(system.as_mut(), t0, q)?;
     let count = modes.modes.len();
     let mode = modes.modes.get(index).ok_or_else(|| Error::Mode {
@@ -185,6 +190,7 @@ pub fn animate_mode(
         }
     }
     let omega = mode.omega();
+    let t_end = t_end.unwrap_or(t0 + 4.0 * std::f64::consts::TAU / omega);
     let n = modes.equilibrium.len();
     let every = frame_interval(t0, t_end);
     let frames = ((t_end - t0) / every).round() as usize;
@@ -215,14 +221,14 @@ pub fn animate_mode(
         Track {
             label,
             times: times.clone(),
-            poses: place(scene, params, &times, &linear_refs)?,
+            poses: place((scene, params, read_back.as_ref()), &times, &linear_refs)?,
             errors: None,
             note: None,
         },
         Track {
             label: "nonlinear (reduced)".into(),
             times: times.clone(),
-            poses: place(scene, params, &times, &nonlinear)?,
+            poses: place((scene, params, read_back.as_ref()), &times, &nonlinear)?,
             errors: Some(errors),
             note: Some(format!("released at rest from the equilibrium displaced by {amplitude} × the mode shape")),
         },
@@ -230,7 +236,7 @@ pub fn animate_mode(
     Ok(Animation {
         scene: scene.id().into(),
         title: format!("{} — normal mode {index}", scene.title()),
-        bodies: body_names(scene, params, system.bodies()),
+        bodies: body_names(read_back.as_ref(), system.bodies()),
         sketch: sketch(scene, params)?,
         reference: format!("the linear motion of mode {index}"),
         tracks,
@@ -239,21 +245,18 @@ pub fn animate_mode(
 
 /// The bodies' names: the maximal description's (a raw Lagrangian's particle has one there),
 /// else the system's.
-fn body_names(scene: &dyn Scene, params: &Params, bodies: &[lagrange::Body]) -> Vec<String> {
-    let read_back = ReadBack::new(scene, params).ok();
-    let bodies = read_back.as_ref().map_or(bodies, |r| r.bodies());
-    bodies.iter().map(|b| b.name.clone()).collect()
+fn body_names(read_back: Option<&ReadBack>, bodies: &[lagrange::Body]) -> Vec<String> {
+    read_back.map_or(bodies, ReadBack::bodies).iter().map(|b| b.name.clone()).collect()
 }
 
 /// The body poses at each `(times[k], coordinates[k])`: read back through the scene's maximal
 /// description, or placed by the scene's own poses (a scene file).
 fn place(
-    scene: &dyn Scene,
-    params: &Params,
+    (scene, params, read_back): (&dyn Scene, &Params, Option<&ReadBack>),
     times: &[f64],
     coordinates: &[&[f64]],
 ) -> Result<Vec<Vec<[f64; 3]>>, Error> {
-    if let Ok(read_back) = ReadBack::new(scene, params) {
+    if let Some(read_back) = read_back {
         return times
             .iter()
             .zip(coordinates)

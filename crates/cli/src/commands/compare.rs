@@ -15,36 +15,14 @@ use lagrange_validation::render::terminal;
 /// Arguments of `lagrange compare`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene id (see `lagrange scenes`) or scene file (`*.toml`, docs/files.md).
-    scene: String,
-    /// Parameter override NAME=VALUE (name or symbol), repeatable.
-    #[arg(long = "param", value_name = "NAME=VALUE")]
-    params: Vec<String>,
-    /// Initial coordinates (default: the scene's initial state).
-    #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
-    q: Option<String>,
-    /// Initial velocities (default: the scene's initial state).
-    #[arg(long, value_name = "a,b,..", allow_hyphen_values = true)]
-    qdot: Option<String>,
-    /// For a mechanism with constraints among its coordinates (a four-bar): bring the initial
-    /// state onto them, keeping these coordinates and their rates (comma-separated names, e.g.
-    /// `θ2`); the others move as little as possible. Without it, a given state must already
-    /// satisfy the constraints.
-    #[arg(long, value_name = "NAME,..")]
-    hold: Option<String>,
+    #[command(flatten)]
+    start: args::Start,
     /// Engine: cartesian, rapier-impulse, rapier-multibody, rapier-impulse-f32,
     /// rapier-multibody-f32, or all.
     #[arg(long, default_value = "all")]
     engine: String,
-    /// rapier step (s) [default: 1/240].
-    #[arg(long, default_value_t = 1.0 / 240.0, hide_default_value = true, allow_negative_numbers = true)]
-    dt: f64,
-    /// rapier substeps per step.
-    #[arg(long, default_value_t = 4)]
-    substeps: usize,
-    /// Tolerance of the Cartesian engine's integrator.
-    #[arg(long, default_value = "1e-12", allow_negative_numbers = true)]
-    tol: f64,
+    #[command(flatten)]
+    engine_settings: args::EngineSettings,
     /// Simulated time (s).
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     t_end: f64,
@@ -104,10 +82,7 @@ pub(super) fn estimates(
 
 /// Run the comparison.
 pub fn run(args: &Args) -> Result<(), CliError> {
-    let scene = args::scene(&args.scene)?;
-    let params = args::params(scene, &args.params)?;
-    let given = args::state(scene, &params, args.q.as_deref(), args.qdot.as_deref(), None)?;
-    let initial = args::hold(args::build(scene, &params, &given)?.as_mut(), given, args.hold.as_deref())?;
+    let (scene, params, initial) = args.start.initial()?;
     let engines: Vec<Engine> = if args.engine == "all" {
         Engine::ALL.to_vec()
     } else {
@@ -117,12 +92,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if !(args.t_end.is_finite() && args.t_end > 0.0) {
         return Err(CliError::NotPositive { flag: "--t-end", value: args.t_end });
     }
-    args::step("--dt", args.dt, args.t_end)?;
-    let settings = Settings { dt: args.dt, substeps: args.substeps, tolerance: args.tol };
-    if args.dt > args.t_end {
-        return Err(CliError::StepBeyondRun { dt: args.dt, t_end: args.t_end });
+    let settings = args.engine_settings.settings();
+    args::step("--dt", settings.dt, args.t_end)?;
+    if settings.dt > args.t_end {
+        return Err(CliError::StepBeyondRun { dt: settings.dt, t_end: args.t_end });
     }
-    let every = sample_interval(args.t_end, args.dt);
+    let every = sample_interval(args.t_end, settings.dt);
     let limit = long_work::max_seconds(args.max_seconds, args.force)?;
     let max_seconds = limit.as_ref().map(|(seconds, _)| *seconds);
     let started = std::time::Instant::now();

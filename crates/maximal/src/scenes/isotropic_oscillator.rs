@@ -3,7 +3,7 @@
 use super::{MaximalScene, polar};
 use crate::cartesian::constraints::{Constraint, no_turning};
 use crate::rapier::scenes::Draft;
-use crate::sketch::{Anchor, Link, LinkKind, Sketch};
+use crate::sketch::{LinkKind, Sketch};
 use lagrange::{Scalar, State};
 use lagrange_scenes::IsotropicOscillator;
 
@@ -26,15 +26,6 @@ impl MaximalScene for IsotropicOscillator {
 
     /// The particle on a spring from the centre.
     fn sketch(&self) -> Sketch {
-        let spring = Link {
-            kind: LinkKind::Spring,
-            a: Anchor::World { at: [0.0, 0.0] },
-            b: Anchor::Body { body: 0, at: [0.0, 0.0] },
-        };
-        Sketch {
-            links: vec![spring],
-            fixed: vec![[0.0, 0.0]],
-            ..Sketch::of_bodies(&[lagrange::Body::point("particle", 1.0)])
-        }
+        Sketch::particle_from_origin(Some(LinkKind::Spring))
     }
 }

@@ -26,6 +26,6 @@ impl MaximalScene for Kepler {
 
     /// The particle and the centre of attraction.
     fn sketch(&self) -> Sketch {
-        Sketch { fixed: vec![[0.0, 0.0]], ..Sketch::of_bodies(&[lagrange::Body::point("particle", 1.0)]) }
+        Sketch::particle_from_origin(None)
     }
 }

@@ -4,7 +4,7 @@ use super::MaximalScene;
 use crate::cartesian::constraints::{Anchor, Constraint, Joint, no_turning};
 use crate::rapier::plan::JointMode;
 use crate::rapier::scenes::Draft;
-use crate::sketch::{self, Link, LinkKind, Sketch};
+use crate::sketch::{LinkKind, Sketch};
 use lagrange::{Scalar, State};
 use lagrange_scenes::NonminimalPendulum;
 
@@ -45,17 +45,6 @@ impl MaximalScene for NonminimalPendulum {
 
     /// The bob on a rod from the origin.
     fn sketch(&self) -> Sketch {
-        let rod = Link {
-            kind: LinkKind::Rod,
-            a: sketch::Anchor::World { at: [0.0, 0.0] },
-            b: sketch::Anchor::Body { body: 0, at: [0.0, 0.0] },
-        };
-        let pin = sketch::Anchor::World { at: [0.0, 0.0] };
-        Sketch {
-            links: vec![rod],
-            pins: vec![pin],
-            fixed: vec![[0.0, 0.0]],
-            ..Sketch::of_bodies(&[lagrange::Body::point("bob", 1.0)])
-        }
+        Sketch::particle_from_origin(Some(LinkKind::Rod))
     }
 }

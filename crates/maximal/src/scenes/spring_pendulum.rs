@@ -3,7 +3,7 @@
 use super::{MaximalScene, angle_from_down};
 use crate::cartesian::constraints::{Constraint, no_turning};
 use crate::rapier::scenes::Draft;
-use crate::sketch::{Anchor, Link, LinkKind, Sketch};
+use crate::sketch::{LinkKind, Sketch};
 use lagrange::{Scalar, State};
 use lagrange_scenes::SpringPendulum;
 
@@ -26,15 +26,6 @@ impl MaximalScene for SpringPendulum {
 
     /// The bob on a spring from the pivot.
     fn sketch(&self) -> Sketch {
-        let spring = Link {
-            kind: LinkKind::Spring,
-            a: Anchor::World { at: [0.0, 0.0] },
-            b: Anchor::Body { body: 0, at: [0.0, 0.0] },
-        };
-        Sketch {
-            links: vec![spring],
-            fixed: vec![[0.0, 0.0]],
-            ..Sketch::of_bodies(&[lagrange::Body::point("bob", 1.0)])
-        }
+        Sketch::particle_from_origin(Some(LinkKind::Spring))
     }
 }
