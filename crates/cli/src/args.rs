@@ -182,81 +182,22 @@ pub fn state(
     Ok(state)
 }
 
-/// The residual, relative to the state's size, above which a given state is not on the
-/// constraints: the engine's own test of a consistent start (1e-10).
-const INCONSISTENT: f64 = 1e-10;
-
-/// `1 + max(|q|, |q̇|)`: the size [`INCONSISTENT`] is relative to.
-fn state_scale(state: &State) -> f64 {
-    1.0 + state.q.iter().chain(&state.qdot).fold(0.0_f64, |m, v| m.max(v.abs()))
-}
-
 /// The state `initial` brought onto the scene's constraints among its coordinates, keeping the
 /// coordinates named in `hold` (comma-separated names, e.g. `θ2`) and their rates
-/// ([`lagrange::assemble`]); `initial` itself without `--hold`, if it is already on
-/// them.
+/// ([`lagrange_validation::start::hold`]); `initial` itself without `--hold`, if it is already
+/// on them.
 ///
 /// # Errors
 /// [`CliError::Hold`] for an unknown name, a scene without constraints, or an inconsistent
 /// state without `--hold`; the engine's
 /// [`lagrange::Error::AssemblyFailed`] when the links cannot close from there.
 pub fn hold(system: &mut dyn lagrange::System, initial: State, hold: Option<&str>) -> Result<State, CliError> {
-    let Some(hold) = hold else {
-        // The engine refuses an inconsistent start too; here the message can name the flag.
-        if let Some([position, velocity]) = system.constraint_violation(initial.t, &initial.q, &initial.qdot)?
-            && position.max(velocity) > INCONSISTENT * state_scale(&initial)
-        {
-            let first = system.coordinates().first().map_or(String::new(), |c| c.name.to_string());
-            return Err(CliError::Hold {
-                why: format!(
-                    "the initial state does not satisfy the scene's constraints (max |Φ| = {}, velocity \
-                     residual {}); name the coordinates to keep, e.g. --hold {first}, \
-                     and the others are moved onto the constraints",
-                    compact(position),
-                    compact(velocity)
-                ),
-            });
-        }
-        return Ok(initial);
-    };
-    if system.constraint_counts() == (0, 0) {
-        return Err(CliError::Hold { why: "this scene has no constraints among its coordinates".into() });
-    }
-    let names: Vec<&str> = system.coordinates().iter().map(|c| c.name.as_ref()).collect();
-    let mut held = vec![false; names.len()];
-    for name in hold.split(',').map(str::trim) {
-        if name.is_empty() {
-            return Err(CliError::Hold {
-                why: format!("an empty name in `{hold}`; name the coordinates to keep, from {}", names.join(", ")),
-            });
-        }
-        let Some(i) = names.iter().position(|n| *n == name) else {
-            return Err(CliError::Hold {
-                why: format!("no coordinate `{name}`; the coordinates are {}", names.join(", ")),
-            });
-        };
-        if held[i] {
-            return Err(CliError::Hold { why: format!("`{name}` is named twice") });
-        }
-        held[i] = true;
-    }
-    if held.iter().all(|&h| h) {
-        // Nothing is left to move: the state must already be on the constraints.
-        return match system.constraint_violation(initial.t, &initial.q, &initial.qdot)? {
-            Some([position, velocity]) if position.max(velocity) > INCONSISTENT * state_scale(&initial) => {
-                Err(CliError::Hold {
-                    why: format!(
-                        "every coordinate is held, so none can move onto the constraints (max |Φ| = {}, \
-                         velocity residual {}); hold fewer",
-                        compact(position),
-                        compact(velocity)
-                    ),
-                })
-            }
-            _ => Ok(initial),
-        };
-    }
-    Ok(system.assemble(&initial, &held)?)
+    use lagrange_validation::start::{self, HoldError};
+    let names: Option<Vec<&str>> = hold.map(|h| h.split(',').map(str::trim).collect());
+    start::hold(system, initial, names.as_deref(), |name| format!("--hold {name}")).map_err(|error| match error {
+        HoldError::Refused(why) => CliError::Hold { why },
+        HoldError::Engine(error) => CliError::Engine(error),
+    })
 }
 
 /// `--jobs`: the threads a command runs its independent work on (the report's scenes,

@@ -28,6 +28,7 @@ pub mod render;
 pub mod runs;
 pub mod schema;
 pub mod stability;
+pub mod start;
 pub mod tolerance;
 
 pub use error::{Error, scene};
