@@ -12,6 +12,7 @@
 pub mod algebra;
 mod present;
 pub mod print;
+pub mod text;
 
 use crate::coordinates::{CoordinateForm, Located};
 use crate::expr::{Ast, BinaryOp, Function};
