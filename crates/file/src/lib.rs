@@ -68,6 +68,6 @@ mod write;
 
 pub use diagnostic::Diagnostic;
 pub use mechanism::{FileLagrangian, FileMechanism};
-pub use read::{FileError, eom, load, load_coordinates, parse, register, scene_equations};
+pub use read::{FileError, eom, eom_source, load, load_coordinates, parse, register, register_source, scene_equations};
 pub use scene::{FileModel, FileScene};
 pub use write::{coordinates_file, graph_file};

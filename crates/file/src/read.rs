@@ -93,6 +93,17 @@ pub fn register(path: impl AsRef<Path>) -> Result<&'static dyn Scene, FileError>
     lagrange_scenes::register(BoxedScene(scene)).map_err(FileError::Registered)
 }
 
+/// [`register`] for the text of a scene file already read (`path` names it in messages): how a
+/// scene file travels to another process (the Python package's sweeps send the text, not the
+/// path).
+///
+/// # Errors
+/// As [`parse`]; [`FileError::Registered`] if a scene with the same id is known already.
+pub fn register_source(path: &str, source: &str) -> Result<&'static dyn Scene, FileError> {
+    let scene = parse(path, source)?;
+    lagrange_scenes::register(BoxedScene(scene)).map_err(FileError::Registered)
+}
+
 /// A boxed scene as a scene (what [`lagrange_scenes::register`] keeps).
 struct BoxedScene(Box<dyn Scene>);
 
@@ -126,7 +137,7 @@ impl Scene for BoxedScene {
 /// # Errors
 /// A [`Diagnostic`] with the place and reason if the text is not a valid scene.
 pub fn parse(path: &str, source: &str) -> Result<Box<dyn Scene>, Diagnostic> {
-    Ok(match read(path, source)? {
+    Ok(match read(path, source, true)? {
         Parsed::Coordinates(scene) => scene,
         Parsed::Graph(scene) => scene,
     })
@@ -150,9 +161,19 @@ pub fn eom(path: impl AsRef<Path>) -> Result<crate::symbolic::Equations, FileErr
     let path = path.as_ref();
     let shown = path.display().to_string();
     let source = std::fs::read_to_string(path).map_err(|source| FileError::Read { path: shown.clone(), source })?;
-    match read(&shown, &source)? {
-        Parsed::Coordinates(scene) => scene.equations().map_err(|e| FileError::NoEquations { path: shown, why: e.0 }),
-        Parsed::Graph(scene) => graph_equations(scene.as_ref(), &scene.default_params(), &shown),
+    eom_source(&shown, &source)
+}
+
+/// [`eom`] for the text of a scene file already read (`path` names it in messages).
+///
+/// # Errors
+/// As [`eom`], but for reading the file.
+pub fn eom_source(path: &str, source: &str) -> Result<crate::symbolic::Equations, FileError> {
+    match read(path, source, false)? {
+        Parsed::Coordinates(scene) => {
+            scene.equations().map_err(|e| FileError::NoEquations { path: path.to_string(), why: e.0 })
+        }
+        Parsed::Graph(scene) => graph_equations(scene.as_ref(), &scene.default_params(), path),
     }
 }
 
@@ -186,7 +207,7 @@ fn graph_equations(
         .map_err(|e| fail(e.to_string()))?
         .ok_or_else(|| fail("it is not a joint graph".into()))?;
     let Parsed::Coordinates(form) =
-        read(&format!("{shown} (coordinates form)"), &text).map_err(|d| fail(d.render()))?
+        read(&format!("{shown} (coordinates form)"), &text, false).map_err(|d| fail(d.render()))?
     else {
         return Err(fail("its coordinates form did not read as one".into()));
     };
@@ -203,13 +224,15 @@ pub fn load_coordinates(path: impl AsRef<Path>) -> Result<FileScene, FileError> 
     let path = path.as_ref();
     let shown = path.display().to_string();
     let source = std::fs::read_to_string(path).map_err(|source| FileError::Read { path: shown.clone(), source })?;
-    match read(&shown, &source)? {
+    match read(&shown, &source, true)? {
         Parsed::Coordinates(scene) => Ok(*scene),
         Parsed::Graph(_) => Err(FileError::NotCoordinates { path: shown }),
     }
 }
 
-fn read(path: &str, source: &str) -> Result<Parsed, Diagnostic> {
+/// Read a file's text; `new_id`: refuse an id a known scene has (every read but
+/// [`eom_source`]'s, whose file may be the registered scene itself).
+fn read(path: &str, source: &str, new_id: bool) -> Result<Parsed, Diagnostic> {
     let reader = Reader { path, source };
     let file: SceneFile = toml::from_str(source).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
@@ -221,7 +244,7 @@ fn read(path: &str, source: &str) -> Result<Parsed, Diagnostic> {
         };
         reader.error(span, message).label("here").with_hint(hint)
     })?;
-    check_header(&reader, &file)?;
+    check_header(&reader, &file, new_id)?;
     if let Some(graph) = &file.graph {
         return crate::graph::read(&reader, &file, graph).map(Parsed::Graph);
     }
@@ -247,7 +270,7 @@ fn read(path: &str, source: &str) -> Result<Parsed, Diagnostic> {
 }
 
 /// The version, the id and the horizon.
-fn check_header(reader: &Reader<'_>, file: &SceneFile) -> Result<(), Diagnostic> {
+fn check_header(reader: &Reader<'_>, file: &SceneFile, new_id: bool) -> Result<(), Diagnostic> {
     if *file.version.get_ref() != schema::VERSION {
         return Err(reader
             .error(
@@ -267,7 +290,7 @@ fn check_header(reader: &Reader<'_>, file: &SceneFile) -> Result<(), Diagnostic>
             .label("letters, digits, `_` and `-` only")
             .with_hint(Some("the id names the scene on the command line and in reports".into())));
     }
-    if lagrange_scenes::find(id).is_some() {
+    if new_id && lagrange_scenes::find(id).is_some() {
         return Err(reader
             .error(file.id.span(), format!("a scene called `{id}` exists already"))
             .label("taken")
