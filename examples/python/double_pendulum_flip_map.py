@@ -2,9 +2,10 @@
 (θ1, θ2) on a grid, how long until either arm flips over the top (|θ| passes π)?
 
 Each grid point is one run of ``--t-end`` seconds sampled every ``--every`` seconds; the flip
-time is the first sample at which |θ1| or |θ2| exceeds π (none within the run: shown white).
-Starts with too little energy to flip (3 cos θ1 + cos θ2 > 2 for equal masses and lengths) are
-dark by construction. The grid runs as one Dask sweep. Writes the map to ``--out``.
+time is the first sample at which |θ1| or |θ2| exceeds π (none within the run: white). Starts
+with too little energy to flip (3 cos θ1 + cos θ2 > 2 for equal masses and lengths) are the
+white region around the origin, whatever the run. The grid runs as one Dask sweep. Writes the
+map to ``--out``.
 
     .venv/bin/python examples/python/double_pendulum_flip_map.py --size 200
 """

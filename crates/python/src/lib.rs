@@ -177,6 +177,8 @@ struct Run {
     trajectory: lagrange::Trajectory,
     health: lagrange_validation::health::Health,
     method: Method,
+    /// Wall time of the engine's part (build, run, check), what the same run costs from Rust.
+    seconds: f64,
 }
 
 #[pymethods]
@@ -257,7 +259,8 @@ impl Scene {
     /// Integrate from the given state (default: the scene's) to `t_end` and check the run
     /// against every constant of the motion the scene declares and against its constraints.
     /// Returns a dict: `t`, `q`, `qdot`, `energy`, `violation` (or None), the run's `stats`,
-    /// its `health` (`expected` error, `checked`, `findings`) and the `method` described.
+    /// its `health` (`expected` error, `checked`, `findings`), the `method` described and
+    /// `engine_seconds`, the wall time of the engine's part (build, run, check).
     /// Output at `times` (increasing, within the run), or every `every` seconds, or by default
     /// at 200 intervals.
     #[pyo3(signature = (params, t_end, method="dopri5", dt=None, tol=None, t=None, q=None, qdot=None, hold=None, times=None, every=None))]
@@ -335,6 +338,7 @@ impl Scene {
         health.set_item("findings", findings)?;
         out.set_item("health", health)?;
         out.set_item("method", describe(run.method))?;
+        out.set_item("engine_seconds", run.seconds)?;
         Ok(out)
     }
 
@@ -651,6 +655,7 @@ impl Scene {
 
     /// The run and its health, without the GIL.
     fn run(&self, start: &Start, hold: Option<&[String]>, t_end: f64, method: Method, output: &Output) -> Result<Run> {
+        let started = std::time::Instant::now();
         let mut system = self.build(&start.params)?;
         let names: Option<Vec<&str>> = hold.map(|h| h.iter().map(String::as_str).collect());
         let initial =
@@ -664,7 +669,7 @@ impl Scene {
         }
         let health =
             lagrange_validation::health::check(self.scene, &start.params, system.as_mut(), method, &trajectory)?;
-        Ok(Run { trajectory, health, method })
+        Ok(Run { trajectory, health, method, seconds: started.elapsed().as_secs_f64() })
     }
 
     /// A failed run's error with the evidence of its samples, as the command line words it.

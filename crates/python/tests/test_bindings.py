@@ -236,6 +236,25 @@ def test_threads_run_in_parallel_and_agree():
     assert results == serial
 
 
+def test_the_gil_is_released_during_a_run():
+    # While a long run goes on in a thread, this thread runs Python: with the GIL held by the
+    # run, it could not count at all until the run returned.
+    chain = lagrange.scene("chain")
+    started, counted = threading.Event(), 0
+
+    def work():
+        started.set()
+        chain.simulate(200.0, method="dop853", tol=1e-12, every=10.0)
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    started.wait()
+    while worker.is_alive():
+        counted += 1
+    worker.join()
+    assert counted > 10_000
+
+
 def test_report_is_the_command_lines(cli, tmp_path):
     cli("report", "--quick", "--scene", "harmonic_oscillator", "--jobs", "1", "--out", tmp_path / "cli")
     import json

@@ -79,7 +79,9 @@ class Trajectory:
     with constraints among its coordinates; ``None`` otherwise). ``stats`` counts the steps,
     rejections and evaluations; ``health`` is the run's check against the constants of the
     motion its scene declares and its constraints: the ``expected`` relative error, the
-    quantities ``checked`` and the ``findings`` beyond their bounds (empty for a healthy run)."""
+    quantities ``checked`` and the ``findings`` beyond their bounds (empty for a healthy run).
+    ``engine_seconds`` is the wall time of the engine's part of the call (building the system,
+    the run, its check): what the same run costs from Rust."""
 
     scene: str
     coordinates: List[str]
@@ -91,6 +93,7 @@ class Trajectory:
     stats: Dict[str, object]
     health: Dict[str, object]
     method: str
+    engine_seconds: float = 0.0
 
     @property
     def final_state(self) -> State:
@@ -275,6 +278,7 @@ class Scene:
             stats=out["stats"],
             health=out["health"],
             method=out["method"],
+            engine_seconds=out["engine_seconds"],
         )
         health = out["health"]
         fixed_step = method in ("rk4", "variational", "gauss4", "gauss")

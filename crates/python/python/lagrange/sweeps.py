@@ -169,9 +169,9 @@ def _chunks(points: list, size: int) -> List[list]:
 
 def default_chunk_size(points: int, workers: int) -> int:
     """Eight chunks per worker: enough for the load to balance when points differ in cost (a
-    chaotic run, a failing point), few enough that Dask's per-task cost (about a millisecond
-    of scheduling and serialization) stays below a percent of a chunk's time for points of
-    0.1 ms and up (docs/python.md#chunks)."""
+    chaotic run, a failing point), few enough that Dask's cost per task (about 5 ms measured on
+    a 2-core machine, docs/python.md#measured) is a few percent of a chunk of millisecond runs.
+    For much cheaper points, give a larger ``chunk_size``."""
     return max(1, math.ceil(points / (8 * max(1, workers))))
 
 
@@ -243,8 +243,9 @@ def sweep(
         if not (isinstance(size, int) and size >= 1):
             raise ArgumentError(f"chunk_size must be a positive integer, got {size!r}")
         chunks = _chunks(points, size)
-        [scene_future] = client.scatter([scene], broadcast=True)
-        futures = [client.submit(_run_chunk, scene_future, chunk, settings, quantities, pure=False) for chunk in chunks]
+        # The scene travels with every task as its description (a few hundred bytes, a scene
+        # file's text at most); a worker resolves it once and keeps it.
+        futures = [client.submit(_run_chunk, scene, chunk, settings, quantities, pure=False) for chunk in chunks]
         if progress is None:
             progress = os.isatty(1) if hasattr(os, "isatty") else False
         if callable(progress):
