@@ -8,7 +8,7 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from . import _lagrange
-from .errors import ArgumentError, UnhealthyRunError
+from .errors import ArgumentError, FileError, UnhealthyRunError
 
 # The maximal-coordinate engines ``Scene.compare`` runs by default.
 ENGINES = ("cartesian", "rapier-impulse", "rapier-multibody", "rapier-impulse-f32", "rapier-multibody-f32")
@@ -397,12 +397,8 @@ def scene(name: str) -> Scene:
             with open(path, encoding="utf-8") as f:
                 text = f.read()
         except OSError as e:
-            from .errors import FileError
-
             raise FileError(f"cannot read {path}: {e.strerror or e}") from None
         except UnicodeDecodeError:
-            from .errors import FileError
-
             raise FileError(f"{path}: not a text file: the bytes are not UTF-8") from None
         spec = {"file": {"path": path, "text": text}}
     else:
