@@ -172,6 +172,64 @@ fn describe(method: Method) -> String {
     }
 }
 
+/// A trajectory that, every tenth of a second of wall time, asks Python whether a signal
+/// arrived (Ctrl-C): the run goes on without the GIL, so Python's own handler cannot run until
+/// it returns. An interrupt stops the run ([`lagrange::Error::Stopped`]) and is raised as
+/// Python's `KeyboardInterrupt`.
+struct Interruptible {
+    trajectory: lagrange::Trajectory,
+    last_check: std::time::Instant,
+    interrupt: Option<PyErr>,
+}
+
+impl lagrange::integrate::Sink for Interruptible {
+    fn wants_energy(&self) -> bool {
+        self.trajectory.wants_energy()
+    }
+
+    fn wants_violation(&self) -> bool {
+        self.trajectory.wants_violation()
+    }
+
+    fn record(&mut self, sample: lagrange::integrate::Sample<'_>) {
+        self.trajectory.record(sample);
+    }
+
+    fn finish(&mut self, stats: lagrange::integrate::Stats) {
+        self.trajectory.finish(stats);
+    }
+
+    fn keep_going(&mut self, _t: f64) -> bool {
+        if self.last_check.elapsed().as_secs_f64() < 0.1 {
+            return true;
+        }
+        self.last_check = std::time::Instant::now();
+        self.interrupt = Python::attach(|py| py.check_signals().err());
+        self.interrupt.is_none()
+    }
+}
+
+/// Why a run returned early: a failure, or the user's interrupt (raised as it came).
+enum RunError {
+    Failed(Failure),
+    Interrupted(PyErr),
+}
+
+impl<E: Into<Failure>> From<E> for RunError {
+    fn from(error: E) -> Self {
+        RunError::Failed(error.into())
+    }
+}
+
+impl From<RunError> for PyErr {
+    fn from(error: RunError) -> PyErr {
+        match error {
+            RunError::Failed(failure) => failure.into(),
+            RunError::Interrupted(interrupt) => interrupt,
+        }
+    }
+}
+
 /// What [`Scene::simulate`] hands back before it becomes Python objects.
 struct Run {
     trajectory: lagrange::Trajectory,
@@ -654,7 +712,14 @@ impl Scene {
     }
 
     /// The run and its health, without the GIL.
-    fn run(&self, start: &Start, hold: Option<&[String]>, t_end: f64, method: Method, output: &Output) -> Result<Run> {
+    fn run(
+        &self,
+        start: &Start,
+        hold: Option<&[String]>,
+        t_end: f64,
+        method: Method,
+        output: &Output,
+    ) -> std::result::Result<Run, RunError> {
         let started = std::time::Instant::now();
         let mut system = self.build(&start.params)?;
         let names: Option<Vec<&str>> = hold.map(|h| h.iter().map(String::as_str).collect());
@@ -663,9 +728,18 @@ impl Scene {
                 format!("hold=['{name}']")
             })?;
         // Into a trajectory that keeps the samples recorded before a failure, for its diagnosis.
-        let mut trajectory = lagrange::Trajectory::with_capacity(initial.q.len(), 0);
-        if let Err(error) = system.simulate_into(&initial, t_end, method, output, &mut trajectory) {
-            return Err(self.diagnosed(start, system.as_mut(), method, &trajectory, error));
+        let mut sink = Interruptible {
+            trajectory: lagrange::Trajectory::with_capacity(initial.q.len(), 0),
+            last_check: std::time::Instant::now(),
+            interrupt: None,
+        };
+        let result = system.simulate_into(&initial, t_end, method, output, &mut sink);
+        if let Some(interrupt) = sink.interrupt {
+            return Err(RunError::Interrupted(interrupt));
+        }
+        let trajectory = sink.trajectory;
+        if let Err(error) = result {
+            return Err(self.diagnosed(start, system.as_mut(), method, &trajectory, error).into());
         }
         let health =
             lagrange_validation::health::check(self.scene, &start.params, system.as_mut(), method, &trajectory)?;

@@ -255,6 +255,23 @@ def test_the_gil_is_released_during_a_run():
     assert counted > 10_000
 
 
+def test_ctrl_c_stops_a_long_run():
+    # A run of ten simulated hours (about 16 s of wall time) interrupted by SIGINT from another
+    # thread a moment after it starts: KeyboardInterrupt, as for any Python code, not a wait
+    # until the run returns.
+    import os
+    import signal
+
+    chain = lagrange.scene("chain")
+    timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            chain.simulate(36000.0, method="dop853", tol=1e-12, every=600.0)
+    finally:
+        timer.cancel()
+
+
 def test_report_is_the_command_lines(cli, tmp_path):
     cli("report", "--quick", "--scene", "harmonic_oscillator", "--jobs", "1", "--out", tmp_path / "cli")
     import json
