@@ -123,6 +123,24 @@ impl Scene {
     fn build(&self, params: &Params) -> Result<Box<dyn System>> {
         Ok(self.scene.build(params)?)
     }
+
+    /// `query` on the system built with the given parameters at the given state (the scene's
+    /// initial state where not given), without the GIL; with the number of coordinates.
+    #[allow(clippy::too_many_arguments)]
+    fn at_state<T: Send>(
+        &self,
+        py: Python<'_>,
+        params: &[(String, f64)],
+        t: Option<f64>,
+        q: Option<Vec<f64>>,
+        qdot: Option<Vec<f64>>,
+        query: impl FnOnce(&mut dyn System, &State) -> std::result::Result<T, lagrange::Error> + Send,
+    ) -> Result<(T, usize)> {
+        let start = self.start(params, t, q, qdot)?;
+        let n = start.state.q.len();
+        let value = py.detach(|| -> Result<T> { Ok(query(self.build(&start.params)?.as_mut(), &start.state)?) })?;
+        Ok((value, n))
+    }
 }
 
 /// A row-major matrix as a 2-D array.
@@ -157,18 +175,6 @@ fn method(name: &str, dt: Option<f64>, tol: Option<f64>) -> Result<Method> {
         (true, Some(dt), None) => Ok(kind.with(positive("dt", dt)?)),
         (false, None, Some(tol)) => Ok(kind.with(positive("tol", tol)?)),
         _ => Ok(kind.default_method()),
-    }
-}
-
-/// `rk4 at dt = 1e-3`, `dopri5 at tol = 1e-10`.
-fn describe(method: Method) -> String {
-    match method {
-        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => {
-            format!("{} at dt = {dt:e}", method.name())
-        }
-        Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } => {
-            format!("{} at tol = {:e}", method.name(), tol.rtol)
-        }
     }
 }
 
@@ -395,7 +401,7 @@ impl Scene {
             run.health.findings.iter().map(|f| (f.quantity.clone(), f.drift, f.bound, f.since)).collect();
         health.set_item("findings", findings)?;
         out.set_item("health", health)?;
-        out.set_item("method", describe(run.method))?;
+        out.set_item("method", run.method.describe())?;
         out.set_item("engine_seconds", run.seconds)?;
         Ok(out)
     }
@@ -438,11 +444,8 @@ impl Scene {
         q: Option<Vec<f64>>,
         qdot: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let start = self.start(&params, t, q, qdot)?;
-        let s = &start.state;
-        let qddot = py.detach(|| -> Result<Vec<f64>> {
-            Ok(self.build(&start.params)?.accelerations(s.t, &s.q, &s.qdot)?.to_vec())
-        })?;
+        let (qddot, _) =
+            self.at_state(py, &params, t, q, qdot, |system, s| Ok(system.accelerations(s.t, &s.q, &s.qdot)?.to_vec()))?;
         Ok(qddot.into_pyarray(py))
     }
 
@@ -471,26 +474,22 @@ impl Scene {
         t: Option<f64>,
         q: Option<Vec<f64>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let start = self.start(&params, t, q, None)?;
-        let s = &start.state;
-        let m = py.detach(|| -> Result<Vec<f64>> {
-            Ok(self.build(&start.params)?.mass_matrix(s.t, &s.q, &s.qdot)?.to_vec())
-        })?;
-        Ok(matrix(py, s.q.len(), m))
+        let (m, n) =
+            self.at_state(py, &params, t, q, None, |system, s| Ok(system.mass_matrix(s.t, &s.q, &s.qdot)?.to_vec()))?;
+        Ok(matrix(py, n, m))
     }
 
     /// The energy function `h = q̇ · ∂L/∂q̇ − L` at a state.
     #[pyo3(signature = (params, t=None, q=None, qdot=None))]
     fn energy(
         &self,
+        py: Python<'_>,
         params: Vec<(String, f64)>,
         t: Option<f64>,
         q: Option<Vec<f64>>,
         qdot: Option<Vec<f64>>,
     ) -> PyResult<f64> {
-        let start = self.start(&params, t, q, qdot)?;
-        let s = &start.state;
-        Ok(self.build(&start.params)?.energy_function(s.t, &s.q, &s.qdot).map_err(Failure::from)?)
+        Ok(self.at_state(py, &params, t, q, qdot, |system, s| system.energy_function(s.t, &s.q, &s.qdot))?.0)
     }
 
     /// The constraint multipliers `λ` (`M q̈ + Gᵀλ = f`) at a state; `None` for a scene without
@@ -504,10 +503,8 @@ impl Scene {
         q: Option<Vec<f64>>,
         qdot: Option<Vec<f64>>,
     ) -> PyResult<Option<Bound<'py, PyArray1<f64>>>> {
-        let start = self.start(&params, t, q, qdot)?;
-        let s = &start.state;
-        let lambda = py.detach(|| -> Result<Option<Vec<f64>>> {
-            Ok(self.build(&start.params)?.constraint_multipliers(s.t, &s.q, &s.qdot)?.map(<[f64]>::to_vec))
+        let (lambda, _) = self.at_state(py, &params, t, q, qdot, |system, s| {
+            Ok(system.constraint_multipliers(s.t, &s.q, &s.qdot)?.map(<[f64]>::to_vec))
         })?;
         Ok(lambda.map(|v| v.into_pyarray(py)))
     }
@@ -523,10 +520,8 @@ impl Scene {
         q: Option<Vec<f64>>,
         qdot: Option<Vec<f64>>,
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        let start = self.start(&params, t, q, qdot)?;
-        let s = &start.state;
-        let forces = py.detach(|| -> Result<Option<Vec<f64>>> {
-            Ok(self.build(&start.params)?.reaction_forces(s.t, &s.q, &s.qdot)?.map(<[f64]>::to_vec))
+        let (forces, _) = self.at_state(py, &params, t, q, qdot, |system, s| {
+            Ok(system.reaction_forces(s.t, &s.q, &s.qdot)?.map(<[f64]>::to_vec))
         })?;
         Ok(forces.map(|f| matrix(py, f.len() / 3, f)))
     }
@@ -765,7 +760,7 @@ impl Scene {
                 format!(
                     "the run of {} with {} diverged ({}) before it stopped with: {error}; use a smaller {flag}",
                     self.scene.id(),
-                    describe(method),
+                    method.describe(),
                     findings.join("; ")
                 )
             }
@@ -775,7 +770,7 @@ impl Scene {
                  stiffness; the motion is not resolved there (a singular configuration, a discontinuity, or a \
                  tolerance too loose for the motion: {error})",
                 self.scene.id(),
-                describe(method),
+                method.describe(),
                 3.3 / rate
             ),
         };

@@ -140,18 +140,6 @@ fn method_and_every(args: &Args, span: f64) -> Result<(Method, f64), CliError> {
     Ok((method, every))
 }
 
-/// `rk4 at dt = 1e-3`, `adaptive at tol = 1e-10`.
-fn describe(method: Method) -> String {
-    match method {
-        Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => {
-            format!("{} at dt = {dt:e}", method.name())
-        }
-        Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } => {
-            format!("{} at tol = {:e}", method.name(), tol.rtol)
-        }
-    }
-}
-
 /// The CSV header: `t [s]`, each coordinate and its velocity (`_dot`) with their SI units, the
 /// energy function `h [J]` and, for a mechanism with constraints among its coordinates, the
 /// largest constraint residuals of each sample: `max|Phi|` (positions) and `max|Phi_dot|`
@@ -272,13 +260,13 @@ fn diagnose(
         None => CliError::Engine(*source),
         Some(health::Cause::DivergedFirst { findings }) => CliError::DivergedFirst {
             scene,
-            method: describe(method),
+            method: method.describe(),
             findings: joined(&findings),
             source,
             flag: accuracy_flag(method),
         },
         Some(health::Cause::NotStiff { t, h, rate }) => {
-            CliError::NotStiff { scene, method: describe(method), t, h, rate, source }
+            CliError::NotStiff { scene, method: method.describe(), t, h, rate, source }
         }
     }
 }
@@ -349,7 +337,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 Err(_) => Run::Failed,
             }
         });
-        let what = format!("simulating {span:e} s of {} with {}", scene.id(), describe(method));
+        let what = format!("simulating {span:e} s of {} with {}", scene.id(), method.describe());
         long_work::check_time(estimate, args.force, &what, flag)?;
     }
     let limit = long_work::max_seconds(args.max_seconds, args.force)?;
@@ -381,7 +369,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let health = health::check(scene, &params, system.as_mut(), method, &trajectory)?;
     let unhealthy = (!health.is_healthy()).then(|| CliError::Unhealthy {
         scene: scene.id().to_string(),
-        method: describe(method),
+        method: method.describe(),
         findings: joined(&health.findings),
         expected: health.expected,
         flag: accuracy_flag(method),

@@ -156,6 +156,19 @@ impl Method {
     pub fn name(&self) -> &'static str {
         self.kind().name()
     }
+
+    /// The method with its setting, as messages name a run: `rk4 at dt = 1e-3`,
+    /// `dopri5 at tol = 1e-10`.
+    pub fn describe(&self) -> String {
+        match *self {
+            Method::Rk4 { dt } | Method::Variational { dt } | Method::Gauss4 { dt } => {
+                format!("{} at dt = {dt:e}", self.name())
+            }
+            Method::Dopri5 { tol } | Method::Dop853 { tol } | Method::Sdirk4 { tol } => {
+                format!("{} at tol = {:e}", self.name(), tol.rtol)
+            }
+        }
+    }
 }
 
 /// A method name or setting that does not parse.
