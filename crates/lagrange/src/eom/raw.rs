@@ -104,7 +104,7 @@ impl<F: LagrangianFunction> RawModel<F> {
         let (q, qdot, t) = probes.state(0);
         let mut force = vec![0.0; n];
         let has_force = function.generalized_force_with(&mut function.scratch(), t, q, qdot, &mut force);
-        let (cyclic, autonomous) = probes.lagrangian_structure(&function);
+        let (cyclic, autonomous) = (probes.cyclic(&function), probes.autonomous(&function));
         let model = Self { function, n, has_force, cyclic, autonomous };
         model.check_mass_matrix(&probes)?;
         Ok(model)

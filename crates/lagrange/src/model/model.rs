@@ -5,13 +5,15 @@ use crate::mechanism::{Body, Bounds, Coordinate, Description, Loads, Mechanism};
 use crate::pose::Pose;
 use crate::probe::{self, ConstantTerms, ProbeStates};
 use crate::tree::Tree;
+use std::sync::OnceLock;
 
 /// A [`Mechanism`] checked and prepared for evaluation: the *model* of the model/workspace split.
 ///
 /// Construction validates the bodies (finite, non-negative masses and inertias), asks once
 /// which optional terms the mechanism has (potential, generalized forces, admissible region), checks a declared
 /// constant mass matrix or kinematic tree at probe states (and factors the constant matrix),
-/// and finds the cyclic coordinates. Evaluations never re-check any of this.
+/// and whether the equations are autonomous; the cyclic coordinates are found on first request.
+/// Evaluations never re-check any of this.
 ///
 /// # Which algorithm computes `q̈`
 ///
@@ -40,7 +42,8 @@ pub struct Model<M> {
     /// Whether the mechanism declares an admissible region.
     pub(crate) has_region: bool,
     pub(crate) constant: Option<ConstantTerms>,
-    pub(crate) cyclic: Vec<bool>,
+    /// The cyclic coordinates, found on first request ([`cyclic_coordinates`](Self::cyclic_coordinates)).
+    pub(crate) cyclic: OnceLock<Vec<bool>>,
     pub(crate) autonomous: bool,
     /// The declared kinematic tree, when accelerations run the articulated-body algorithm.
     pub(crate) tree: Option<Tree>,
@@ -92,7 +95,7 @@ impl<M: Mechanism> Model<M> {
             has_applied: false,
             has_region: false,
             constant: None,
-            cyclic: vec![false; n],
+            cyclic: OnceLock::new(),
             autonomous: false,
             tree: None,
             constraint_counts: description.constraint_counts(),
@@ -102,10 +105,10 @@ impl<M: Mechanism> Model<M> {
         let probes = ProbeStates::new(n);
         probe::check_poses(&model.mechanism, &probes)?;
         model.ask_optional_terms(&probes)?;
-        let constraint_structure = if model.is_constrained() {
-            Some(probe::check_constraints(&model.mechanism, model.constraint_counts, &probes)?)
+        let constraints_autonomous = if model.is_constrained() {
+            probe::check_constraints(&model.mechanism, model.constraint_counts, &probes)?
         } else {
-            None
+            true
         };
         if model.mechanism.description().constant_mass_matrix {
             model.constant = Some(probe::constant_terms(&model.mechanism, &probes)?);
@@ -123,16 +126,8 @@ impl<M: Mechanism> Model<M> {
         {
             model.sparse = crate::eom::sparse::SparseStructure::new(&model.mechanism, tree, m, &probes).map(Box::new);
         }
-        let (mut cyclic, mut autonomous) = probes.lagrangian_structure(&model);
-        if let Some(structure) = constraint_structure {
-            // A constraint force along q_j moves p_j; a moving constraint does work.
-            for (c, involved) in cyclic.iter_mut().zip(&structure.involves) {
-                *c &= !involved;
-            }
-            autonomous &= structure.autonomous;
-        }
-        model.cyclic = cyclic;
-        model.autonomous = autonomous;
+        // A moving constraint does work.
+        model.autonomous = probes.autonomous(&model) && constraints_autonomous;
         Ok(model)
     }
 
@@ -242,8 +237,22 @@ impl<M: Mechanism> Model<M> {
     /// Which coordinates are cyclic (`∂L/∂q_j = 0`): their momenta `p_j` are conserved when
     /// no generalized force acts on them. Found at construction by evaluating `∂L/∂q_j`
     /// exactly (AD) at probe states: a coordinate is cyclic when it is exactly zero at all.
+    ///
+    /// Asked of the mechanism on the first call (one dual pass per coordinate at each probe
+    /// state, `O(n²)` for a chain) and kept: construction does not pay for it.
     pub fn cyclic_coordinates(&self) -> &[bool] {
-        &self.cyclic
+        self.cyclic.get_or_init(|| {
+            let probes = ProbeStates::new(self.n);
+            let mut cyclic = probes.cyclic(self);
+            if self.is_constrained() {
+                // A constraint force along q_j moves p_j.
+                let involves = probe::constraint_involvement(&self.mechanism, self.constraint_counts, &probes);
+                for (c, involved) in cyclic.iter_mut().zip(involves) {
+                    *c &= !involved;
+                }
+            }
+            cyclic
+        })
     }
 
     /// Whether the Lagrangian does not depend on time explicitly (`∂L/∂t = 0` exactly at the

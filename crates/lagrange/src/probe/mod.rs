@@ -64,15 +64,14 @@ impl ProbeStates {
         &self.direction[k * self.n..(k + 1) * self.n]
     }
 
-    /// Which coordinates are cyclic (`∂L/∂q_j` exactly zero at every probe), and whether the
-    /// Lagrangian is autonomous (`∂L/∂t` exactly zero at every probe).
-    pub(crate) fn lagrangian_structure<F: LagrangianFunction>(&self, f: &F) -> (Vec<bool>, bool) {
+    /// Which coordinates are cyclic: `∂L/∂q_j` exactly zero at every probe (one dual pass per
+    /// coordinate and probe, `O(n)` passes: asked for when needed, not at construction).
+    pub(crate) fn cyclic<F: LagrangianFunction>(&self, f: &F) -> Vec<bool> {
         let n = self.n;
         let mut scratch = f.scratch::<Dual64>();
         let mut q = vec![Dual64::from(0.0); n];
         let mut qdot = vec![Dual64::from(0.0); n];
         let mut cyclic = vec![true; n];
-        let mut autonomous = true;
         for k in 0..PROBES {
             let (q0, qdot0, t0) = self.state(k);
             seed::constant(&mut qdot, qdot0);
@@ -83,10 +82,22 @@ impl ProbeStates {
                 q[j].eps = 0.0;
                 cyclic[j] &= l.eps == 0.0;
             }
-            let l = f.lagrangian_with(&mut scratch, Dual64::new(t0, 1.0), &q, &qdot);
-            autonomous &= l.eps == 0.0;
         }
-        (cyclic, autonomous)
+        cyclic
+    }
+
+    /// Whether the Lagrangian is autonomous: `∂L/∂t` exactly zero at every probe (one pass each).
+    pub(crate) fn autonomous<F: LagrangianFunction>(&self, f: &F) -> bool {
+        let n = self.n;
+        let mut scratch = f.scratch::<Dual64>();
+        let mut q = vec![Dual64::from(0.0); n];
+        let mut qdot = vec![Dual64::from(0.0); n];
+        (0..PROBES).all(|k| {
+            let (q0, qdot0, t0) = self.state(k);
+            seed::constant(&mut qdot, qdot0);
+            seed::constant(&mut q, q0);
+            f.lagrangian_with(&mut scratch, Dual64::new(t0, 1.0), &q, &qdot).eps == 0.0
+        })
     }
 }
 
@@ -471,44 +482,36 @@ pub(crate) fn check_lagrangian<F: LagrangianFunction>(f: &F, probes: &ProbeState
     Ok(())
 }
 
-/// What the constraints among the coordinates reveal at the probe states: which coordinates
-/// they involve (column `j` of `G` not exactly zero at some probe: a constraint force can act
-/// along `q_j`, so its momentum is not conserved even when `q_j` is cyclic in `L`), and whether
-/// they are free of explicit time (`∂Φ/∂t` and `b` exactly time-independent; a moving
-/// constraint does work, so `h` is not conserved).
-pub(crate) struct ConstraintStructure {
-    pub(crate) involves: Vec<bool>,
-    pub(crate) autonomous: bool,
-}
-
-/// Check the declared constraints at the probe states: every residual finite, every velocity
-/// constraint affine in `q̇` (`c(2q̇) − 2c(q̇) + c(0) = 0` to round-off), and find their
-/// [`ConstraintStructure`].
+/// Check the declared constraints at the probe states — every residual and its derivatives
+/// along a direction mixing every coordinate and along `t` finite, every velocity constraint
+/// affine in `q̇` (`c(2q̇) − 2c(q̇) + c(0) = 0` to round-off) — and return whether they are free
+/// of explicit time (`∂Φ/∂t` and `b` exactly time-independent; a moving constraint does work,
+/// so `h` is not conserved). Two dual passes per probe, whatever the number of coordinates.
 ///
 /// # Errors
-/// [`Error::NonFinite`] (stage [`Constraints`](Stage::Constraints)) for a non-finite residual;
-/// [`Error::Inconsistent`] for a velocity constraint that is not linear in `q̇`.
+/// [`Error::NonFinite`] (stage [`Constraints`](Stage::Constraints)) for a non-finite residual
+/// or derivative; [`Error::Inconsistent`] for a velocity constraint that is not linear in `q̇`.
 pub(crate) fn check_constraints<M: Mechanism>(
     mechanism: &M,
     (holonomic, velocity): (usize, usize),
     probes: &ProbeStates,
-) -> Result<ConstraintStructure, Error> {
+) -> Result<bool, Error> {
     let n = probes.n;
-    let mut structure = ConstraintStructure { involves: vec![false; n], autonomous: true };
+    let mut autonomous = true;
     let mut phi = vec![Dual64::from(0.0); holonomic];
     let mut residual = vec![Dual64::from(0.0); velocity];
     let mut q_dual = vec![Dual64::from(0.0); n];
     let mut qdot_dual = vec![Dual64::from(0.0); n];
     for k in 0..probes.len() {
         let (q, qdot, t) = probes.state(k);
-        // Time derivatives, then one column of G per coordinate.
-        seed::constant(&mut q_dual, q);
         seed::constant(&mut qdot_dual, qdot);
-        for j in 0..=n {
-            let t_dual = if j == n { Dual64::new(t, 1.0) } else { Dual64::from(t) };
-            if j < n {
-                q_dual[j].eps = 1.0;
+        // Along the probe's direction in q (a non-finite entry of G makes the sum non-finite),
+        // then along t.
+        for along_t in [false, true] {
+            for (j, x) in q_dual.iter_mut().enumerate() {
+                *x = Dual64::new(q[j], if along_t { 0.0 } else { probes.direction(k)[j] });
             }
+            let t_dual = Dual64::new(t, if along_t { 1.0 } else { 0.0 });
             if holonomic > 0 {
                 mechanism.constraints(t_dual, &q_dual, &mut phi);
             }
@@ -518,22 +521,11 @@ pub(crate) fn check_constraints<M: Mechanism>(
             if phi.iter().chain(&residual).any(|v| !(v.re.is_finite() && v.eps.is_finite())) {
                 return Err(non_finite(Stage::Constraints, t, q));
             }
-            let moves = phi.iter().chain(&residual).any(|v| v.eps != 0.0);
-            if j < n {
-                q_dual[j].eps = 0.0;
-                structure.involves[j] |= moves;
-            } else if moves {
-                structure.autonomous = false;
+            if along_t {
+                autonomous &= phi.iter().chain(&residual).all(|v| v.eps == 0.0);
             }
         }
         if velocity > 0 {
-            // Velocity rows: A q̇ itself moves the momenta of the coordinates it names.
-            for j in 0..n {
-                qdot_dual[j].eps = 1.0;
-                mechanism.velocity_constraint(Dual64::from(t), &q_dual, &qdot_dual, &mut residual);
-                structure.involves[j] |= residual.iter().any(|v| v.eps != 0.0);
-                qdot_dual[j].eps = 0.0;
-            }
             // Affine in q̇: c(2q̇) − 2 c(q̇) + c(0) = 0 up to round-off of the three evaluations.
             let at = |scale: f64, out: &mut [Dual64]| {
                 let v: Vec<Dual64> = qdot.iter().map(|&v| Dual64::from(scale * v)).collect();
@@ -562,5 +554,46 @@ pub(crate) fn check_constraints<M: Mechanism>(
             }
         }
     }
-    Ok(structure)
+    Ok(autonomous)
+}
+
+/// Which coordinates the constraints involve: column `j` of `G` (or of a velocity constraint's
+/// `A`, through `q` or `q̇`) not exactly zero at some probe — a constraint force can act along
+/// `q_j`, so its momentum is not conserved even when `q_j` is cyclic in `L`. One dual pass per
+/// coordinate and probe (`O(n)` passes): asked for with the cyclic coordinates.
+pub(crate) fn constraint_involvement<M: Mechanism>(
+    mechanism: &M,
+    (holonomic, velocity): (usize, usize),
+    probes: &ProbeStates,
+) -> Vec<bool> {
+    let n = probes.n;
+    let mut involves = vec![false; n];
+    let mut phi = vec![Dual64::from(0.0); holonomic];
+    let mut residual = vec![Dual64::from(0.0); velocity];
+    let mut q_dual = vec![Dual64::from(0.0); n];
+    let mut qdot_dual = vec![Dual64::from(0.0); n];
+    for k in 0..probes.len() {
+        let (q, qdot, t) = probes.state(k);
+        seed::constant(&mut q_dual, q);
+        seed::constant(&mut qdot_dual, qdot);
+        for j in 0..n {
+            q_dual[j].eps = 1.0;
+            if holonomic > 0 {
+                mechanism.constraints(Dual64::from(t), &q_dual, &mut phi);
+            }
+            if velocity > 0 {
+                mechanism.velocity_constraint(Dual64::from(t), &q_dual, &qdot_dual, &mut residual);
+            }
+            q_dual[j].eps = 0.0;
+            involves[j] |= phi.iter().chain(&residual).any(|v| v.eps != 0.0);
+            if velocity > 0 {
+                // A q̇ itself moves the momenta of the coordinates it names.
+                qdot_dual[j].eps = 1.0;
+                mechanism.velocity_constraint(Dual64::from(t), &q_dual, &qdot_dual, &mut residual);
+                qdot_dual[j].eps = 0.0;
+                involves[j] |= residual.iter().any(|v| v.eps != 0.0);
+            }
+        }
+    }
+    involves
 }
