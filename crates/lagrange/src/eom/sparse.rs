@@ -25,7 +25,7 @@
 //! compressed `G`, `S` and the step `M⁻¹ Gᵀ S⁻¹ Φ`, and one step of the rates.
 
 use crate::Error;
-use crate::eom::constraints::{REFINEMENTS, REGULARIZATION};
+use crate::eom::constraints::{REFINEMENTS, REGULARIZATION, settled};
 use crate::eom::{all_finite, non_finite};
 use crate::error::{Stage, bad_pivot};
 use crate::linalg::PIVOT_RTOL;
@@ -642,6 +642,7 @@ fn solve_envelope<S: Scalar>(
         for i in 0..c {
             rhs[i] += residual[i];
         }
+        let done = settled(&residual[..c], &rhs[..c]);
         // ρ = r − S λ (S symmetric, stored by its lower envelope).
         product[..c].iter_mut().for_each(|v| *v = S::zero());
         for i in 0..c {
@@ -654,6 +655,9 @@ fn solve_envelope<S: Scalar>(
         }
         for i in 0..c {
             residual[i] = right[i] - product[i];
+        }
+        if done {
+            break;
         }
     }
 }
