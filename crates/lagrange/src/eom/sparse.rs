@@ -772,7 +772,7 @@ fn bisected_pattern<M: Mechanism>(
                 if (low..low + CHUNK).contains(&colour[b]) {
                     for j in lo..hi {
                         let mut d = Lanes::from_re(q[j]).derivative(colour[b] - low);
-                        d.eps = d.eps * weight[j];
+                        d.eps *= weight[j];
                         q_lanes[j] = d;
                     }
                 }
