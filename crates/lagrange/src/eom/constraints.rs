@@ -380,7 +380,7 @@ pub(crate) fn regularized_factor<S: Scalar>(c: usize, mu: f64, schur: &[S], fact
     factor_with(c, factor, dependent, 0.0);
 }
 
-/// Solve `S λ = r` by the factor of `S + μ̄ I` and [`REFINEMENTS`] refinement steps: `rhs`
+/// Solve `S λ = r` by the factor of `S + μ̄ I` and at most [`REFINEMENTS`] refinement steps: `rhs`
 /// holds `r` on entry and `λ` on return; `right` (c) keeps `r`, `residual` (c) ends holding
 /// `r − S λ`. Returns the largest entry of that residual.
 pub(crate) fn regularized_solve<S: Scalar>(

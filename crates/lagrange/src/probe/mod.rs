@@ -482,6 +482,40 @@ pub(crate) fn check_lagrangian<F: LagrangianFunction>(f: &F, probes: &ProbeState
     Ok(())
 }
 
+/// Dual buffers for evaluating a mechanism's holonomic and velocity constraints together at a
+/// seeded state (`q`, `qdot`), for the constraint probes.
+struct ConstraintDuals {
+    counts: (usize, usize),
+    phi: Vec<Dual64>,
+    residual: Vec<Dual64>,
+    q: Vec<Dual64>,
+    qdot: Vec<Dual64>,
+}
+
+impl ConstraintDuals {
+    fn new(n: usize, counts: (usize, usize)) -> Self {
+        let zero = Dual64::from(0.0);
+        Self {
+            counts,
+            phi: vec![zero; counts.0],
+            residual: vec![zero; counts.1],
+            q: vec![zero; n],
+            qdot: vec![zero; n],
+        }
+    }
+
+    /// `Φ` and the velocity residuals at `(t, q, qdot)`, one after the other.
+    fn evaluate<M: Mechanism>(&mut self, mechanism: &M, t: Dual64) -> impl Iterator<Item = &Dual64> {
+        if self.counts.0 > 0 {
+            mechanism.constraints(t, &self.q, &mut self.phi);
+        }
+        if self.counts.1 > 0 {
+            mechanism.velocity_constraint(t, &self.q, &self.qdot, &mut self.residual);
+        }
+        self.phi.iter().chain(&self.residual)
+    }
+}
+
 /// Check the declared constraints at the probe states — every residual and its derivatives
 /// along a direction mixing every coordinate and along `t` finite, every velocity constraint
 /// affine in `q̇` (`c(2q̇) − 2c(q̇) + c(0) = 0` to round-off) — and return whether they are free
@@ -496,40 +530,34 @@ pub(crate) fn check_constraints<M: Mechanism>(
     (holonomic, velocity): (usize, usize),
     probes: &ProbeStates,
 ) -> Result<bool, Error> {
-    let n = probes.n;
+    let mut duals = ConstraintDuals::new(probes.n, (holonomic, velocity));
     let mut autonomous = true;
-    let mut phi = vec![Dual64::from(0.0); holonomic];
-    let mut residual = vec![Dual64::from(0.0); velocity];
-    let mut q_dual = vec![Dual64::from(0.0); n];
-    let mut qdot_dual = vec![Dual64::from(0.0); n];
     for k in 0..probes.len() {
         let (q, qdot, t) = probes.state(k);
-        seed::constant(&mut qdot_dual, qdot);
+        seed::constant(&mut duals.qdot, qdot);
         // Along the probe's direction in q (a non-finite entry of G makes the sum non-finite),
         // then along t.
         for along_t in [false, true] {
-            for (j, x) in q_dual.iter_mut().enumerate() {
-                *x = Dual64::new(q[j], if along_t { 0.0 } else { probes.direction(k)[j] });
+            let direction = if along_t { None } else { Some(probes.direction(k)) };
+            for (j, x) in duals.q.iter_mut().enumerate() {
+                *x = Dual64::new(q[j], direction.map_or(0.0, |d| d[j]));
             }
             let t_dual = Dual64::new(t, if along_t { 1.0 } else { 0.0 });
-            if holonomic > 0 {
-                mechanism.constraints(t_dual, &q_dual, &mut phi);
-            }
-            if velocity > 0 {
-                mechanism.velocity_constraint(t_dual, &q_dual, &qdot_dual, &mut residual);
-            }
-            if phi.iter().chain(&residual).any(|v| !(v.re.is_finite() && v.eps.is_finite())) {
+            let (finite, still) = duals
+                .evaluate(mechanism, t_dual)
+                .fold((true, true), |(f, s), v| (f && v.re.is_finite() && v.eps.is_finite(), s && v.eps == 0.0));
+            if !finite {
                 return Err(non_finite(Stage::Constraints, t, q));
             }
             if along_t {
-                autonomous &= phi.iter().chain(&residual).all(|v| v.eps == 0.0);
+                autonomous &= still;
             }
         }
         if velocity > 0 {
             // Affine in q̇: c(2q̇) − 2 c(q̇) + c(0) = 0 up to round-off of the three evaluations.
             let at = |scale: f64, out: &mut [Dual64]| {
                 let v: Vec<Dual64> = qdot.iter().map(|&v| Dual64::from(scale * v)).collect();
-                mechanism.velocity_constraint(Dual64::from(t), &q_dual, &v, out);
+                mechanism.velocity_constraint(Dual64::from(t), &duals.q, &v, out);
             };
             let (mut c0, mut c1, mut c2) = (
                 vec![Dual64::from(0.0); velocity],
@@ -568,30 +596,21 @@ pub(crate) fn constraint_involvement<M: Mechanism>(
 ) -> Vec<bool> {
     let n = probes.n;
     let mut involves = vec![false; n];
-    let mut phi = vec![Dual64::from(0.0); holonomic];
-    let mut residual = vec![Dual64::from(0.0); velocity];
-    let mut q_dual = vec![Dual64::from(0.0); n];
-    let mut qdot_dual = vec![Dual64::from(0.0); n];
+    let mut duals = ConstraintDuals::new(n, (holonomic, velocity));
     for k in 0..probes.len() {
         let (q, qdot, t) = probes.state(k);
-        seed::constant(&mut q_dual, q);
-        seed::constant(&mut qdot_dual, qdot);
+        seed::constant(&mut duals.q, q);
+        seed::constant(&mut duals.qdot, qdot);
         for j in 0..n {
-            q_dual[j].eps = 1.0;
-            if holonomic > 0 {
-                mechanism.constraints(Dual64::from(t), &q_dual, &mut phi);
-            }
+            // Along q_j, then (velocity rows: A q̇ itself moves the momenta of the coordinates
+            // it names) along q̇_j.
+            duals.q[j].eps = 1.0;
+            involves[j] |= duals.evaluate(mechanism, Dual64::from(t)).any(|v| v.eps != 0.0);
+            duals.q[j].eps = 0.0;
             if velocity > 0 {
-                mechanism.velocity_constraint(Dual64::from(t), &q_dual, &qdot_dual, &mut residual);
-            }
-            q_dual[j].eps = 0.0;
-            involves[j] |= phi.iter().chain(&residual).any(|v| v.eps != 0.0);
-            if velocity > 0 {
-                // A q̇ itself moves the momenta of the coordinates it names.
-                qdot_dual[j].eps = 1.0;
-                mechanism.velocity_constraint(Dual64::from(t), &q_dual, &qdot_dual, &mut residual);
-                qdot_dual[j].eps = 0.0;
-                involves[j] |= residual.iter().any(|v| v.eps != 0.0);
+                duals.qdot[j].eps = 1.0;
+                involves[j] |= duals.evaluate(mechanism, Dual64::from(t)).skip(holonomic).any(|v| v.eps != 0.0);
+                duals.qdot[j].eps = 0.0;
             }
         }
     }
