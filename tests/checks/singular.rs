@@ -182,8 +182,9 @@ fn the_parallelogram_chain_keeps_its_branch_through_fifty_flat_positions_at_ever
 /// its exact motion as the tolerance tightens: the crank tip's largest distance from the exact
 /// solution's at 400 output times, by DOP853 at tolerances 1e-8 … 1e-11 and Dormand–Prince at
 /// 1e-9 and 1e-10, never grows when the tolerance tightens, and the tightest runs are within
-/// 1e-7 m. Measured: DOP853 2.0e-6, 2.3e-7, 2.2e-8, 1.3e-8 m; Dormand–Prince 6.0e-7, 7.6e-8 m
-/// (the bound on the tightest leaves a factor 4.5 over the largest of them). With the previous
+/// 1e-7 m. Measured: DOP853 1.9e-6, 2.7e-7, 3.9e-8, 1.7e-8 m; Dormand–Prince 5.7e-7, 8.1e-8 m
+/// (the bound on the tightest is 1.2× Dormand–Prince's and 6× DOP853's; the runs are
+/// deterministic, so the margin covers only a change of compiler or libm). With the previous
 /// shift of the constrained solve (1e-10, two refinement steps) the same DOP853 runs read
 /// 1.2e-6, 8.5e-5, 1.1e-3, 9.8e-4 m: tightening made them worse, as the noise that a solve
 /// enforcing nearly dependent rows exactly amplifies (as `ε/δ³` at `δ` from flat) drove the

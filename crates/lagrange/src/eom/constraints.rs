@@ -356,7 +356,8 @@ fn along_forces<S: Scalar>(n: usize, rows: usize, factor: &[S], mobility: &[S], 
 pub(crate) const REGULARIZATION: f64 = 1e-7;
 
 /// Iterative refinement steps after the first solve with `S + μ̄ I`, at most: the refinement
-/// stops earlier once a step changes `λ` by no more than round-off ([`settled`]).
+/// stops earlier once a step changes `λ` by no more than round-off ([`settled`]) or the
+/// residual is down to the round-off of computing it ([`at_roundoff`]).
 pub(crate) const REFINEMENTS: usize = 16;
 
 /// Whether a refinement step `step` has settled the solution `x`: no entry moved by more than
@@ -364,6 +365,17 @@ pub(crate) const REFINEMENTS: usize = 16;
 pub(crate) fn settled<S: Scalar>(step: &[S], x: &[S]) -> bool {
     let size = x.iter().fold(0.0_f64, |m, v| m.max(v.re().abs()));
     step.iter().all(|v| v.re().abs() <= 4.0 * f64::EPSILON * size)
+}
+
+/// Whether a residual entry `ρ_i = r_i − Σ_j S_ij λ_j`, summed over `terms` products, is no
+/// larger than the round-off of computing it, `γ_{terms+1} (|r_i| + Σ_j |S_ij| |λ_j|)` with
+/// `bound` that sum of sizes (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.5
+/// and §12.1): below it a refinement step is computed from noise and moves `λ` by that noise
+/// times the conditioning of `S`. Where `S` is ill-conditioned (a long chain of loops) the
+/// steps stall there, orders of magnitude above [`settled`]'s `4 ε`; where a direction is still
+/// converging (a nearly dependent row, slowly, by design) its residual is far above it.
+pub(crate) fn at_roundoff(residual: f64, bound: f64, terms: usize) -> bool {
+    residual.abs() <= (terms + 1) as f64 * f64::EPSILON * bound
 }
 
 /// Factor `S + μ̄ I` (`S` symmetric positive semi-definite, c × c, row-major) into `factor`:
@@ -401,10 +413,14 @@ pub(crate) fn regularized_solve<S: Scalar>(
             rhs[i] += residual[i];
         }
         let done = settled(&residual[..c], &rhs[..c]);
+        let mut floor = true;
         for i in 0..c {
-            residual[i] = right[i] - dot(&schur[i * c..(i + 1) * c], &rhs[..c]);
+            let row = &schur[i * c..(i + 1) * c];
+            residual[i] = right[i] - dot(row, &rhs[..c]);
+            let bound = row.iter().zip(&rhs[..c]).fold(right[i].re().abs(), |b, (s, x)| b + (s.re() * x.re()).abs());
+            floor &= at_roundoff(residual[i].re(), bound, c);
         }
-        if done {
+        if done || floor {
             break;
         }
     }
@@ -920,7 +936,7 @@ pub(crate) fn violation<M: Mechanism>(
 /// far off, `α` keeps every angle's turn within half a radian and is halved until `‖Φ‖₂`
 /// falls), then one step `q̇ ← q̇ − M⁻¹ Gᵀ (G M⁻¹ Gᵀ)⁻¹ r` with `r` the velocity residuals
 /// `G q̇ + Φ_t` and `A q̇ + b`. Both solves are shifted and refined as the accelerations' are
-/// (a shift of `1e-10` of the mean diagonal of `G M⁻¹ Gᵀ`, docs/method.md#constraints). A model
+/// (a shift of `1e-7` of the mean diagonal of `G M⁻¹ Gᵀ`, docs/method.md#constraints). A model
 /// without constraints is left as it is. The integrators call
 /// it after every step.
 ///

@@ -25,7 +25,7 @@
 //! compressed `G`, `S` and the step `M⁻¹ Gᵀ S⁻¹ Φ`, and one step of the rates.
 
 use crate::Error;
-use crate::eom::constraints::{REFINEMENTS, REGULARIZATION, settled};
+use crate::eom::constraints::{REFINEMENTS, REGULARIZATION, at_roundoff, settled};
 use crate::eom::{all_finite, non_finite};
 use crate::error::{Stage, bad_pivot};
 use crate::linalg::PIVOT_RTOL;
@@ -99,6 +99,8 @@ pub(crate) struct SparseBuffers<S: Scalar> {
     schur: Vec<S>,
     schur_factor: Vec<S>,
     product: Vec<S>,
+    /// `|S| |λ|` (c): the scale of the round-off of `S λ`.
+    bound: Vec<f64>,
 }
 
 impl<S: Scalar> SparseBuffers<S> {
@@ -120,6 +122,7 @@ impl<S: Scalar> SparseBuffers<S> {
             schur: vec![z; env],
             schur_factor: vec![z; env],
             product: vec![z; s.first.len()],
+            bound: vec![0.0; s.first.len()],
         }
     }
 }
@@ -349,7 +352,15 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
                 + cb.convective[r];
         }
         let ConstraintBuffers { dependent, multipliers, right, refine, .. } = &mut cb;
-        solve_envelope(st, c, (&b.schur, &b.schur_factor, dependent), multipliers, right, refine, &mut b.product);
+        solve_envelope(
+            st,
+            c,
+            (&b.schur, &b.schur_factor, dependent),
+            multipliers,
+            right,
+            refine,
+            (&mut b.product, &mut b.bound),
+        );
         // q̈ −= M⁻¹ Gᵀ λ.
         st.along_forces(n, c, &mut b, &cb.multipliers);
         for k in 0..n {
@@ -535,7 +546,15 @@ impl SparseStructure {
             crate::eom::constraints::Rhs::Residual => &residual[..c],
             crate::eom::constraints::Rhs::Rate => &rate[..c],
         });
-        solve_envelope(self, c, (&sb.schur, &sb.schur_factor, gram_dependent), mu, right, refine, &mut sb.product);
+        solve_envelope(
+            self,
+            c,
+            (&sb.schur, &sb.schur_factor, gram_dependent),
+            mu,
+            right,
+            refine,
+            (&mut sb.product, &mut sb.bound),
+        );
         self.along_forces(n, c, sb, mu);
         step.copy_from_slice(&sb.dense);
         sb.dense.fill(0.0);
@@ -607,7 +626,7 @@ fn solve_envelope<S: Scalar>(
     rhs: &mut [S],
     right: &mut [S],
     residual: &mut [S],
-    product: &mut [S],
+    (product, bound): (&mut [S], &mut [f64]),
 ) {
     let at = |r: usize, s: usize| st.env_start[r] + s - st.first[r];
     right[..c].copy_from_slice(&rhs[..c]);
@@ -643,20 +662,29 @@ fn solve_envelope<S: Scalar>(
             rhs[i] += residual[i];
         }
         let done = settled(&residual[..c], &rhs[..c]);
-        // ρ = r − S λ (S symmetric, stored by its lower envelope).
+        // ρ = r − S λ (S symmetric, stored by its lower envelope), and the sizes of its terms.
         product[..c].iter_mut().for_each(|v| *v = S::zero());
+        bound[..c].iter_mut().for_each(|v| *v = 0.0);
+        let mut width = 0;
         for i in 0..c {
+            width = width.max(i + 1 - st.first[i]);
             for s in st.first[i]..i {
                 let v = schur[at(i, s)];
                 product[i] += v * rhs[s];
                 product[s] += v * rhs[i];
+                bound[i] += (v.re() * rhs[s].re()).abs();
+                bound[s] += (v.re() * rhs[i].re()).abs();
             }
             product[i] += schur[at(i, i)] * rhs[i];
+            bound[i] += (schur[at(i, i)].re() * rhs[i].re()).abs();
         }
+        // A row of the symmetric envelope holds at most 2 · width − 1 entries.
+        let mut floor = true;
         for i in 0..c {
             residual[i] = right[i] - product[i];
+            floor &= at_roundoff(residual[i].re(), bound[i] + right[i].re().abs(), 2 * width);
         }
-        if done {
+        if done || floor {
             break;
         }
     }
