@@ -25,7 +25,7 @@
 //! compressed `G`, `S` and the step `M⁻¹ Gᵀ S⁻¹ Φ`, and one step of the rates.
 
 use crate::Error;
-use crate::eom::constraints::{REFINEMENTS, REGULARIZATION, at_roundoff, settled};
+use crate::eom::constraints::{NOISE_STEP, REFINEMENTS, REGULARIZATION, at_roundoff, moved_at_most, settled};
 use crate::eom::{all_finite, non_finite};
 use crate::error::{Stage, bad_pivot};
 use crate::linalg::PIVOT_RTOL;
@@ -679,7 +679,7 @@ fn solve_envelope<S: Scalar>(
             bound[i] += (schur[at(i, i)].re() * rhs[i].re()).abs();
         }
         // A row of the symmetric envelope holds at most 2 · width − 1 entries.
-        let mut floor = true;
+        let mut floor = moved_at_most(&residual[..c], &rhs[..c], NOISE_STEP);
         for i in 0..c {
             residual[i] = right[i] - product[i];
             floor &= at_roundoff(residual[i].re(), bound[i] + right[i].re().abs(), 2 * width);
