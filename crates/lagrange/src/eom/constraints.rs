@@ -356,21 +356,21 @@ fn along_forces<S: Scalar>(n: usize, rows: usize, factor: &[S], mobility: &[S], 
 pub(crate) const REGULARIZATION: f64 = 1e-7;
 
 /// Iterative refinement steps after the first solve with `S + μ̄ I`, at most: the refinement
-/// stops earlier once a step changes `λ` by no more than round-off ([`settled`]), or by no
+/// stops earlier once a step changes `λ` by no more than round-off ([`SETTLED`]), or by no
 /// more than [`NOISE_STEP`] with the residual down to the round-off of computing it
 /// ([`at_roundoff`]).
 pub(crate) const REFINEMENTS: usize = 16;
 
-/// Whether a refinement step `step` has settled the solution `x`: no entry moved by more than
-/// `4 ε` of `x`'s largest (the real parts; derivative parts converge with them).
-pub(crate) fn settled<S: Scalar>(step: &[S], x: &[S]) -> bool {
-    moved_at_most(step, x, 4.0 * f64::EPSILON)
-}
+/// A refinement step that moves no entry of `λ` by more than this fraction of its largest
+/// entry has settled it: round-off.
+pub(crate) const SETTLED: f64 = 4.0 * f64::EPSILON;
 
-/// Whether no entry of `step` is larger than `fraction` of `x`'s largest (real parts).
-pub(crate) fn moved_at_most<S: Scalar>(step: &[S], x: &[S], fraction: f64) -> bool {
-    let size = x.iter().fold(0.0_f64, |m, v| m.max(v.re().abs()));
-    step.iter().all(|v| v.re().abs() <= fraction * size)
+/// The largest entry of a refinement step and of the solution it was added to (real parts;
+/// derivative parts converge with them), for the tests `step ≤ SETTLED · size` and
+/// `step ≤ NOISE_STEP · size`.
+pub(crate) fn step_and_size<S: Scalar>(step: &[S], x: &[S]) -> (f64, f64) {
+    let largest = |v: &[S]| v.iter().fold(0.0_f64, |m, v| m.max(v.re().abs()));
+    (largest(step), largest(x))
 }
 
 /// A refinement step whose residual is at round-off ([`at_roundoff`]) ends the refinement only
@@ -387,7 +387,7 @@ pub(crate) const NOISE_STEP: f64 = 1e-12;
 /// `bound` that sum of sizes (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.5
 /// and §12.1): below it a refinement step is computed from noise and moves `λ` by that noise
 /// times the conditioning of `S`. Where `S` is ill-conditioned (a long chain of loops) the
-/// steps stall there, orders of magnitude above [`settled`]'s `4 ε`; where a direction is still
+/// steps stall there, orders of magnitude above [`SETTLED`]; where a direction is still
 /// converging (a nearly dependent row, slowly, by design) its residual is far above it.
 pub(crate) fn at_roundoff(residual: f64, bound: f64, terms: usize) -> bool {
     residual.abs() <= (terms + 1) as f64 * f64::EPSILON * bound
@@ -427,15 +427,15 @@ pub(crate) fn regularized_solve<S: Scalar>(
         for i in 0..c {
             rhs[i] += residual[i];
         }
-        let done = settled(&residual[..c], &rhs[..c]);
-        let mut floor = moved_at_most(&residual[..c], &rhs[..c], NOISE_STEP);
+        let (moved, size) = step_and_size(&residual[..c], &rhs[..c]);
+        let mut floor = moved <= NOISE_STEP * size;
         for i in 0..c {
             let row = &schur[i * c..(i + 1) * c];
             residual[i] = right[i] - dot(row, &rhs[..c]);
             let bound = row.iter().zip(&rhs[..c]).fold(right[i].re().abs(), |b, (s, x)| b + (s.re() * x.re()).abs());
             floor &= at_roundoff(residual[i].re(), bound, c);
         }
-        if done || floor {
+        if moved <= SETTLED * size || floor {
             break;
         }
     }

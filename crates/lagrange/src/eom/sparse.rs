@@ -25,7 +25,7 @@
 //! compressed `G`, `S` and the step `M⁻¹ Gᵀ S⁻¹ Φ`, and one step of the rates.
 
 use crate::Error;
-use crate::eom::constraints::{NOISE_STEP, REFINEMENTS, REGULARIZATION, at_roundoff, moved_at_most, settled};
+use crate::eom::constraints::{NOISE_STEP, REFINEMENTS, REGULARIZATION, SETTLED, at_roundoff, step_and_size};
 use crate::eom::{all_finite, non_finite};
 use crate::error::{Stage, bad_pivot};
 use crate::linalg::PIVOT_RTOL;
@@ -352,15 +352,7 @@ pub(crate) fn solve<M: Mechanism, S: Scalar>(
                 + cb.convective[r];
         }
         let ConstraintBuffers { dependent, multipliers, right, refine, .. } = &mut cb;
-        solve_envelope(
-            st,
-            c,
-            (&b.schur, &b.schur_factor, dependent),
-            multipliers,
-            right,
-            refine,
-            (&mut b.product, &mut b.bound),
-        );
+        solve_envelope(st, c, &mut b, dependent, (&mut multipliers[..], &mut right[..], &mut refine[..]));
         // q̈ −= M⁻¹ Gᵀ λ.
         st.along_forces(n, c, &mut b, &cb.multipliers);
         for k in 0..n {
@@ -546,15 +538,7 @@ impl SparseStructure {
             crate::eom::constraints::Rhs::Residual => &residual[..c],
             crate::eom::constraints::Rhs::Rate => &rate[..c],
         });
-        solve_envelope(
-            self,
-            c,
-            (&sb.schur, &sb.schur_factor, gram_dependent),
-            mu,
-            right,
-            refine,
-            (&mut sb.product, &mut sb.bound),
-        );
+        solve_envelope(self, c, sb, gram_dependent, (&mut mu[..], &mut right[..], &mut refine[..]));
         self.along_forces(n, c, sb, mu);
         step.copy_from_slice(&sb.dense);
         sb.dense.fill(0.0);
@@ -617,18 +601,19 @@ fn factor_envelope<S: Scalar>(st: &SparseStructure, c: usize, schur: &[S], facto
     }
 }
 
-/// [`regularized_solve`](super::constraints::regularized_solve) on the envelope.
-#[allow(clippy::too_many_arguments)]
+/// [`regularized_solve`](super::constraints::regularized_solve) on the envelope, with `S` and
+/// its factor from `sb` ([`SparseStructure::schur`]).
 fn solve_envelope<S: Scalar>(
     st: &SparseStructure,
     c: usize,
-    (schur, factor, dependent): (&[S], &[S], &[bool]),
-    rhs: &mut [S],
-    right: &mut [S],
-    residual: &mut [S],
-    (product, bound): (&mut [S], &mut [f64]),
+    sb: &mut SparseBuffers<S>,
+    dependent: &[bool],
+    (rhs, right, residual): (&mut [S], &mut [S], &mut [S]),
 ) {
+    let SparseBuffers { schur, schur_factor: factor, product, bound, .. } = sb;
     let at = |r: usize, s: usize| st.env_start[r] + s - st.first[r];
+    // A row of the symmetric envelope holds at most 2 · width − 1 entries.
+    let width = (0..c).map(|i| i + 1 - st.first[i]).max().unwrap_or(0);
     right[..c].copy_from_slice(&rhs[..c]);
     residual[..c].copy_from_slice(&rhs[..c]);
     rhs[..c].iter_mut().for_each(|v| *v = S::zero());
@@ -661,13 +646,11 @@ fn solve_envelope<S: Scalar>(
         for i in 0..c {
             rhs[i] += residual[i];
         }
-        let done = settled(&residual[..c], &rhs[..c]);
+        let (moved, size) = step_and_size(&residual[..c], &rhs[..c]);
         // ρ = r − S λ (S symmetric, stored by its lower envelope), and the sizes of its terms.
         product[..c].iter_mut().for_each(|v| *v = S::zero());
         bound[..c].iter_mut().for_each(|v| *v = 0.0);
-        let mut width = 0;
         for i in 0..c {
-            width = width.max(i + 1 - st.first[i]);
             for s in st.first[i]..i {
                 let v = schur[at(i, s)];
                 product[i] += v * rhs[s];
@@ -678,13 +661,12 @@ fn solve_envelope<S: Scalar>(
             product[i] += schur[at(i, i)] * rhs[i];
             bound[i] += (schur[at(i, i)].re() * rhs[i].re()).abs();
         }
-        // A row of the symmetric envelope holds at most 2 · width − 1 entries.
-        let mut floor = moved_at_most(&residual[..c], &rhs[..c], NOISE_STEP);
+        let mut floor = moved <= NOISE_STEP * size;
         for i in 0..c {
             residual[i] = right[i] - product[i];
             floor &= at_roundoff(residual[i].re(), bound[i] + right[i].re().abs(), 2 * width);
         }
-        if done || floor {
+        if moved <= SETTLED * size || floor {
             break;
         }
     }
