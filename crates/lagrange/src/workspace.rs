@@ -130,7 +130,7 @@ impl<S: Scalar> Workspace<S> {
             constant_jacobian,
             constant_factor,
             constant_gravity,
-            articulated: if model.tree.is_some() { vec![ArticulatedBody::zero(); b] } else { Vec::new() },
+            articulated: if model.uses_tree { vec![ArticulatedBody::zero(); b] } else { Vec::new() },
             tangent: None,
             constraints: model.is_constrained().then(|| {
                 let (m, k) = model.constraint_counts();

@@ -44,7 +44,7 @@ pub(crate) fn accelerations<'w, M: Mechanism, S: Scalar>(
     qdot: &[S],
 ) -> Result<&'w [S], Error> {
     check_state(model.n, t, q, Some(qdot))?;
-    if let Some(tree) = &model.tree {
+    if let Some(tree) = model.declared_tree() {
         articulated::solve(model, tree, ws, t, q, qdot)?;
         if let Some(structure) = &model.sparse {
             // Many loops on a tree: the same solve on the sparsity found at construction.

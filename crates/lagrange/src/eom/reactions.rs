@@ -32,7 +32,7 @@ pub fn reaction_forces<'w, M: Mechanism, S: Scalar>(
     if model.constant.is_some() {
         ws.jacobian.copy_from_slice(&ws.constant_jacobian);
         ws.convective.fill(S::zero());
-    } else if model.tree.is_some() {
+    } else if model.uses_tree {
         // The articulated-body algorithm does not form J and γ: the pose passes do.
         super::kinematics::jacobian_pass(model, ws, t, q, false);
         super::kinematics::velocity_pass(model, ws, t, q, qdot);

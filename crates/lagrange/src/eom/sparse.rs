@@ -981,7 +981,7 @@ mod tests {
         let dense = Model::new(GraphMechanism::new(graph).unwrap()).unwrap();
         let mut sparse = dense.clone();
         let (m, _) = dense.constraint_counts;
-        let tree = dense.tree.as_ref().expect("a graph declares its spanning tree");
+        let tree = dense.declared_tree().expect("a graph declares its spanning tree");
         sparse.sparse = SparseStructure::new(&dense.mechanism, tree, m, &ProbeStates::new(dense.n)).map(Box::new);
         assert!(sparse.sparse.is_some(), "the compressed Jacobians reproduce the dense ones");
         let mut dense = dense;

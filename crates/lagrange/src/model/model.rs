@@ -45,8 +45,9 @@ pub struct Model<M> {
     /// The cyclic coordinates, found on first request ([`cyclic_coordinates`](Self::cyclic_coordinates)).
     pub(crate) cyclic: OnceLock<Vec<bool>>,
     pub(crate) autonomous: bool,
-    /// The declared kinematic tree, when accelerations run the articulated-body algorithm.
-    pub(crate) tree: Option<Tree>,
+    /// Whether accelerations run the articulated-body algorithm on the mechanism's declared
+    /// tree ([`declared_tree`](Self::declared_tree)).
+    pub(crate) uses_tree: bool,
     /// Numbers of holonomic and velocity constraints among the coordinates.
     pub(crate) constraint_counts: (usize, usize),
     /// The structure of the sparse constrained solve of a tree with many holonomic
@@ -97,7 +98,7 @@ impl<M: Mechanism> Model<M> {
             constant: None,
             cyclic: OnceLock::new(),
             autonomous: false,
-            tree: None,
+            uses_tree: false,
             constraint_counts: description.constraint_counts(),
             sparse: None,
             mechanism,
@@ -117,10 +118,10 @@ impl<M: Mechanism> Model<M> {
             probe::check_tree(&model.mechanism, tree, &probes)?;
             // A constant mass matrix is cheaper still: the tree is checked but not used.
             if model.constant.is_none() {
-                model.tree = Some(tree.clone());
+                model.uses_tree = true;
             }
         }
-        if let Some(tree) = &model.tree
+        if let Some(tree) = model.declared_tree()
             && let (m @ 1.., 0) = model.constraint_counts
             && n >= crate::eom::sparse::SPARSE_FROM
         {
@@ -220,7 +221,13 @@ impl<M: Mechanism> Model<M> {
     /// the mechanism's declared [`Tree`] (built with [`new`](Self::new), a tree declared, no
     /// constant mass matrix).
     pub fn uses_tree_path(&self) -> bool {
-        self.tree.is_some()
+        self.uses_tree
+    }
+
+    /// The mechanism's declared tree when accelerations run the articulated-body algorithm on
+    /// it, `None` otherwise.
+    pub(crate) fn declared_tree(&self) -> Option<&Tree> {
+        if self.uses_tree { self.mechanism.tree() } else { None }
     }
 
     /// Whether the coordinates are related by constraints ([`Description::constraints`],
