@@ -126,14 +126,27 @@ pub mod tables {
     /// `--bench singular`, first table: the parallelogram chain against `N`.
     pub fn singular() -> Vec<String> {
         let run = format!("1 s at tol {SINGULAR_TOLERANCE:.0e}");
-        ["N", "q̈", "ratio to N = 8", "Model::new", "ratio to N = 8", &run, "crank-tip error"]
-            .iter()
-            .map(|c| c.to_string())
-            .collect()
+        [
+            "N",
+            "q̈",
+            "ratio to N = 8",
+            "Model::new",
+            "ratio to N = 8",
+            &run,
+            "evaluations (steps, rejected)",
+            "crank-tip error",
+        ]
+        .iter()
+        .map(|c| c.to_string())
+        .collect()
     }
     /// `--bench singular`, second table: `q̈` near the flat position.
-    pub const SINGULAR_FLAT: &[&str] =
-        &["δ (rad from flat)", "q̈ error on the branch", "q̈ error after 1e-12 off and projected"];
+    pub const SINGULAR_FLAT: &[&str] = &[
+        "δ (rad from flat)",
+        "q̈ error on the branch",
+        "q̈ error after 1e-12 off and projected",
+        "on the branch, 80 windows",
+    ];
 
     /// The header and separator lines of a markdown table with `columns`.
     pub fn header<S: AsRef<str>>(columns: &[S]) -> String {
