@@ -382,6 +382,15 @@ pub(crate) fn step_and_size<S: Scalar>(step: &[S], x: &[S]) -> (f64, f64) {
 /// force than the filter of [`REGULARIZATION`] and [`REFINEMENTS`] was chosen to.
 pub(crate) const NOISE_STEP: f64 = 1e-12;
 
+/// Whether iterative refinement stops after a step that moved `λ` by at most `moved` (largest
+/// entry) when `λ`'s largest entry is `size`, with `at_roundoff` whether every row's residual
+/// is at the round-off of computing it: the step settled `λ` ([`SETTLED`]), or the residual
+/// is noise and the step no larger than noise makes ([`NOISE_STEP`]). The one policy of the
+/// dense and the sparse solve.
+pub(crate) fn refinement_stops(moved: f64, size: f64, at_roundoff: bool) -> bool {
+    moved <= SETTLED * size || at_roundoff && moved <= NOISE_STEP * size
+}
+
 /// Whether a residual entry `ρ_i = r_i − Σ_j S_ij λ_j`, summed over `terms` products, is no
 /// larger than the round-off of computing it, `γ_{terms+1} (|r_i| + Σ_j |S_ij| |λ_j|)` with
 /// `bound` that sum of sizes (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.5
@@ -428,14 +437,14 @@ pub(crate) fn regularized_solve<S: Scalar>(
             rhs[i] += residual[i];
         }
         let (moved, size) = step_and_size(&residual[..c], &rhs[..c]);
-        let mut floor = moved <= NOISE_STEP * size;
+        let mut floor = true;
         for i in 0..c {
             let row = &schur[i * c..(i + 1) * c];
             residual[i] = right[i] - dot(row, &rhs[..c]);
             let bound = row.iter().zip(&rhs[..c]).fold(right[i].re().abs(), |b, (s, x)| b + (s.re() * x.re()).abs());
             floor &= at_roundoff(residual[i].re(), bound, c);
         }
-        if moved <= SETTLED * size || floor {
+        if refinement_stops(moved, size, floor) {
             break;
         }
     }

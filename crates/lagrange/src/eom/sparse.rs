@@ -25,7 +25,7 @@
 //! compressed `G`, `S` and the step `M⁻¹ Gᵀ S⁻¹ Φ`, and one step of the rates.
 
 use crate::Error;
-use crate::eom::constraints::{NOISE_STEP, REFINEMENTS, REGULARIZATION, SETTLED, at_roundoff, step_and_size};
+use crate::eom::constraints::{REFINEMENTS, REGULARIZATION, at_roundoff, refinement_stops, step_and_size};
 use crate::eom::{all_finite, non_finite};
 use crate::error::{Stage, bad_pivot};
 use crate::linalg::PIVOT_RTOL;
@@ -661,12 +661,12 @@ fn solve_envelope<S: Scalar>(
             product[i] += schur[at(i, i)] * rhs[i];
             bound[i] += (schur[at(i, i)].re() * rhs[i].re()).abs();
         }
-        let mut floor = moved <= NOISE_STEP * size;
+        let mut floor = true;
         for i in 0..c {
             residual[i] = right[i] - product[i];
             floor &= at_roundoff(residual[i].re(), bound[i] + right[i].re().abs(), 2 * width);
         }
-        if moved <= SETTLED * size || floor {
+        if refinement_stops(moved, size, floor) {
             break;
         }
     }
