@@ -120,6 +120,12 @@ fn main() {
     );
 }
 
+/// The largest distance of the accelerations `a` from the branch's: `θ̈` for the cranks (even
+/// coordinates), `−θ̈` for the couplers.
+fn branch_error(a: &[f64], theta_ddot: f64) -> f64 {
+    a.iter().enumerate().map(|(i, x)| (x - if i % 2 == 0 { theta_ddot } else { -theta_ddot }).abs()).fold(0.0, f64::max)
+}
+
 /// The error of `q̈` near the flat position against the branch's exact `θ̈ = −ω² cos θ`
 /// (couplers `−θ̈`) on 10 windows, at the exact state and after a disturbance of 1e-12 and a
 /// projection; and at the exact state of the longest chain, where the window around the flat
@@ -142,9 +148,7 @@ fn conditioning() {
         let delta = 10f64.powi(-e);
         let state = scene.state_at(0.0, delta, 6.0);
         let exact = -w2 * delta.cos();
-        let error = |a: &[f64]| {
-            a.iter().enumerate().map(|(i, x)| (x - if i % 2 == 0 { exact } else { -exact }).abs()).fold(0.0, f64::max)
-        };
+        let error = |a: &[f64]| branch_error(a, exact);
         let on = lagrange::accelerations(&model, &mut ws, 0.0, &state.q, &state.qdot).map(&error);
         let mut q: Vec<f64> = state.q.iter().map(|x| x + 1e-12 * next()).collect();
         let mut qdot: Vec<f64> = state.qdot.iter().map(|x| x + 1e-12 * next()).collect();
@@ -153,13 +157,8 @@ fn conditioning() {
         // The same exact state of the longest chain (its branch's ω² is its own).
         let long_state = long.state_at(0.0, delta, 6.0);
         let long_exact = -long.omega_squared() * delta.cos();
-        let long_on =
-            lagrange::accelerations(&long_model, &mut long_ws, 0.0, &long_state.q, &long_state.qdot).map(|a| {
-                a.iter()
-                    .enumerate()
-                    .map(|(i, x)| (x - if i % 2 == 0 { long_exact } else { -long_exact }).abs())
-                    .fold(0.0, f64::max)
-            });
+        let long_on = lagrange::accelerations(&long_model, &mut long_ws, 0.0, &long_state.q, &long_state.qdot)
+            .map(|a| branch_error(a, long_exact));
         let show = |r: Result<f64, lagrange::Error>| r.map_or_else(|e| e.to_string(), |v| format!("{v:.1e}"));
         println!("| {delta:.0e} | {} | {} | {} |", show(on), show(off), show(long_on));
     }
