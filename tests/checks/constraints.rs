@@ -370,6 +370,48 @@ fn redundant_constraints_are_resolved_and_contradictory_ones_named() {
     assert!(matches!(run, Err(Error::AssemblyFailed { .. } | Error::Diverged { .. })), "{run:?}");
 }
 
+/// The multipliers say when they are not unique: the parallelogram with a third link has two
+/// redundant directions of its four rows everywhere (`w1`, `w2` above); the chain of 3
+/// parallelogram windows has none swinging and 3 laid flat, where 3 of its 6 loop rows become
+/// dependent; a four-bar, a Cartesian pendulum and a model without constraints have none.
+#[test]
+fn the_multiplier_rank_counts_redundant_and_dependent_rows() {
+    use lagrange::multiplier_rank;
+    let m = lagrange_tests::parallelogram(false);
+    let rank = multiplier_rank(&m, &mut m.workspace(), 0.0, &[-0.8; 3], &[1.5; 3]).expect("evaluates");
+    assert_eq!((rank.rows, rank.determined, rank.unique()), (4, 2, false), "{rank:?}");
+    // An exact redundancy: the eigenvalues of S along w1, w2 are round-off.
+    assert!(rank.conditioning < 1e-14, "{rank:?}");
+
+    let scene = lagrange_scenes::ParallelogramChain::new(3, G, 8.0).expect("valid");
+    let chain = Model::new(scene.clone()).expect("valid");
+    let mut ws = chain.workspace();
+    for (theta, dependent) in [(-1.0, 0), (0.0, 3), (std::f64::consts::PI, 3)] {
+        let s = scene.state_at(0.0, theta, 6.0);
+        let rank = multiplier_rank(&chain, &mut ws, 0.0, &s.q, &s.qdot).expect("evaluates");
+        assert_eq!((rank.rows, rank.rows - rank.determined), (6, dependent), "θ = {theta}: {rank:?}");
+        assert_eq!(rank.unique(), dependent == 0);
+    }
+
+    let four_bar = Model::new(FourBar::new(LENGTHS, MASSES, false)).expect("valid");
+    let start = four_bar_state(&four_bar, 0.6, 1.0);
+    let rank = multiplier_rank(&four_bar, &mut four_bar.workspace(), 0.0, &start.q, &start.qdot).expect("evaluates");
+    assert!(rank.unique() && rank.rows == 2 && rank.conditioning > 1e-3, "{rank:?}");
+
+    let pendulum = Model::new(CartesianPendulum::new(1.0, 1.0)).expect("valid");
+    let mut ws = pendulum.workspace();
+    let rank = multiplier_rank(&pendulum, &mut ws, 0.0, &[0.6, -0.8], &[0.8, 0.6]).expect("evaluates");
+    assert!(rank.unique() && rank.rows == 1, "{rank:?}");
+    assert!(matches!(
+        multiplier_rank(&pendulum, &mut ws, 0.0, &[f64::NAN, -0.8], &[0.8, 0.6]),
+        Err(Error::NonFinite { .. })
+    ));
+
+    let reduced = Model::new(FourBar::new(LENGTHS, MASSES, true)).expect("valid");
+    let rank = multiplier_rank(&reduced, &mut reduced.workspace(), 0.0, &[0.6], &[1.0]).expect("evaluates");
+    assert_eq!((rank.rows, rank.determined, rank.unique()), (0, 0, true), "{rank:?}");
+}
+
 /// A knife edge (Chaplygin sleigh, no gravity): the velocity constraint
 /// `−sin φ ẋ + cos φ ẏ + a φ̇ = 0` keeps the point `C + a e` moving along `e`. The constraint
 /// force does no work, so `E = T` is conserved; it acts along every coordinate (none is cyclic) and

@@ -310,7 +310,7 @@ pub mod prelude {
     };
 }
 
-pub use eom::constraints::{assemble, constraint_multipliers, project};
+pub use eom::constraints::{MultiplierRank, assemble, constraint_multipliers, multiplier_rank, project};
 pub use eom::energy::{kinetic_energy, potential_energy, total_energy};
 pub use eom::equations::{Equations, accelerations, energy_function, lagrangian, mass_matrix, momenta};
 pub use eom::point::{PointMotion, point_motion};

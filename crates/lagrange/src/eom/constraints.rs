@@ -1027,8 +1027,12 @@ pub fn assemble<M: Mechanism>(
 
 /// The multipliers `λ` of the constraints at `(t, q, q̇)` (holonomic rows, then velocity rows),
 /// borrowed from the workspace: `−Gᵀ λ` is the generalized constraint force, so that
-/// `M q̈ = f − Gᵀ λ`. Empty for a model without constraints. A row dependent on the rows
-/// before it carries `λ = 0`.
+/// `M q̈ = f − Gᵀ λ`. Empty for a model without constraints. Where the rows are redundant (a
+/// parallelogram with a third parallel bar) or become dependent (a linkage at a singular
+/// configuration), `λ` is not unique: `q̈` and the force on every body
+/// ([`reaction_forces`](crate::reaction_forces)) are, but how it is shared among the rows is
+/// not, and the solve returns the smallest `λ` along the directions the equations leave free
+/// (docs/method.md#constraints). [`multiplier_rank`] says how many there are at a state.
 ///
 /// # Errors
 /// As [`accelerations`](crate::accelerations).
@@ -1041,4 +1045,74 @@ pub fn constraint_multipliers<'w, M: Mechanism, S: Scalar>(
 ) -> Result<&'w [S], Error> {
     crate::eom::accelerations(model, ws, t, q, qdot)?;
     Ok(ws.constraints.as_ref().map_or(&[][..], |b| &b.multipliers))
+}
+
+/// How far the equations determine the constraint multipliers at a state
+/// ([`multiplier_rank`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MultiplierRank {
+    /// Constraint rows `c = m + k`.
+    pub rows: usize,
+    /// Directions of `λ` the equations determine: the eigenvalues of `S = G M⁻¹ Gᵀ` above the
+    /// shift `μ̄` of the constrained solve (`1e-7` of its mean diagonal). Along the other
+    /// `rows − determined` directions the multipliers returned are the solve's smallest choice.
+    pub determined: usize,
+    /// The smallest eigenvalue of `S` over its largest: round-off (~1e-16) at an exact
+    /// redundancy, falling as the square of the distance to a singular configuration; 1 without
+    /// constraints.
+    pub conditioning: f64,
+}
+
+impl MultiplierRank {
+    /// Whether the multipliers are unique (every direction determined).
+    pub fn unique(&self) -> bool {
+        self.determined == self.rows
+    }
+}
+
+/// How many directions of the multipliers `λ` ([`constraint_multipliers`]) the equations of
+/// motion determine at `(t, q, q̇)`: the eigenvalues of `S = G M⁻¹ Gᵀ` (c × c, the matrix of the
+/// multipliers' equations `S λ = G M⁻¹ f + γ`) above the constrained solve's shift. Fewer than
+/// the rows at a redundancy (everywhere for a parallelogram with a third parallel bar: one) and
+/// at a singular configuration (a chain of `N` parallelogram windows laid flat: `N`), where the
+/// multipliers returned are one choice among many. A dense eigendecomposition of `S` (`O(n³ +
+/// c³)`): a diagnostic, not for a simulation's inner loop.
+///
+/// # Errors
+/// As [`accelerations`](crate::accelerations): a malformed or non-finite state, a singular
+/// mass matrix.
+pub fn multiplier_rank<M: Mechanism>(
+    model: &Model<M>,
+    ws: &mut Workspace<f64>,
+    t: f64,
+    q: &[f64],
+    qdot: &[f64],
+) -> Result<MultiplierRank, Error> {
+    crate::eom::check_state(model.n, t, q, Some(qdot))?;
+    let (n, (m, k)) = (model.n, model.constraint_counts);
+    let c = m + k;
+    if c == 0 {
+        return Ok(MultiplierRank { rows: 0, determined: 0, conditioning: 1.0 });
+    }
+    // The accelerations first: their checks of the state, the mass matrix and the constraints.
+    crate::eom::accelerations(model, ws, t, q, qdot)?;
+    let mass = nalgebra::DMatrix::from_row_slice(n, n, crate::mass_matrix(model, ws, t, q, qdot)?);
+    let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
+    evaluate(&model.mechanism, (m, k), Rows::All, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
+    let g = nalgebra::DMatrix::from_row_slice(c, n, &b.jacobian[..c * n]);
+    ws.constraints = Some(b);
+    // M passed the accelerations' LDLᵀ test (positive pivots): its Cholesky factor exists
+    // unless round-off makes a pivot that was barely positive there not so here.
+    let Some(factor) = mass.cholesky() else {
+        return Err(crate::error::non_finite(Stage::Accelerations, t, q));
+    };
+    let schur = &g * factor.solve(&g.transpose());
+    let eigenvalues = nalgebra::SymmetricEigen::new(schur.clone()).eigenvalues;
+    let largest = eigenvalues.max();
+    let shift = REGULARIZATION * schur.trace() / c as f64;
+    Ok(MultiplierRank {
+        rows: c,
+        determined: eigenvalues.iter().filter(|&&s| s > shift).count(),
+        conditioning: if largest > 0.0 { eigenvalues.min().max(0.0) / largest } else { 0.0 },
+    })
 }
