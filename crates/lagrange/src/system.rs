@@ -73,6 +73,16 @@ pub trait System {
     /// As [`accelerations`](Self::accelerations).
     fn constraint_multipliers(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error>;
 
+    /// How far the equations determine the constraint multipliers at `(t, q, q̇)`, or `None`
+    /// without constraints (the default); see [`multiplier_rank`](crate::multiplier_rank).
+    ///
+    /// # Errors
+    /// As [`accelerations`](Self::accelerations).
+    fn multiplier_rank(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<crate::MultiplierRank>, Error> {
+        let _ = (t, q, qdot);
+        Ok(None)
+    }
+
     /// The constraint Jacobian `G = [Φ_q; A]` (`(m + k) × n`, row-major) at `(t, q, q̇)`, or
     /// `None` without constraints (the default); see [`Dynamics::constraint_rows`].
     ///
@@ -227,6 +237,10 @@ impl<D: Dynamics> System for Buffered<D> {
         } else {
             Ok(None)
         }
+    }
+
+    fn multiplier_rank(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<crate::MultiplierRank>, Error> {
+        self.system.multiplier_rank(&mut self.ws, t, q, qdot)
     }
 
     fn constraint_jacobian(&mut self, t: f64, q: &[f64], qdot: &[f64]) -> Result<Option<&[f64]>, Error> {

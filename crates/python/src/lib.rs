@@ -509,6 +509,22 @@ impl Scene {
         Ok(lambda.map(|v| v.into_pyarray(py)))
     }
 
+    /// How far the equations determine the multipliers at a state: `(rows, determined,
+    /// conditioning)`; `None` for a scene without constraints among its coordinates.
+    #[pyo3(signature = (params, t=None, q=None, qdot=None))]
+    fn multiplier_rank(
+        &self,
+        py: Python<'_>,
+        params: Vec<(String, f64)>,
+        t: Option<f64>,
+        q: Option<Vec<f64>>,
+        qdot: Option<Vec<f64>>,
+    ) -> PyResult<Option<(usize, usize, f64)>> {
+        let (rank, _) =
+            self.at_state(py, &params, t, q, qdot, |system, s| system.multiplier_rank(s.t, &s.q, &s.qdot))?;
+        Ok(rank.map(|r| (r.rows, r.determined, r.conditioning)))
+    }
+
     /// The constraint forces on the bodies at a state: one row `(Fx, Fy, τ)` per body; `None`
     /// for a scene without bodies.
     #[pyo3(signature = (params, t=None, q=None, qdot=None))]

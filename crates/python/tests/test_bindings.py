@@ -135,6 +135,20 @@ def test_multipliers_and_reactions_of_the_nonminimal_pendulum_are_the_rod_tensio
     assert lagrange.scene("double_pendulum").multipliers() is None
 
 
+def test_multiplier_rank_says_when_the_multipliers_are_not_unique():
+    # The parallelogram with a third crank: one of its loop rows is redundant everywhere.
+    redundant = lagrange.scene("redundant_parallelogram").multiplier_rank()
+    assert redundant is not None and redundant["unique"] is False
+    assert redundant["rows"] - redundant["determined"] == 1 and redundant["conditioning"] < 1e-14
+    # The chain of 4 parallelogram windows (its default): unique swinging, 4 of its 8 rows
+    # dependent laid flat.
+    chain = lagrange.scene("parallelogram_chain")
+    assert chain.multiplier_rank()["unique"] is True
+    flat = chain.multiplier_rank(q=[0.0] * 9, qdot=[6.0, -6.0] * 4 + [6.0])
+    assert (flat["rows"], flat["determined"], flat["unique"]) == (8, 4, False)
+    assert lagrange.scene("double_pendulum").multiplier_rank() is None
+
+
 def test_reactions_of_the_double_pendulum_are_newtons():
     # Each bob is a point mass: the constraint force on it is m a − m g, with a its
     # acceleration from (q, q̇, q̈): x₁ = l₁ sin θ₁, y₁ = −l₁ cos θ₁, x₂ = x₁ + l₂ sin θ₂, …

@@ -176,6 +176,19 @@ pub trait Equations: sealed::Sealed {
         Ok(false)
     }
 
+    /// How far the equations determine the multipliers, `None` without constraints.
+    #[doc(hidden)]
+    fn eval_multiplier_rank(
+        &self,
+        ws: &mut Self::Workspace<f64>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<crate::MultiplierRank>, Error> {
+        let _ = (ws, t, q, qdot);
+        Ok(None)
+    }
+
     /// A consistent state near `approximate`, the `held` coordinates kept.
     #[doc(hidden)]
     fn eval_assemble(&self, approximate: &crate::State, held: &[bool]) -> Result<crate::State, Error> {
@@ -435,6 +448,19 @@ impl<M: Mechanism> Equations for Model<M> {
         let lambda = super::constraints::constraint_multipliers(self, ws, t, q, qdot)?;
         multipliers.copy_from_slice(lambda);
         Ok(true)
+    }
+
+    fn eval_multiplier_rank(
+        &self,
+        ws: &mut Workspace<f64>,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<crate::MultiplierRank>, Error> {
+        if !self.is_constrained() {
+            return Ok(None);
+        }
+        super::constraints::multiplier_rank(self, ws, t, q, qdot).map(Some)
     }
 
     fn eval_assemble(&self, approximate: &crate::State, held: &[bool]) -> Result<crate::State, Error> {

@@ -204,6 +204,22 @@ pub trait Dynamics: LagrangianFunction {
         Ok(false)
     }
 
+    /// How far the equations determine the constraint multipliers at `(t, q, q̇)`
+    /// ([`multiplier_rank`](crate::multiplier_rank)); `None` (the default) without constraints.
+    ///
+    /// # Errors
+    /// As [`accelerations`](Dynamics::accelerations).
+    fn multiplier_rank(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<crate::MultiplierRank>, Error> {
+        let _ = (ws, t, q, qdot);
+        Ok(None)
+    }
+
     /// A consistent state near `approximate`, the coordinates marked in `held` (and their
     /// rates) kept ([`assemble`](crate::assemble)); the state itself (the default) without
     /// constraints.
@@ -358,6 +374,16 @@ impl<E: Equations + LagrangianFunction> Dynamics for E {
         multipliers: &mut [f64],
     ) -> Result<bool, Error> {
         self.eval_multipliers(ws, t, q, qdot, multipliers)
+    }
+
+    fn multiplier_rank(
+        &self,
+        ws: &mut Self::Workspace,
+        t: f64,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<Option<crate::MultiplierRank>, Error> {
+        self.eval_multiplier_rank(ws, t, q, qdot)
     }
 
     fn assemble(&self, approximate: &State, held: &[bool]) -> Result<State, Error> {

@@ -312,6 +312,19 @@ class Scene:
         without constraints among its coordinates."""
         return self._inner.multipliers(_params(params), _number("t", t), _vector("q", q), _vector("qdot", qdot))
 
+    def multiplier_rank(self, q=None, qdot=None, t=None, params=None) -> Optional[dict]:
+        """How far the equations determine the multipliers at a state: ``rows`` (m + k),
+        ``determined`` (directions of λ the equations fix: eigenvalues of G M⁻¹ Gᵀ above the
+        constrained solve's shift), ``conditioning`` (its smallest eigenvalue over its largest)
+        and ``unique``. At a redundancy or a singular configuration ``unique`` is ``False``:
+        :meth:`multipliers` returns the smallest λ of many, while q̈ and :meth:`reactions` are
+        unique. ``None`` for a scene without constraints among its coordinates."""
+        rank = self._inner.multiplier_rank(_params(params), _number("t", t), _vector("q", q), _vector("qdot", qdot))
+        if rank is None:
+            return None
+        rows, determined, conditioning = rank
+        return {"rows": rows, "determined": determined, "conditioning": conditioning, "unique": determined == rows}
+
     def reactions(self, q=None, qdot=None, t=None, params=None) -> Optional[np.ndarray]:
         """The constraint forces on the bodies at a state: a row (Fx, Fy, τ) per body, in the
         order of :meth:`bodies`."""
