@@ -190,9 +190,9 @@ fn the_variational_integrator_keeps_the_branch_at_every_step_of_the_report() {
 /// hanging at 2 rad/s: it never turns over) it follows the exact motion at fourth order, with 2
 /// and 5 windows (once it failed there at 1e-2 and 1e-4 s and passed at 1e-3); turning over it
 /// stops at a flat position, at every step (at the first at 1e-4 s, after passing a few at 1e-3
-/// and 1e-2 s), with an error that says why and which methods go on — never a wrong motion. Its stage values are not held on the
-/// constraints, and the accelerations between them change faster near a singular configuration
-/// than its Newton iteration follows (splitting the failing step in halves down to 2⁻¹² of it
+/// and 1e-2 s), with an error that says why and which methods go on — never a wrong motion. Its
+/// stage values are not held on the constraints, and the accelerations between them change
+/// faster near a singular configuration than its Newton iteration follows (splitting the failing step in halves down to 2⁻¹² of it
 /// was tried: it passed 2 windows but not 10 at 0.025 s, and took 104 s for 40 windows at
 /// 0.0125 s, ending 2 m off the exact crank tip).
 #[test]

@@ -1107,9 +1107,9 @@ pub fn multiplier_rank<M: Mechanism>(
         return Err(crate::error::non_finite(Stage::Accelerations, t, q));
     };
     let schur = &g * factor.solve(&g.transpose());
-    let eigenvalues = nalgebra::SymmetricEigen::new(schur.clone()).eigenvalues;
-    let largest = eigenvalues.max();
     let shift = REGULARIZATION * schur.trace() / c as f64;
+    let eigenvalues = nalgebra::SymmetricEigen::new(schur).eigenvalues;
+    let largest = eigenvalues.max();
     Ok(MultiplierRank {
         rows: c,
         determined: eigenvalues.iter().filter(|&&s| s > shift).count(),

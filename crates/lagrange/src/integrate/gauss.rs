@@ -152,7 +152,7 @@ impl Gauss4 {
     /// [`Error::DimensionMismatch`] for a state of another size; [`Error::NewtonFailed`] when
     /// Newton does not converge even with a fresh Jacobian (the step is too large for the
     /// motion) — on a system with constraints among its coordinates an [`Error::Diverged`]
-    /// instead, saying why and with the conditioning of the constraint Jacobian: Gauss's stage
+    /// instead, saying why and with the multipliers' rank at the step's start: Gauss's stage
     /// values are not held on the constraints, and near a singular configuration (a
     /// parallelogram laid flat) its iteration does not converge at any step, where the
     /// variational integrator and the explicit methods go on; [`Error::Diverged`] naming the
@@ -241,9 +241,9 @@ impl Gauss4 {
 
     /// The error of a step whose Newton iteration did not converge: [`Error::NewtonFailed`], or
     /// for a system with constraints among its coordinates an [`Error::Diverged`] that says why
-    /// such a system stops Gauss and which methods go on, with the conditioning of the
-    /// constraint Jacobian `G` at the step's start (the ratio of its smallest singular value to
-    /// its largest: near zero at a singular configuration).
+    /// such a system stops Gauss and which methods go on, with the rank of its multipliers at
+    /// the step's start ([`Dynamics::multiplier_rank`]: directions lost and conditioning near a
+    /// singular configuration).
     fn newton_failed<D: Dynamics>(
         &self,
         system: &D,
@@ -256,18 +256,13 @@ impl Gauss4 {
         if m + k == 0 {
             return Error::NewtonFailed { t: state.t, iterations, residual };
         }
-        let (n, c) = (self.n, m + k);
-        let (mut g, mut phi, mut rate) = (vec![0.0; c * n], vec![0.0; m], vec![0.0; c]);
-        let conditioning =
-            match system.constraint_rows(ws, (state.t, &state.q, &state.qdot), &mut g, &mut phi, &mut rate) {
-                Ok(true) => {
-                    let sigma = nalgebra::DMatrix::from_row_slice(c, n, &g).singular_values();
-                    let largest = sigma.max();
-                    let smallest = sigma.iter().take(c.min(n)).fold(f64::INFINITY, |a, &s| a.min(s));
-                    format!("{:.1e}", smallest / largest)
-                }
-                _ => "unknown".to_string(),
-            };
+        let rank = match system.multiplier_rank(ws, state.t, &state.q, &state.qdot) {
+            Ok(Some(r)) => format!(
+                "at the step's start {} of its {} multiplier directions determined, G M⁻¹ Gᵀ conditioned {:.1e}",
+                r.determined, r.rows, r.conditioning
+            ),
+            _ => "its multipliers' rank unknown".to_string(),
+        };
         let residual = match residual {
             Some(r) => format!("residual {r:.1e}"),
             None => "the Newton matrix singular".to_string(),
@@ -277,8 +272,7 @@ impl Gauss4 {
             step: self.stats.steps,
             quantity: format!(
                 "Gauss's Newton iteration did not converge ({iterations} iterations, {residual}) with constraints \
-                 among the coordinates (their Jacobian's smallest singular value {conditioning} of its largest at the \
-                 step's start). Its stage values are not held on the constraints, and where these lose rank (links \
+                 among the coordinates ({rank}). Its stage values are not held on the constraints, and where these lose rank (links \
                  aligned: a singular configuration) the accelerations between its stages change faster than its \
                  iteration can follow, at any step; the variational integrator (Φ = 0 at every step), RK4 and the \
                  adaptive methods pass singular configurations"

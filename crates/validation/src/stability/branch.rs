@@ -56,8 +56,9 @@ fn branch(case: &mut CaseBuilder, effort: Effort) -> Result<(), crate::Error> {
     let variational: Vec<Method> = plan.variational_steps.iter().map(|&dt| Method::Variational { dt }).collect();
     for windows in [2.0, 10.0] {
         let params = scene_params(scene, &[("N", windows)])?;
-        let coarsest = if windows > 2.0 { 1 } else { variational.len() };
-        let methods: Vec<Method> = methods.iter().chain(&variational[..coarsest]).copied().collect();
+        // N = 10: the variational integrator's coarsest step only.
+        let steps = if windows > 2.0 { 1 } else { variational.len() };
+        let methods: Vec<Method> = methods.iter().chain(&variational[..steps]).copied().collect();
         let system = scene.build(&params)?;
         let names: Vec<String> = system.coordinates().iter().map(|c| c.name.clone()).collect();
         let initial = scene.default_state(&params)?;
