@@ -7,7 +7,8 @@
 //! `Φ(t₁, q₁) = 0` hold at the end of the step (RATTLE in Lagrangian form, Marsden & West
 //! §3.5) and the velocity rows `A(t_m, q_m) Δq/h + b = 0` at its midpoint (discrete
 //! Lagrange–d'Alembert, Cortés & Martínez 2001, McLachlan & Perlmutter 2006); Newton solves for
-//! `(Δq, Λ)` with the exact Jacobian. The velocities read are moved onto the velocity form of
+//! `(Δq, Λ)` with the constraint rows' exact Jacobian and the Newton matrix of the momentum
+//! equation kept while it contracts fast ([`REFRESH_RATE`]). The velocities read are moved onto the velocity form of
 //! the constraints by RATTLE's second multiplier, which does not change the coordinates. The
 //! driver does not project the state: the constraints hold at every step to the Newton
 //! tolerance by the method itself.
@@ -17,6 +18,7 @@ use super::integrator::{Grid, Integrator, Stats, diverged};
 use super::non_finite_quantity;
 use crate::eom::constraints;
 use crate::linalg as solve;
+use crate::seed::{CHUNK, Lanes, lane};
 use crate::{Dynamics, Error, LagrangianFunction, State};
 use num_dual::{Dual64, HyperDual64};
 
@@ -33,11 +35,23 @@ const NEWTON_MAX_ITERATIONS: usize = 50;
 /// margin of ~4500 ε while staying 100 times below the `NEWTON_RTOL` asked of the update. A
 /// stall above it is a failure.
 const MOMENTUM_ROUNDOFF: f64 = 1e-12;
+/// The Newton matrix is kept across iterations and steps (simplified Newton) while each
+/// iteration divides the update by at least `1/REFRESH_RATE`; a slower iteration rebuilds it
+/// at its iterate. Rebuilding costs one hyper-dual pass of `L` per pair of the `2n` variables,
+/// an iteration with the kept matrix one per variable; at a rate of 1/4 the kept matrix
+/// reaches round-off from a second-order predictor in a few more iterations than exact Newton.
+const REFRESH_RATE: f64 = 0.25;
+/// An iteration with a kept Newton matrix converges linearly: at rate `ρ` the error after an
+/// update `u` is about `ρ/(1 − ρ) |u|`, and it stops when that is below this fraction of
+/// `‖Δq‖∞` — the error that exact Newton leaves after an update of [`NEWTON_RTOL`] (its square
+/// times the curvature of the equations, round-off), to a few units of round-off of `Δq`.
+const LINEAR_RTOL: f64 = 1e-14;
 
 /// The midpoint discrete Lagrangian `L_d(q₀, q₁) = h L((q₀+q₁)/2, (q₁−q₀)/h, t + h/2)` in
 /// position–momentum form:
 ///
-/// `p₀ + D₁L_d(q₀, q₁) + (h/2) Q = 0` (solved for `q₁` by Newton with exact AD Jacobians),
+/// `p₀ + D₁L_d(q₀, q₁) + (h/2) Q = 0` (solved for `q₁` by Newton with an exact AD Jacobian,
+/// kept across iterations and steps while it serves, [`REFRESH_RATE`]),
 /// `p₁ = D₂L_d(q₀, q₁) + (h/2) Q`,
 ///
 /// with `Q` evaluated at the midpoint. Second order, symplectic; by the discrete Noether
@@ -49,8 +63,12 @@ const MOMENTUM_ROUNDOFF: f64 = 1e-12;
 /// generalized force) at one point — a midpoint of a step, or a state whose momenta or
 /// velocities are read — as one evaluation of `q̈` is the derivatives of `L` at one state for
 /// the other methods. Each Newton iteration (of a step, or of the inversion of the Legendre map
-/// when velocities are read) is one such evaluation together with the Hessian of `L` (a
-/// Jacobian, with `∂Q/∂Δq` for a generalized force) and one LU factorization.
+/// when velocities are read) is one such evaluation; a step's Newton matrix (a Jacobian: the
+/// Hessian of `L`, with `∂Q/∂Δq` for a generalized force, and one LU factorization) is built
+/// when the iteration stops contracting fast and kept otherwise ([`REFRESH_RATE`]). Velocities
+/// read through [`velocities`](Self::velocities) take a Jacobian (the Hessian's velocity block)
+/// and a factorization per iteration; read by a run, one factorization of the system's mass
+/// matrix.
 pub struct Variational<F: LagrangianFunction> {
     n: usize,
     scratch: F::Scratch<HyperDual64>,
@@ -60,6 +78,11 @@ pub struct Variational<F: LagrangianFunction> {
     /// Seeded midpoint coordinates and velocities (n each).
     q_seed: Vec<HyperDual64>,
     v_seed: Vec<HyperDual64>,
+    /// The system's scratch and the midpoint coordinates and velocities in vector duals (n
+    /// each), for the gradient alone: [`CHUNK`] of its `2n` entries per pass.
+    lanes_scratch: F::Scratch<Lanes<f64>>,
+    q_lanes: Vec<Lanes<f64>>,
+    v_lanes: Vec<Lanes<f64>>,
     /// Gradient `(∂L/∂q, ∂L/∂q̇)` at the midpoint (2n).
     gradient: Vec<f64>,
     /// Hessian of `L` in `z = (q, q̇)` (2n × 2n).
@@ -67,9 +90,22 @@ pub struct Variational<F: LagrangianFunction> {
     /// Newton matrix (n × n), its pivots, the residual and the update (n each).
     jacobian: Vec<f64>,
     pivots: Vec<usize>,
+    /// The LU factor of the step's Newton matrix `dR/dq₁` (n × n) and its pivots, kept across
+    /// iterations and steps while Newton contracts fast ([`REFRESH_RATE`]); `newton_step` is
+    /// the step it was built for (NaN: none).
+    newton: Vec<f64>,
+    newton_pivots: Vec<usize>,
+    newton_step: f64,
+    /// `Δq` of the last two steps and their steps (NaN: none), for the next step's predictor.
+    last_delta: Vec<f64>,
+    last_step: f64,
+    previous_delta: Vec<f64>,
+    previous_step: f64,
     residual: Vec<f64>,
     /// Generalized force at the midpoint (n).
     force: Vec<f64>,
+    /// `Σ_j |M_ij v_j|` (n): the size of the momenta's velocity part when velocities are read.
+    momentum_size: Vec<f64>,
     /// Whether the system has generalized forces (learnt at the first midpoint evaluation).
     has_force: bool,
     /// Midpoint coordinates and velocities as duals along one column of `∂/∂Δq` (n each), and
@@ -126,9 +162,12 @@ struct ConstrainedStep {
     dependent: Vec<bool>,
     gram: Vec<f64>,
     active: Vec<usize>,
-    /// `X = J⁻¹ C₀ᵀ` by rows (c × n), the Schur complement `C X` over the independent rows and
-    /// its pivots, its right-hand side (c).
+    /// `X = J⁻¹ C₀ᵀ` by rows (c × n), whether it is that of the current `C₀` and `J`, the
+    /// Schur complement `D X` over the independent rows and its pivots, its right-hand side (c).
     mobility: Vec<f64>,
+    mobility_current: bool,
+    /// The nonzero columns of one constraint row (at most n).
+    nonzero: Vec<usize>,
     schur: Vec<f64>,
     pivots: Vec<usize>,
     rhs: Vec<f64>,
@@ -151,6 +190,8 @@ impl ConstrainedStep {
             gram: vec![0.0; c * c],
             active: Vec::with_capacity(c),
             mobility: vec![0.0; c * n],
+            mobility_current: false,
+            nonzero: Vec::with_capacity(n),
             schur: vec![0.0; c * c],
             pivots: vec![0; c],
             rhs: vec![0.0; c],
@@ -172,12 +213,23 @@ impl<F: LagrangianFunction> Variational<F> {
             force_dual_scratch: system.scratch(),
             q_seed: vec![zero; n],
             v_seed: vec![zero; n],
+            lanes_scratch: system.scratch(),
+            q_lanes: vec![Lanes::from_re(0.0); n],
+            v_lanes: vec![Lanes::from_re(0.0); n],
             gradient: z(2 * n),
             hessian: z(4 * n * n),
             jacobian: z(n * n),
             pivots: vec![0; n],
+            newton: z(n * n),
+            newton_pivots: vec![0; n],
+            newton_step: f64::NAN,
+            last_delta: z(n),
+            last_step: f64::NAN,
+            previous_delta: z(n),
+            previous_step: f64::NAN,
             residual: z(n),
             force: z(n),
+            momentum_size: z(n),
             has_force: false,
             q_force: vec![Dual64::from(0.0); n],
             v_force: vec![Dual64::from(0.0); n],
@@ -242,7 +294,10 @@ impl<F: LagrangianFunction> Variational<F> {
         self.qdot0.copy_from_slice(qdot);
         self.velocity.copy_from_slice(qdot);
         self.q_mid.copy_from_slice(q);
-        self.derivatives(system, t, false);
+        self.newton_step = f64::NAN;
+        self.last_step = f64::NAN;
+        self.previous_step = f64::NAN;
+        self.derivatives(system, t, Derivatives::Gradient);
         self.p.copy_from_slice(&self.gradient[self.n..]);
         if !crate::error::all_finite(&self.p) {
             return Err(crate::eom::non_finite(crate::error::Stage::Lagrangian, t, q));
@@ -250,15 +305,20 @@ impl<F: LagrangianFunction> Variational<F> {
         Ok(())
     }
 
-    /// Gradient (and with `hessian`, the Hessian) of `L` in `z = (q, q̇)` at
-    /// `(t, q_mid, velocity)`: one hyper-dual pass per pair `a ≤ b` (ε₁ on `z_a`, ε₂ on `z_b`),
+    /// Derivatives of `L` in `z = (q, q̇)` at `(t, q_mid, velocity)` ([`Derivatives`]): one
+    /// hyper-dual pass per pair `a ≤ b` of the variables asked for (ε₁ on `z_a`, ε₂ on `z_b`),
     /// or per `a` for the gradient alone.
-    fn derivatives(&mut self, system: &F, t: f64, hessian: bool) {
+    fn derivatives(&mut self, system: &F, t: f64, which: Derivatives) {
         let n = self.n;
         self.stats.evaluations += 1;
-        if hessian {
+        if which != Derivatives::Gradient {
             self.stats.jacobians += 1;
         }
+        if which == Derivatives::Gradient {
+            self.gradient_in_lanes(system, t);
+            return;
+        }
+        let first = if which == Derivatives::Momentum { n } else { 0 };
         for (d, x) in self.q_seed.iter_mut().zip(&self.q_mid) {
             *d = HyperDual64::from(*x);
         }
@@ -266,9 +326,8 @@ impl<F: LagrangianFunction> Variational<F> {
             *d = HyperDual64::from(*x);
         }
         let t = HyperDual64::from(t);
-        for a in 0..2 * n {
-            let last = if hessian { 2 * n } else { a + 1 };
-            for b in a..last {
+        for a in first..2 * n {
+            for b in a..2 * n {
                 seed(&mut self.q_seed, &mut self.v_seed, a, |d| d.eps1 = 1.0);
                 seed(&mut self.q_seed, &mut self.v_seed, b, |d| d.eps2 = 1.0);
                 let l = system.lagrangian_with(&mut self.scratch, t, &self.q_seed, &self.v_seed);
@@ -277,10 +336,32 @@ impl<F: LagrangianFunction> Variational<F> {
                 if b == a {
                     self.gradient[a] = l.eps1;
                 }
-                if hessian {
-                    self.hessian[a * 2 * n + b] = l.eps1eps2;
-                    self.hessian[b * 2 * n + a] = l.eps1eps2;
-                }
+                self.hessian[a * 2 * n + b] = l.eps1eps2;
+                self.hessian[b * 2 * n + a] = l.eps1eps2;
+            }
+        }
+    }
+
+    /// The gradient of `L` in `z = (q, q̇)` at `(t, q_mid, velocity)`: one vector-dual pass per
+    /// [`CHUNK`] variables.
+    fn gradient_in_lanes(&mut self, system: &F, t: f64) {
+        let n = self.n;
+        let t = Lanes::from_re(t);
+        for a0 in (0..2 * n).step_by(CHUNK) {
+            for (d, x) in self.q_lanes.iter_mut().zip(&self.q_mid) {
+                *d = Lanes::from_re(*x);
+            }
+            for (d, x) in self.v_lanes.iter_mut().zip(&self.velocity) {
+                *d = Lanes::from_re(*x);
+            }
+            let width = CHUNK.min(2 * n - a0);
+            for a in a0..a0 + width {
+                let d = if a < n { &mut self.q_lanes[a] } else { &mut self.v_lanes[a - n] };
+                *d = d.derivative(a - a0);
+            }
+            let l = system.lagrangian_with(&mut self.lanes_scratch, t, &self.q_lanes, &self.v_lanes);
+            for a in a0..a0 + width {
+                self.gradient[a] = lane(&l, a - a0);
             }
         }
     }
@@ -319,7 +400,7 @@ impl<F: LagrangianFunction> Variational<F> {
                 &mut self.force_dual,
             );
             for i in 0..n {
-                self.jacobian[i * n + j] += 0.5 * h * self.force_dual[i].eps;
+                self.newton[i * n + j] += 0.5 * h * self.force_dual[i].eps;
             }
         }
     }
@@ -336,52 +417,87 @@ impl<F: LagrangianFunction> Variational<F> {
     /// not finite.
     pub fn step(&mut self, system: &F, h: f64) -> Result<(), Error> {
         check_step(h)?;
-        let n = self.n;
         let t = self.t;
         let tm = t + 0.5 * h;
-        // Predictor: Δq = h v.
-        for i in 0..n {
-            self.delta[i] = h * self.velocity[i];
+        let kept = self.newton_step == h;
+        let mut outcome = self.newton_unconstrained(system, h, !kept);
+        if kept && !matches!(outcome, Ok(None)) {
+            // The kept Newton matrix may be what failed: once more with a fresh one.
+            outcome = self.newton_unconstrained(system, h, true);
         }
-        let mut converged = false;
-        let mut residual_norm = f64::INFINITY;
-        // Size of the previous update (for the round-off plateau test).
-        let mut previous_update = f64::INFINITY;
-        for iteration in 1..=NEWTON_MAX_ITERATIONS {
-            self.stats.newton_iterations += 1;
-            // Midpoint state and derivatives of L there.
-            self.midpoint(system, tm, h);
-            self.derivatives(system, tm, true);
-            self.check_finite(system, iteration)?;
-            // Residual R = p₀ + (h/2) ∂L/∂q − ∂L/∂q̇ + (h/2) Q, and its size relative to the
-            // magnitude of its terms.
-            let relative_residual;
-            (residual_norm, relative_residual) = self.momentum_residual(h, None);
-            self.newton_matrix(system, tm, h);
-            self.stats.factorizations += 1;
-            if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
-                return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
-            }
-            solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
-            self.check_update(system, iteration, "Δq")?;
-            if self.apply_update(&mut previous_update, relative_residual) {
-                converged = true;
-                break;
-            }
-        }
-        if !converged {
-            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) });
+        if let Some(residual) = outcome? {
+            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual) });
         }
         self.final_momenta(system, tm, h, None);
-        for i in 0..n {
-            self.q[i] += self.delta[i];
-        }
+        self.end_step(h);
         self.t = t + h;
         self.stats.steps += 1;
         if !(crate::error::all_finite(&self.q) && crate::error::all_finite(&self.p)) {
             return Err(crate::eom::non_finite(crate::error::Stage::Lagrangian, self.t, &self.q));
         }
         Ok(())
+    }
+
+    /// The predictor of a step `h`: `Δq = 2 Δq₋₁ − Δq₋₂`, the last two steps' increments
+    /// extrapolated (error O(h³)) when both were steps of `h`, else `h v` with `v` the last
+    /// velocity.
+    fn predict(&mut self, h: f64) {
+        if self.previous_step == h && self.last_step == h {
+            for i in 0..self.n {
+                self.delta[i] = 2.0 * self.last_delta[i] - self.previous_delta[i];
+            }
+        } else {
+            for i in 0..self.n {
+                self.delta[i] = h * self.velocity[i];
+            }
+        }
+    }
+
+    /// After a converged step of `h`: `q ← q + Δq`, and `Δq` kept for the next predictor.
+    fn end_step(&mut self, h: f64) {
+        for i in 0..self.n {
+            self.q[i] += self.delta[i];
+        }
+        std::mem::swap(&mut self.previous_delta, &mut self.last_delta);
+        self.last_delta.copy_from_slice(&self.delta);
+        self.previous_step = self.last_step;
+        self.last_step = h;
+    }
+
+    /// Newton on the discrete Euler–Lagrange equation of a step `h` from the predictor, with
+    /// the kept Newton matrix unless `refresh` (see [`REFRESH_RATE`]). `Ok(None)` when it
+    /// converged (`Δq` in `self.delta`), `Ok(Some(residual))` when it did not within
+    /// [`NEWTON_MAX_ITERATIONS`].
+    ///
+    /// # Errors
+    /// [`Error::NewtonFailed`] for a singular Newton matrix, [`Error::Diverged`] for a
+    /// non-finite value inside an iteration.
+    fn newton_unconstrained(&mut self, system: &F, h: f64, mut refresh: bool) -> Result<Option<f64>, Error> {
+        let (t, tm) = (self.t, self.t + 0.5 * h);
+        self.predict(h);
+        let mut residual_norm = f64::INFINITY;
+        let mut previous_update = f64::INFINITY;
+        for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
+            // Midpoint state and derivatives of L there.
+            self.midpoint(system, tm, h);
+            self.derivatives(system, tm, if refresh { Derivatives::Hessian } else { Derivatives::Gradient });
+            self.check_finite(system, iteration)?;
+            // Residual R = p₀ + (h/2) ∂L/∂q − ∂L/∂q̇ + (h/2) Q, and its size relative to the
+            // magnitude of its terms.
+            let relative_residual;
+            (residual_norm, relative_residual) = self.momentum_residual(h, None);
+            if refresh && !self.refresh_newton(system, tm, h) {
+                return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
+            }
+            solve::lu_solve(self.n, &self.newton, &self.newton_pivots, &mut self.residual);
+            self.check_update(system, iteration, "Δq")?;
+            match self.apply_update(&mut previous_update, relative_residual, refresh) {
+                Progress::Converged => return Ok(None),
+                Progress::Iterating { slow } => refresh = slow,
+            }
+        }
+        Ok(Some(residual_norm))
     }
 
     /// The residual of the discrete Euler–Lagrange equation into `self.residual`,
@@ -408,14 +524,24 @@ impl<F: LagrangianFunction> Variational<F> {
         (norm, relative)
     }
 
-    /// The Newton matrix into `self.jacobian`: `dR/dq₁ = (h/4) L_qq + ½ L_qv − ½ L_vq − (1/h)
+    /// The Newton matrix at the current iterate, from the Hessian in `self.hessian`, factored
+    /// into `self.newton` and kept for steps of `h`; `false` if it is singular.
+    fn refresh_newton(&mut self, system: &F, tm: f64, h: f64) -> bool {
+        self.newton_matrix(system, tm, h);
+        self.stats.factorizations += 1;
+        let factored = solve::lu_factor(self.n, &mut self.newton, &mut self.newton_pivots).is_ok();
+        self.newton_step = if factored { h } else { f64::NAN };
+        factored
+    }
+
+    /// The Newton matrix into `self.newton`: `dR/dq₁ = (h/4) L_qq + ½ L_qv − ½ L_vq − (1/h)
     /// L_vv`, `+ (h/2) dQ/dΔq` for systems with generalized forces.
     fn newton_matrix(&mut self, system: &F, tm: f64, h: f64) {
         let n = self.n;
         let m = 2 * n;
         for i in 0..n {
             for j in 0..n {
-                self.jacobian[i * n + j] = 0.25 * h * self.hessian[i * m + j] + 0.5 * self.hessian[i * m + n + j]
+                self.newton[i * n + j] = 0.25 * h * self.hessian[i * m + j] + 0.5 * self.hessian[i * m + n + j]
                     - 0.5 * self.hessian[(n + i) * m + j]
                     - self.hessian[(n + i) * m + n + j] / h;
             }
@@ -426,25 +552,36 @@ impl<F: LagrangianFunction> Variational<F> {
     }
 
     /// `Δq ← Δq − J⁻¹ R` (the solved update in `self.residual`), and whether Newton has
-    /// converged: the update below `NEWTON_RTOL` of `|Δq|`, or at the round-off plateau (see
-    /// [`MOMENTUM_ROUNDOFF`] and `invert_legendre`: a midpoint velocity passing through zero
-    /// makes `NEWTON_RTOL |Δq|` smaller than the rounding of the momenta the residual is made
-    /// of). `previous_update` carries the last update's size between iterations.
-    fn apply_update(&mut self, previous_update: &mut f64, relative_residual: f64) -> bool {
+    /// converged: with a Newton matrix built at this iterate (`fresh`, quadratic convergence)
+    /// the update below `NEWTON_RTOL` of `|Δq|`; with a kept one (linear convergence at the
+    /// rate `ρ` of the last two updates) `ρ/(1 − ρ)` times the update below [`LINEAR_RTOL`] of
+    /// `|Δq|`; or either at the round-off plateau (see [`MOMENTUM_ROUNDOFF`] and
+    /// `invert_legendre`: a midpoint velocity passing through zero makes the tests relative to
+    /// `|Δq|` smaller than the rounding of the momenta the residual is made of): the residual at
+    /// round-off and the update no longer halving. An iteration is slow (the next one rebuilds
+    /// the matrix) when it contracts by less than `1/REFRESH_RATE` with an update still above
+    /// `NEWTON_RTOL` of `|Δq|`: below it, on the 80-window chain, the updates of a kept matrix
+    /// slow down from round-off alone (1.1e-13 then 4.8e-14 of `|Δq|`, rate 0.42, with the
+    /// residual at 8e-15 of its terms), and the next update shows the plateau.
+    /// `previous_update` carries the last update's size between iterations.
+    fn apply_update(&mut self, previous_update: &mut f64, relative_residual: f64, fresh: bool) -> Progress {
         let (mut update, mut scale) = (0.0_f64, 0.0_f64);
         for i in 0..self.n {
             self.delta[i] -= self.residual[i];
             update = update.max(self.residual[i].abs());
             scale = scale.max(self.delta[i].abs());
         }
-        if update <= NEWTON_RTOL * scale || update == 0.0 {
-            return true;
+        let rate = previous_update.is_finite().then(|| update / *previous_update);
+        let linear = rate.is_some_and(|r| r < 1.0 && r / (1.0 - r) * update <= LINEAR_RTOL * scale);
+        if update == 0.0 || fresh && update <= NEWTON_RTOL * scale || !fresh && linear {
+            return Progress::Converged;
         }
         if update >= 0.5 * *previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
-            return true;
+            return Progress::Converged;
         }
         *previous_update = update;
-        false
+        // Below `NEWTON_RTOL` of `|Δq|` a slow update is round-off, not a stale matrix.
+        Progress::Iterating { slow: rate.is_some_and(|r| r > REFRESH_RATE) && update > NEWTON_RTOL * scale }
     }
 
     /// `p₁ = D₂L_d + (h/2) Q = (h/2)(∂L/∂q + Q) + ∂L/∂q̇` at the final midpoint, with the
@@ -452,7 +589,7 @@ impl<F: LagrangianFunction> Variational<F> {
     fn final_momenta(&mut self, system: &F, tm: f64, h: f64, constrained: Option<&ConstrainedStep>) {
         let n = self.n;
         self.midpoint(system, tm, h);
-        self.derivatives(system, tm, false);
+        self.derivatives(system, tm, Derivatives::Gradient);
         let mut final_residual = 0.0_f64;
         for i in 0..n {
             let lq = self.gradient[i] + self.force[i];
@@ -503,7 +640,7 @@ impl<F: LagrangianFunction> Variational<F> {
         let mut residual_norm = f64::INFINITY;
         for iteration in 1..=NEWTON_MAX_ITERATIONS {
             self.stats.newton_iterations += 1;
-            self.derivatives(system, self.t, true);
+            self.derivatives(system, self.t, Derivatives::Momentum);
             self.check_finite(system, iteration)?;
             residual_norm = 0.0;
             let mut relative_residual = 0.0_f64;
@@ -599,8 +736,9 @@ impl<D: Dynamics> Variational<D> {
     /// `p₀ + D₁L_d(q₀, q₁) + (h/2) Q − C₀ᵀ Λ = 0`, `Φ(t₁, q₁) = 0`,
     /// `A(t_m, q_m) (q₁ − q₀)/h + b(t_m, q_m) = 0`,
     ///
-    /// with `C₀ = [Φ_q; A](t₀, q₀)`, `q_m = (q₀ + q₁)/2`, for `(Δq, Λ)`, with the exact Jacobian
-    /// `[[J, −C₀ᵀ], [D, 0]]` (`J` the unconstrained one, `D` the derivative of the step's rows,
+    /// with `C₀ = [Φ_q; A](t₀, q₀)`, `q_m = (q₀ + q₁)/2`, for `(Δq, Λ)`, with the Jacobian
+    /// `[[J, −C₀ᵀ], [D, 0]]` (`J` the unconstrained one, kept while it serves; `D` the exact
+    /// derivative of the step's rows at each iterate,
     /// `Φ_q(t₁, q₁)` and `½ ∂(A v + b)/∂q + A/h`) eliminated by its Schur complement
     /// `D J⁻¹ C₀ᵀ`; then `p₁ = D₂L_d(q₀, q₁) + (h/2) Q`. Rows found dependent on the rows before
     /// them at `q₀` carry no impulse, and must then hold by themselves at the end of the step.
@@ -625,8 +763,12 @@ impl<D: Dynamics> Variational<D> {
         let (n, c) = (self.n, k.c);
         system.constraint_rows(ws, (self.t, &self.q, &self.velocity), &mut k.force_rows, &mut k.phi, &mut k.rate)?;
         for i in 0..c {
+            let row = &k.force_rows[i * n..(i + 1) * n];
+            k.nonzero.clear();
+            k.nonzero.extend((0..n).filter(|&j| row[j] != 0.0));
             for l in 0..=i {
-                let g = dot(&k.force_rows[i * n..(i + 1) * n], &k.force_rows[l * n..(l + 1) * n]);
+                let other = &k.force_rows[l * n..(l + 1) * n];
+                let g = k.nonzero.iter().fold(0.0, |sum, &j| sum + row[j] * other[j]);
                 k.gram[i * c + l] = g;
                 k.gram[l * c + i] = g;
             }
@@ -637,11 +779,12 @@ impl<D: Dynamics> Variational<D> {
         Ok(())
     }
 
-    /// One constrained Newton update, with `self.residual` holding `R` and `self.jacobian`
-    /// the Newton matrix: factor `J`, `y = J⁻¹ R`, `X = J⁻¹ C₀ᵀ` over the independent rows,
-    /// `(D X) δΛ = D y − C` with `D` the step's constraint rows at the current iterate, and
-    /// leave `δΔq = y − X δΛ` in `self.residual` with `Λ` updated. `false` when `J` or the
-    /// Schur complement is singular (Newton fails).
+    /// One constrained Newton update, with `self.residual` holding `R` and `self.newton` the
+    /// factored Newton matrix `J` (kept across iterations, see [`REFRESH_RATE`]): `y = J⁻¹ R`,
+    /// `X = J⁻¹ C₀ᵀ` over the independent rows (once per step and matrix), `(D X) δΛ = D y − C`
+    /// with `D` the step's constraint rows at the current iterate, and leave `δΔq = y − X δΛ`
+    /// in `self.residual` with `Λ` updated. `false` when the Schur complement is singular
+    /// (Newton fails).
     ///
     /// # Errors
     /// Any error of the constraint rows.
@@ -666,23 +809,26 @@ impl<D: Dynamics> Variational<D> {
             &mut k.residual,
             &mut k.step_rows,
         )?;
-        self.stats.factorizations += 1;
-        if solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err() {
-            return Ok(false);
-        }
         // y = J⁻¹ R (in `residual`), X = J⁻¹ C₀ᵀ over the independent rows.
-        solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
-        for &r in &k.active {
-            k.mobility[r * n..(r + 1) * n].copy_from_slice(&k.force_rows[r * n..(r + 1) * n]);
-            solve::lu_solve(n, &self.jacobian, &self.pivots, &mut k.mobility[r * n..(r + 1) * n]);
+        solve::lu_solve(n, &self.newton, &self.newton_pivots, &mut self.residual);
+        if !k.mobility_current {
+            for &r in &k.active {
+                k.mobility[r * n..(r + 1) * n].copy_from_slice(&k.force_rows[r * n..(r + 1) * n]);
+                solve::lu_solve(n, &self.newton, &self.newton_pivots, &mut k.mobility[r * n..(r + 1) * n]);
+            }
+            k.mobility_current = true;
         }
-        // (D X) δΛ = D y − C over the independent rows; δΔq = −y + X δΛ.
+        // (D X) δΛ = D y − C over the independent rows; δΔq = −y + X δΛ. A loop's row involves
+        // the few coordinates of its loop: its products run over its nonzero entries.
         for (a, &r) in k.active.iter().enumerate() {
             let d = &k.step_rows[r * n..(r + 1) * n];
+            k.nonzero.clear();
+            k.nonzero.extend((0..n).filter(|&j| d[j] != 0.0));
+            let sparse_dot = |x: &[f64]| k.nonzero.iter().fold(0.0, |sum, &j| sum + d[j] * x[j]);
             for (b, &l) in k.active.iter().enumerate() {
-                k.schur[a * ca + b] = dot(d, &k.mobility[l * n..(l + 1) * n]);
+                k.schur[a * ca + b] = sparse_dot(&k.mobility[l * n..(l + 1) * n]);
             }
-            k.rhs[a] = dot(d, &self.residual) - k.residual[r];
+            k.rhs[a] = sparse_dot(&self.residual) - k.residual[r];
         }
         if ca > 0 {
             if solve::lu_factor(ca, &mut k.schur[..ca * ca], &mut k.pivots[..ca]).is_err() {
@@ -739,41 +885,19 @@ impl<D: Dynamics> Variational<D> {
         k: &mut ConstrainedStep,
         h: f64,
     ) -> Result<(), Error> {
-        let n = self.n;
         let (t, tm, t1) = (self.t, self.t + 0.5 * h, self.t + h);
         self.impulse_directions(system, ws, k)?;
-        // Predictor: Δq = h v, Λ = 0 (the equations are linear in Λ).
-        for i in 0..n {
-            self.delta[i] = h * self.velocity[i];
+        let kept = self.newton_step == h;
+        let mut outcome = self.newton_iterations_constrained(system, ws, k, h, !kept);
+        if kept && !matches!(outcome, Ok(None)) {
+            // The kept Newton matrix may be what failed: once more with a fresh one.
+            outcome = self.newton_iterations_constrained(system, ws, k, h, true);
         }
-        k.multipliers.fill(0.0);
-        let mut converged = false;
-        let mut residual_norm = f64::INFINITY;
-        let mut previous_update = f64::INFINITY;
-        for iteration in 1..=NEWTON_MAX_ITERATIONS {
-            self.stats.newton_iterations += 1;
-            self.midpoint(system, tm, h);
-            self.derivatives(system, tm, true);
-            self.check_finite(system, iteration)?;
-            let relative_residual;
-            (residual_norm, relative_residual) = self.momentum_residual(h, Some(k));
-            self.newton_matrix(system, tm, h);
-            if !self.constrained_update(system, ws, k, h)? {
-                return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
-            }
-            self.check_update(system, iteration, "Δq")?;
-            if self.apply_update(&mut previous_update, relative_residual) {
-                converged = true;
-                break;
-            }
-        }
-        if !converged {
-            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) });
+        if let Some(residual) = outcome? {
+            return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual) });
         }
         self.final_momenta(system, tm, h, Some(k));
-        for i in 0..n {
-            self.q[i] += self.delta[i];
-        }
+        self.end_step(h);
         system.step_constraint_rows(
             ws,
             (t1, &self.q),
@@ -790,15 +914,123 @@ impl<D: Dynamics> Variational<D> {
         Ok(())
     }
 
+    /// Newton on the constrained step's equations from the predictor (`Λ = 0`: the equations
+    /// are linear in it), with the kept Newton matrix unless `refresh`: as
+    /// [`newton_unconstrained`](Self::newton_unconstrained), `Ok(None)` when converged.
+    ///
+    /// # Errors
+    /// As [`newton_unconstrained`](Self::newton_unconstrained); any error of the constraint
+    /// rows.
+    fn newton_iterations_constrained(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        k: &mut ConstrainedStep,
+        h: f64,
+        mut refresh: bool,
+    ) -> Result<Option<f64>, Error> {
+        let (t, tm) = (self.t, self.t + 0.5 * h);
+        self.predict(h);
+        k.multipliers.fill(0.0);
+        k.mobility_current = false;
+        let mut residual_norm = f64::INFINITY;
+        let mut previous_update = f64::INFINITY;
+        for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
+            self.midpoint(system, tm, h);
+            self.derivatives(system, tm, if refresh { Derivatives::Hessian } else { Derivatives::Gradient });
+            self.check_finite(system, iteration)?;
+            let relative_residual;
+            (residual_norm, relative_residual) = self.momentum_residual(h, Some(k));
+            if refresh {
+                if !self.refresh_newton(system, tm, h) {
+                    return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
+                }
+                k.mobility_current = false;
+            }
+            if !self.constrained_update(system, ws, k, h)? {
+                return Err(Error::NewtonFailed { t, iterations: iteration, residual: Some(residual_norm) });
+            }
+            self.check_update(system, iteration, "Δq")?;
+            match self.apply_update(&mut previous_update, relative_residual, refresh) {
+                Progress::Converged => return Ok(None),
+                Progress::Iterating { slow } => refresh = slow,
+            }
+        }
+        Ok(Some(residual_norm))
+    }
+
+    /// The continuous velocities `q̇` whose momenta equal the current `p`, into `qdot`, as
+    /// [`velocities`](Self::velocities) but with the system's own momenta and mass matrix
+    /// `M = ∂²L/∂q̇²` (taken at the last discrete velocity) instead of the Hessian of `L`:
+    /// Newton on `∂L/∂q̇(q, q̇) = p` from the last discrete velocity, one update for a body
+    /// model (its momenta are affine in `q̇`) and one evaluation that confirms it. Leaves the LU
+    /// factor of `M` in `self.jacobian`.
+    ///
+    /// # Errors
+    /// As [`velocities`](Self::velocities); any error of the system's momenta or mass matrix.
+    fn velocities_with_mass_matrix(
+        &mut self,
+        system: &D,
+        ws: &mut D::Workspace,
+        qdot: &mut [f64],
+    ) -> Result<(), Error> {
+        let n = self.n;
+        qdot.copy_from_slice(&self.velocity);
+        system.mass_matrix(ws, self.t, &self.q, qdot, &mut self.jacobian)?;
+        // The size of the momenta's velocity part, |M v| row by row, for the round-off test.
+        for i in 0..n {
+            let row = &self.jacobian[i * n..(i + 1) * n];
+            self.momentum_size[i] = row.iter().zip(qdot.iter()).map(|(m, v)| (m * v).abs()).sum::<f64>();
+        }
+        self.stats.factorizations += 1;
+        let mut previous_update = f64::INFINITY;
+        let mut residual_norm = f64::INFINITY;
+        let singular = solve::lu_factor(n, &mut self.jacobian, &mut self.pivots).is_err();
+        for iteration in 1..=NEWTON_MAX_ITERATIONS {
+            self.stats.newton_iterations += 1;
+            self.stats.evaluations += 1;
+            system.momenta(ws, self.t, &self.q, qdot, &mut self.residual)?;
+            residual_norm = 0.0;
+            let mut relative_residual = 0.0_f64;
+            for i in 0..n {
+                let momentum = self.residual[i];
+                self.residual[i] = momentum - self.p[i];
+                residual_norm = residual_norm.max(self.residual[i].abs());
+                let scale = self.p[i].abs() + momentum.abs() + self.momentum_size[i];
+                relative_residual = relative_residual.max(self.residual[i].abs() / scale);
+            }
+            if singular {
+                return Err(Error::NewtonFailed { t: self.t, iterations: iteration, residual: Some(residual_norm) });
+            }
+            solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
+            self.check_update(system, iteration, "q̇")?;
+            let (mut update, mut scale) = (0.0_f64, 0.0_f64);
+            for i in 0..n {
+                qdot[i] -= self.residual[i];
+                update = update.max(self.residual[i].abs());
+                scale = scale.max(qdot[i].abs());
+            }
+            if update <= 1e-13 * scale || update == 0.0 {
+                return Ok(());
+            }
+            if update >= 0.5 * previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
+                return Ok(());
+            }
+            previous_update = update;
+        }
+        Err(Error::NewtonFailed { t: self.t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) })
+    }
+
     /// The velocities of the current state of a constrained system, on the constraints: the
-    /// inversion of the Legendre map of `p` ([`velocities`](Self::velocities)), then the
+    /// inversion of the Legendre map of `p` ([`velocities_with_mass_matrix`](Self::velocities_with_mass_matrix)), then the
     /// momenta moved along the constraint directions, `p − Gᵀ μ` with `G = [Φ_q; A](t, q)`,
     /// so that the velocities satisfy `Φ_q q̇ + Φ_t = 0` and `A q̇ + b = 0`:
     /// `(G M⁻¹ Gᵀ) μ = G q̇ + [Φ_t; b]`, `q̇ ← q̇ − M⁻¹ Gᵀ μ` (exact for a Lagrangian quadratic
     /// in `q̇`, as every body model's). Dependent rows carry no `μ`. The held `p` is left as it
     /// is: its component along `Gᵀ(q)` is absorbed by the next step's impulse.
     fn constrained_velocities(&mut self, system: &D, ws: &mut D::Workspace, qdot: &mut [f64]) -> Result<(), Error> {
-        self.velocities(system, qdot)?;
+        self.velocities_with_mass_matrix(system, ws, qdot)?;
         let mut k = self.constrained.take().expect("a constrained run has the constrained buffers");
         let result = (|| {
             let (n, c) = (self.n, k.c);
@@ -896,7 +1128,7 @@ impl<D: Dynamics> Integrator<D> for Variational<D> {
         } else if self.constrained.is_some() {
             self.constrained_velocities(system, ws, qdot)?;
         } else {
-            self.velocities(system, qdot)?;
+            self.velocities_with_mass_matrix(system, ws, qdot)?;
         }
         q.copy_from_slice(&self.q);
         Ok(())
@@ -930,6 +1162,28 @@ fn momentum_scale(hessian: &[f64], gradient: &[f64], v: &[f64], i: usize) -> f64
     let n = v.len();
     let row = &hessian[(n + i) * 2 * n + n..(n + i + 1) * 2 * n];
     gradient[n + i].abs() + row.iter().zip(v).map(|(m, v)| (m * v).abs()).sum::<f64>()
+}
+
+/// Where a Newton iteration stands after its update.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Progress {
+    /// Converged.
+    Converged,
+    /// Not yet; `slow` when it contracted by less than `1/REFRESH_RATE`, so that the next
+    /// iteration rebuilds the Newton matrix.
+    Iterating { slow: bool },
+}
+
+/// Which derivatives of `L` in `z = (q, q̇)` [`Variational::derivatives`] evaluates.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Derivatives {
+    /// The gradient (`2n/CHUNK` vector-dual passes).
+    Gradient,
+    /// The gradient and the Hessian (`n (2n + 1)` passes).
+    Hessian,
+    /// The momenta `∂L/∂q̇` and their block `∂²L/∂q̇²` of the Hessian (`n (n + 1)/2` passes),
+    /// for the inversion of the Legendre map; the rest is left as it was.
+    Momentum,
 }
 
 /// Apply `f` to variable `a` of `z = (q, q̇)`.

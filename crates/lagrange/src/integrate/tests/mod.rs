@@ -186,10 +186,13 @@ fn damped_oscillator_is_not_energy_conserving_and_decays() {
 }
 
 /// The variational integrator counts its work as the other methods do: one evaluation (the
-/// gradient of `L`) for the momenta at the start, one per Newton iteration (with the Hessian,
-/// a Jacobian, and one factorization) and one per step for the new momenta; reading the
-/// velocities back inverts the Legendre map by Newton, counted the same way. A run through
-/// [`simulate`] reports exactly these counts.
+/// gradient of `L`) for the momenta at the start, one per Newton iteration and one per step for
+/// the new momenta; the Newton matrix (a Jacobian, from the Hessian of `L`, and one
+/// factorization) is built at the first step and kept while Newton contracts fast, as it does on
+/// this smooth motion. Reading the velocities back by [`Variational::velocities`] inverts the
+/// Legendre map by Newton with the Hessian's velocity block (a Jacobian and a factorization per
+/// iteration); a run through [`simulate`] reads them with the system's mass matrix instead (one
+/// factorization, no Jacobian) and reports exactly these counts.
 #[test]
 fn variational_counts_its_evaluations() {
     let model = Model::new(cart(2.0, 1.0, 1.0)).unwrap();
@@ -204,16 +207,24 @@ fn variational_counts_its_evaluations() {
     assert_eq!(stepped.steps, 10);
     assert!(stepped.newton_iterations >= 2 * stepped.steps, "{stepped:?}");
     assert_eq!(stepped.evaluations, 1 + stepped.newton_iterations + stepped.steps, "{stepped:?}");
-    assert_eq!((stepped.jacobians, stepped.factorizations), (stepped.newton_iterations, stepped.newton_iterations));
+    assert_eq!((stepped.jacobians, stepped.factorizations), (1, 1), "{stepped:?}");
     let mut qdot = [0.0; 2];
     integrator.velocities(&model, &mut qdot).unwrap();
     let read = integrator.stats();
     let legendre = read.newton_iterations - stepped.newton_iterations;
     assert!(legendre >= 1, "{read:?}");
     assert_eq!(read.evaluations - stepped.evaluations, legendre);
-    assert_eq!((read.jacobians, read.factorizations), (read.newton_iterations, read.newton_iterations));
+    assert_eq!((read.jacobians, read.factorizations), (1 + legendre, 1 + legendre));
     let run = simulate(&model, &initial, 0.1, Method::Variational { dt: 0.01 }, &Output::Ends).unwrap();
-    assert_eq!(run.stats, read);
+    let inversion = run.stats.newton_iterations - stepped.newton_iterations;
+    assert!(inversion >= 1, "{:?}", run.stats);
+    let expected = Stats {
+        evaluations: stepped.evaluations + inversion,
+        newton_iterations: stepped.newton_iterations + inversion,
+        factorizations: stepped.factorizations + 1,
+        ..stepped
+    };
+    assert_eq!(run.stats, expected);
 }
 
 /// [`run`] writes the samples [`simulate`] records into any sink, and evaluates the energy
