@@ -35,6 +35,38 @@ fn tip_error(scene: &ParallelogramChain, start: &lagrange::State, t: f64, theta:
     ((theta.cos() - exact.cos()).powi(2) + (theta.sin() - exact.sin()).powi(2)).sqrt()
 }
 
+/// The variational integrator's run: length (s), step (s).
+const VARIATIONAL: (f64, f64) = (20.0, 0.05);
+
+/// The chains the variational run is timed on.
+const VARIATIONAL_SIZES: [usize; 3] = [2, 10, 40];
+
+/// The variational integrator over [`VARIATIONAL`]'s length at its step on each of
+/// [`VARIATIONAL_SIZES`], read every 0.05 s: timed (ten samples), and each run's largest
+/// crank-tip error against the exact solution with its counts.
+fn variational_runs(criterion: &mut criterion::Criterion) -> Vec<(f64, lagrange::integrate::Stats)> {
+    let (length, dt) = VARIATIONAL;
+    let method = Method::Variational { dt };
+    let output = Output::Every(0.05);
+    VARIATIONAL_SIZES
+        .into_iter()
+        .map(|windows| {
+            let scene = chain(windows);
+            let start = scene.default_state();
+            let model = Model::new(scene.clone()).expect("valid");
+            let mut group = criterion.benchmark_group(format!("parallelogram_chain_{windows}"));
+            group.sample_size(10);
+            group.bench_function("variational_run", |b| {
+                b.iter(|| black_box(lagrange::simulate(&model, &start, length, method, &output).map(|r| r.len())))
+            });
+            group.finish();
+            let run = lagrange::simulate(&model, &start, length, method, &output).expect("runs");
+            let error = (0..run.len()).map(|i| tip_error(&scene, &start, run.t[i], run.q(i)[0])).fold(0.0, f64::max);
+            (error, run.stats)
+        })
+        .collect()
+}
+
 fn chain(windows: usize) -> ParallelogramChain {
     ParallelogramChain::new(windows, 9.81, 8.0).expect("valid")
 }
@@ -91,6 +123,7 @@ fn main() {
     group.finish();
     let run = lagrange::simulate(&model, &start, length, method, &Output::Times(times.clone())).expect("runs");
     let whole_error = (0..run.len()).map(|i| tip_error(&scene, &start, run.t[i], run.q(i)[0])).fold(0.0, f64::max);
+    let variational = variational_runs(&mut criterion);
     criterion.final_summary();
     lagrange_benches::tables::print_header(&lagrange_benches::tables::singular());
     let get = |windows: usize, bench: &str| mean_ns(&format!("parallelogram_chain_{windows}"), bench);
@@ -118,6 +151,16 @@ fn main() {
          error {whole_error:.1e} m",
         cell(get(windows, "whole_run"))
     );
+    let (length, dt) = VARIATIONAL;
+    for (n, (error, stats)) in VARIATIONAL_SIZES.into_iter().zip(variational) {
+        println!(
+            "N = {n}, {length} s, variational at dt = {dt}: {} per run, largest crank-tip error {error:.1e} m \
+             ({} Newton iterations, {} Newton matrices built)",
+            cell(mean_ns(&format!("parallelogram_chain_{n}"), "variational_run")),
+            stats.newton_iterations,
+            stats.jacobians,
+        );
+    }
 }
 
 /// The largest distance of the accelerations `a` from the branch's: `θ̈` for the cranks (even
