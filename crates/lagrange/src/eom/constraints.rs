@@ -946,9 +946,27 @@ pub(crate) fn violation<M: Mechanism>(
     qdot: &[f64],
 ) -> Result<[f64; 2], Error> {
     crate::eom::check_state(model.n, t, q, Some(qdot))?;
+    let (m, k) = model.constraint_counts;
     let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
-    evaluate(&model.mechanism, model.constraint_counts, Rows::All, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot);
-    let result = [largest(&b.residual).1, largest(&b.rate).1];
+    // Φ and Φ̇ = Φ_q q̇ + Φ_t from one dual pass along (q̇, 1); A q̇ + b from one real pass: no
+    // Jacobian is needed for the residuals.
+    if m > 0 {
+        seed::along(&mut ws.q_dual, q, qdot);
+        model.mechanism.constraints(Dual::new(t, 1.0), &ws.q_dual, &mut b.phi_dual);
+        for (i, phi) in b.phi_dual.iter().enumerate() {
+            b.residual[i] = phi.re;
+            b.rate[i] = phi.eps;
+        }
+    }
+    if k > 0 {
+        seed::constant(&mut ws.q_dual, q);
+        seed::constant(&mut b.qdot_dual, qdot);
+        model.mechanism.velocity_constraint(Dual::from_re(t), &ws.q_dual, &b.qdot_dual, &mut b.velocity_dual);
+        for (i, r) in b.velocity_dual.iter().enumerate() {
+            b.rate[m + i] = r.re;
+        }
+    }
+    let result = [largest(&b.residual[..m]).1, largest(&b.rate[..m + k]).1];
     ws.constraints = Some(b);
     Ok(result)
 }

@@ -4,7 +4,9 @@
 
 use super::{all_finite, check_state, kinematics, non_finite};
 use crate::error::Stage;
+use crate::seed;
 use crate::{Error, Mechanism, Model, Scalar, Workspace};
+use num_dual::Dual;
 
 /// Kinetic energy `T = Σ_b ½ m_b |ṗ_b|² + ½ I_b φ̇_b²` (one velocity pass).
 pub fn kinetic_energy<M: Mechanism, S: Scalar>(
@@ -98,8 +100,9 @@ pub(crate) fn momenta<'w, M: Mechanism, S: Scalar>(
 /// `dh/dt = Q·q̇ − ∂L/∂t`.
 ///
 /// # Errors
-/// As [`momenta`]; [`Error::NonFinite`] (stage [`Potential`](Stage::Potential)) for a potential
-/// that is not finite here (a singular point).
+/// [`Error::DimensionMismatch`] or [`Error::NonFinite`] for a bad state or an energy that is
+/// not finite (stage [`Potential`](Stage::Potential) for a potential that is not finite here,
+/// a singular point).
 pub(crate) fn energy_function<M: Mechanism, S: Scalar>(
     model: &Model<M>,
     ws: &mut Workspace<S>,
@@ -107,12 +110,19 @@ pub(crate) fn energy_function<M: Mechanism, S: Scalar>(
     q: &[S],
     qdot: &[S],
 ) -> Result<S, Error> {
-    momenta(model, ws, t, q, qdot)?;
+    check_state(model.n, t, q, Some(qdot))?;
+    // q̇·p = Σ_b (J_b q̇)·D_b ṗ_b with J_b q̇ = ṗ_b − ∂p_b/∂t: the body velocities along the
+    // motion (q̇, 1) and along time alone, two passes instead of the pose Jacobian's n columns.
+    kinematics::velocity_pass(model, ws, t, q, qdot);
+    seed::constant(&mut ws.q_dual, q);
+    model.mechanism.poses(Dual::new(t, S::one()), &ws.q_dual, &mut ws.poses_dual);
     let mut qdot_p = S::zero();
-    for (v, p) in qdot.iter().zip(&ws.momenta) {
-        qdot_p += *v * *p;
+    for (b, pose) in ws.poses_dual.iter().enumerate() {
+        let v = &ws.velocity[3 * b..3 * b + 3];
+        let (m, inertia) = (model.mass[b], model.inertia[b]);
+        qdot_p +=
+            ((v[0] - pose.x.eps) * v[0] + (v[1] - pose.y.eps) * v[1]) * m + (v[2] - pose.angle.eps) * v[2] * inertia;
     }
-    // The velocity pass of `momenta` is still in the workspace.
     let kinetic = kinetic_from_velocity(model, ws);
     let potential = potential_energy(model, ws, t, q)?;
     let energy = qdot_p - kinetic + potential;
