@@ -51,7 +51,7 @@ const LINEAR_RTOL: f64 = 1e-14;
 /// position–momentum form:
 ///
 /// `p₀ + D₁L_d(q₀, q₁) + (h/2) Q = 0` (solved for `q₁` by Newton with an exact AD Jacobian,
-/// kept across iterations and steps while it serves, [`REFRESH_RATE`]),
+/// kept across iterations and steps while each iteration divides the update by at least 4),
 /// `p₁ = D₂L_d(q₀, q₁) + (h/2) Q`,
 ///
 /// with `Q` evaluated at the midpoint. Second order, symplectic; by the discrete Noether
@@ -65,7 +65,7 @@ const LINEAR_RTOL: f64 = 1e-14;
 /// the other methods. Each Newton iteration (of a step, or of the inversion of the Legendre map
 /// when velocities are read) is one such evaluation; a step's Newton matrix (a Jacobian: the
 /// Hessian of `L`, with `∂Q/∂Δq` for a generalized force, and one LU factorization) is built
-/// when the iteration stops contracting fast and kept otherwise ([`REFRESH_RATE`]). Velocities
+/// when an iteration divides the update by less than 4 and kept otherwise. Velocities
 /// read through [`velocities`](Self::velocities) take a Jacobian (the Hessian's velocity block)
 /// and a factorization per iteration; read by a run, one factorization of the system's mass
 /// matrix.
