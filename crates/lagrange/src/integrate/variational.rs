@@ -420,12 +420,7 @@ impl<F: LagrangianFunction> Variational<F> {
         let t = self.t;
         let tm = t + 0.5 * h;
         let kept = self.newton_step == h;
-        let mut outcome = self.newton_unconstrained(system, h, !kept);
-        if kept && !matches!(outcome, Ok(None)) {
-            // The kept Newton matrix may be what failed: once more with a fresh one.
-            outcome = self.newton_unconstrained(system, h, true);
-        }
-        if let Some(residual) = outcome? {
+        if let Some(residual) = retry_fresh(kept, |refresh| self.newton_unconstrained(system, h, refresh))? {
             return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual) });
         }
         self.final_momenta(system, tm, h, None);
@@ -659,20 +654,9 @@ impl<F: LagrangianFunction> Variational<F> {
             }
             solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
             self.check_update(system, iteration, "q̇")?;
-            let (mut update, mut scale) = (0.0_f64, 0.0_f64);
-            for i in 0..n {
-                self.velocity[i] -= self.residual[i];
-                update = update.max(self.residual[i].abs());
-                scale = scale.max(self.velocity[i].abs());
-            }
-            // ∂L/∂q̇ is affine in q̇ for mechanical systems: one update is exact up to round-off.
-            if update <= 1e-13 * scale || update == 0.0 {
+            if legendre_update(&mut self.velocity, &self.residual, &mut previous_update, relative_residual) {
                 return Ok(());
             }
-            if update >= 0.5 * previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
-                return Ok(());
-            }
-            previous_update = update;
         }
         Err(Error::NewtonFailed { t: self.t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) })
     }
@@ -764,11 +748,9 @@ impl<D: Dynamics> Variational<D> {
         system.constraint_rows(ws, (self.t, &self.q, &self.velocity), &mut k.force_rows, &mut k.phi, &mut k.rate)?;
         for i in 0..c {
             let row = &k.force_rows[i * n..(i + 1) * n];
-            k.nonzero.clear();
-            k.nonzero.extend((0..n).filter(|&j| row[j] != 0.0));
+            nonzero_columns(row, &mut k.nonzero);
             for l in 0..=i {
-                let other = &k.force_rows[l * n..(l + 1) * n];
-                let g = k.nonzero.iter().fold(0.0, |sum, &j| sum + row[j] * other[j]);
+                let g = sparse_dot(row, &k.nonzero, &k.force_rows[l * n..(l + 1) * n]);
                 k.gram[i * c + l] = g;
                 k.gram[l * c + i] = g;
             }
@@ -818,17 +800,15 @@ impl<D: Dynamics> Variational<D> {
             }
             k.mobility_current = true;
         }
-        // (D X) δΛ = D y − C over the independent rows; δΔq = −y + X δΛ. A loop's row involves
-        // the few coordinates of its loop: its products run over its nonzero entries.
+        // (D X) δΛ = D y − C over the independent rows; δΔq = −y + X δΛ, the products over each
+        // row's nonzero columns.
         for (a, &r) in k.active.iter().enumerate() {
             let d = &k.step_rows[r * n..(r + 1) * n];
-            k.nonzero.clear();
-            k.nonzero.extend((0..n).filter(|&j| d[j] != 0.0));
-            let sparse_dot = |x: &[f64]| k.nonzero.iter().fold(0.0, |sum, &j| sum + d[j] * x[j]);
+            nonzero_columns(d, &mut k.nonzero);
             for (b, &l) in k.active.iter().enumerate() {
-                k.schur[a * ca + b] = sparse_dot(&k.mobility[l * n..(l + 1) * n]);
+                k.schur[a * ca + b] = sparse_dot(d, &k.nonzero, &k.mobility[l * n..(l + 1) * n]);
             }
-            k.rhs[a] = sparse_dot(&self.residual) - k.residual[r];
+            k.rhs[a] = sparse_dot(d, &k.nonzero, &self.residual) - k.residual[r];
         }
         if ca > 0 {
             if solve::lu_factor(ca, &mut k.schur[..ca * ca], &mut k.pivots[..ca]).is_err() {
@@ -888,12 +868,9 @@ impl<D: Dynamics> Variational<D> {
         let (t, tm, t1) = (self.t, self.t + 0.5 * h, self.t + h);
         self.impulse_directions(system, ws, k)?;
         let kept = self.newton_step == h;
-        let mut outcome = self.newton_iterations_constrained(system, ws, k, h, !kept);
-        if kept && !matches!(outcome, Ok(None)) {
-            // The kept Newton matrix may be what failed: once more with a fresh one.
-            outcome = self.newton_iterations_constrained(system, ws, k, h, true);
-        }
-        if let Some(residual) = outcome? {
+        if let Some(residual) =
+            retry_fresh(kept, |refresh| self.newton_iterations_constrained(system, ws, k, h, refresh))?
+        {
             return Err(Error::NewtonFailed { t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual) });
         }
         self.final_momenta(system, tm, h, Some(k));
@@ -1005,19 +982,9 @@ impl<D: Dynamics> Variational<D> {
             }
             solve::lu_solve(n, &self.jacobian, &self.pivots, &mut self.residual);
             self.check_update(system, iteration, "q̇")?;
-            let (mut update, mut scale) = (0.0_f64, 0.0_f64);
-            for i in 0..n {
-                qdot[i] -= self.residual[i];
-                update = update.max(self.residual[i].abs());
-                scale = scale.max(qdot[i].abs());
-            }
-            if update <= 1e-13 * scale || update == 0.0 {
+            if legendre_update(qdot, &self.residual, &mut previous_update, relative_residual) {
                 return Ok(());
             }
-            if update >= 0.5 * previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
-                return Ok(());
-            }
-            previous_update = update;
         }
         Err(Error::NewtonFailed { t: self.t, iterations: NEWTON_MAX_ITERATIONS, residual: Some(residual_norm) })
     }
@@ -1061,6 +1028,48 @@ impl<D: Dynamics> Variational<D> {
         self.constrained = Some(k);
         result
     }
+}
+
+/// One Newton update of the inversion of the Legendre map: `v ← v − u` with `u` the solved
+/// update, and whether it has converged — the update below `1e-13 |v|` (`∂L/∂q̇` is affine in `q̇`
+/// for mechanical systems: one update is exact up to round-off), or at the round-off plateau of
+/// the residual (see `Variational::invert_legendre`). `previous_update` carries the last
+/// update's size between iterations.
+fn legendre_update(v: &mut [f64], u: &[f64], previous_update: &mut f64, relative_residual: f64) -> bool {
+    let (mut update, mut scale) = (0.0_f64, 0.0_f64);
+    for (vi, ui) in v.iter_mut().zip(u) {
+        *vi -= ui;
+        update = update.max(ui.abs());
+        scale = scale.max(vi.abs());
+    }
+    if update <= 1e-13 * scale || update == 0.0 {
+        return true;
+    }
+    if update >= 0.5 * *previous_update && relative_residual <= MOMENTUM_ROUNDOFF {
+        return true;
+    }
+    *previous_update = update;
+    false
+}
+
+/// A step's Newton iteration, `attempt(refresh)`, started with the kept Newton matrix when
+/// `kept` (a fresh one otherwise); if that does not converge (`Ok(Some(residual))`) or fails,
+/// the kept matrix may be what failed: once more with a fresh one.
+fn retry_fresh(kept: bool, mut attempt: impl FnMut(bool) -> Result<Option<f64>, Error>) -> Result<Option<f64>, Error> {
+    let outcome = attempt(!kept);
+    if kept && !matches!(outcome, Ok(None)) { attempt(true) } else { outcome }
+}
+
+/// The columns of `row` that are not zero, into `nonzero` (a loop's constraint row involves the
+/// few coordinates of its loop).
+fn nonzero_columns(row: &[f64], nonzero: &mut Vec<usize>) {
+    nonzero.clear();
+    nonzero.extend(row.iter().enumerate().filter(|(_, g)| **g != 0.0).map(|(j, _)| j));
+}
+
+/// `Σ_j row_j x_j` over the columns `nonzero` of `row` ([`nonzero_columns`]).
+fn sparse_dot(row: &[f64], nonzero: &[usize], x: &[f64]) -> f64 {
+    nonzero.iter().fold(0.0, |sum, &j| sum + row[j] * x[j])
 }
 
 /// `Σ a_i b_i`.
