@@ -417,19 +417,24 @@ pub(crate) fn regularized_factor<S: Scalar>(c: usize, mu: f64, schur: &[S], fact
 }
 
 /// Solve `S λ = r` by the factor of `S + μ̄ I` and at most [`REFINEMENTS`] refinement steps: `rhs`
-/// holds `r` on entry and `λ` on return; `right` (c) keeps `r`, `residual` (c) ends holding
-/// `r − S λ`. Returns the largest entry of that residual.
+/// holds `r` on entry and `λ` on return; `right` (c) keeps `r`, `residual` (c) is scratch. A
+/// single row (`c = 1`, where `μ̄` is `REGULARIZATION` times `S` itself and the refinement
+/// always converges to `r / S`) is divided directly.
 pub(crate) fn regularized_solve<S: Scalar>(
     c: usize,
     (schur, factor, dependent): (&[S], &[S], &[bool]),
     rhs: &mut [S],
     right: &mut [S],
     residual: &mut [S],
-) -> f64 {
+) {
+    if c == 1 {
+        rhs[0] = if dependent[0] { S::zero() } else { rhs[0] / schur[0] };
+        return;
+    }
     right[..c].copy_from_slice(&rhs[..c]);
     residual[..c].copy_from_slice(&rhs[..c]);
     rhs[..c].iter_mut().for_each(|v| *v = S::zero());
-    for _ in 0..=REFINEMENTS {
+    for refinement in 0..=REFINEMENTS {
         // δ = (S + μ̄ I)⁻¹ ρ (in ρ's place), λ += δ, then ρ = r − S λ.
         forward_skipping(c, factor, dependent, residual);
         backward_skipping(c, factor, dependent, residual);
@@ -437,18 +442,26 @@ pub(crate) fn regularized_solve<S: Scalar>(
             rhs[i] += residual[i];
         }
         let (moved, size) = step_and_size(&residual[..c], &rhs[..c]);
-        let mut floor = true;
+        // (The residual and its round-off bound only where a next step or the stop rule reads
+        // them.)
+        if refinement == REFINEMENTS || refinement_stops(moved, size, false) {
+            break;
+        }
+        let noise = moved <= NOISE_STEP * size;
+        let mut floor = noise;
         for i in 0..c {
             let row = &schur[i * c..(i + 1) * c];
             residual[i] = right[i] - dot(row, &rhs[..c]);
-            let bound = row.iter().zip(&rhs[..c]).fold(right[i].re().abs(), |b, (s, x)| b + (s.re() * x.re()).abs());
-            floor &= at_roundoff(residual[i].re(), bound, c);
+            if floor {
+                let bound =
+                    row.iter().zip(&rhs[..c]).fold(right[i].re().abs(), |b, (s, x)| b + (s.re() * x.re()).abs());
+                floor = at_roundoff(residual[i].re(), bound, c);
+            }
         }
         if refinement_stops(moved, size, floor) {
             break;
         }
     }
-    residual[..c].iter().fold(0.0, |m, v| m.max(v.re().abs()))
 }
 
 /// LDLᵀ of the symmetric `c × c` matrix `a` in place (lower triangle; unit `L` below the
@@ -640,9 +653,8 @@ const ASSEMBLY_REGULARIZATION: f64 = 1e-15;
 /// `|q_j|` over the length coordinates. Angles do not enter (a turned crank is not larger), and
 /// a mechanism far from the origin gets the tolerance its positions' round-off needs: the
 /// outcome does not depend on where the world's origin is.
-fn position_scale<M: Mechanism>(model: &Model<M>, poses: &mut [crate::Pose<f64>], t: f64, q: &[f64]) -> f64 {
-    model.mechanism.poses(t, q, poses);
-    let bodies = poses.iter().fold(0.0_f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+fn position_scale<M: Mechanism>(model: &Model<M>, positions: impl Iterator<Item = (f64, f64)>, q: &[f64]) -> f64 {
+    let bodies = positions.fold(0.0_f64, |m, (x, y)| m.max(x.abs()).max(y.abs()));
     let lengths = model
         .coordinates()
         .iter()
@@ -686,9 +698,10 @@ pub(crate) fn project_holding<M: Mechanism>(
     let mut sb = if sparse.is_some() { ws.sparse.take() } else { None };
     let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
     let result = (|| {
+        let dense_factor = sparse.is_none() && weighted && model.constant.is_none();
         if let (Some(st), Some(sb)) = (sparse, sb.as_mut()) {
             st.factor_mass(model, &mut ws.q_lanes, &mut ws.poses_lanes, sb, t, q)?;
-        } else if weighted && model.constant.is_none() {
+        } else if dense_factor {
             crate::eom::factor_mass_matrix(model, ws, t, q)?;
         }
         let weight: Option<&[f64]> = match (weighted, model.constant.is_some()) {
@@ -696,7 +709,14 @@ pub(crate) fn project_holding<M: Mechanism>(
             (true, true) => Some(&ws.constant_factor),
             (true, false) => Some(&ws.factor),
         };
-        let scale = position_scale(model, &mut b.poses, t, q);
+        // The bodies' positions from the mass matrix's pass where it ran, from a pass of their
+        // own otherwise.
+        let scale = if dense_factor {
+            position_scale(model, ws.position.chunks(3).map(|p| (p[0], p[1])), q)
+        } else {
+            model.mechanism.poses(t, q, &mut b.poses);
+            position_scale(model, b.poses.iter().map(|p| (p.x, p.y)), q)
+        };
         if watch {
             b.position_before.copy_from_slice(q);
             b.velocity_before.copy_from_slice(qdot);
