@@ -393,6 +393,7 @@ impl Scene {
         stats.set_item("jacobians", s.jacobians)?;
         stats.set_item("factorizations", s.factorizations)?;
         stats.set_item("stiffness", s.stiffness)?;
+        stats.set_item("fallbacks", s.fallbacks)?;
         out.set_item("stats", stats)?;
         let health = PyDict::new(py);
         health.set_item("expected", run.health.expected)?;

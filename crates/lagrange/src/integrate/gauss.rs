@@ -4,6 +4,7 @@
 
 use super::integrator::{Grid, OnGrid, Stats};
 use super::newton::StageSystem;
+use super::rk4::Rk4;
 use super::{check_step, non_finite_quantity};
 use crate::{Dynamics, Error, State};
 
@@ -37,6 +38,12 @@ const MAX_JACOBIAN_UPDATES: usize = 4;
 /// Largest contraction `θ` of a step after which the Jacobian is kept for the next one; a
 /// slower convergence recomputes it there (fresh, `θ = O(h²)`).
 const THETA_REFRESH: f64 = 1e-2;
+/// RK4 substeps of a step that Newton could not take on a system with constraints among its
+/// coordinates: the same order as Gauss, and at `h/4` a local error `4⁴` times below RK4's at
+/// `h` (RK4's error constant is larger than Gauss's), and well inside the explicit methods'
+/// range on the parallelogram chain's flat positions (RK4 alone keeps the branch there at steps
+/// of 1e-2 and 2.5e-3 s).
+const FALLBACK_SUBSTEPS: usize = 4;
 
 /// Why Newton stopped without converging.
 enum Failure {
@@ -93,6 +100,9 @@ pub struct Gauss4 {
     pub max_residual: f64,
     /// Counters.
     stats: Stats,
+    /// RK4 for the steps Newton cannot take on a system with constraints (see
+    /// [`FALLBACK_SUBSTEPS`]).
+    fallback: Rk4,
     /// The state and step grid of the [`Integrator`](super::Integrator) interface.
     state: State,
     grid: Grid,
@@ -125,6 +135,7 @@ impl Gauss4 {
             last_step: f64::NAN,
             max_residual: 0.0,
             stats: Stats::default(),
+            fallback: Rk4::new(n),
             state: State::new(0.0, z(n), z(n)),
             grid: Grid::new(0.0, f64::NAN),
         }
@@ -145,19 +156,19 @@ impl Gauss4 {
         Ok(self)
     }
 
-    /// Advance `state` by `h`.
+    /// Advance `state` by `h`. On a system with constraints among its coordinates, a step whose
+    /// Newton iteration does not converge even with a fresh Jacobian — near a singular
+    /// configuration (a parallelogram laid flat), where Gauss's stage values, not held on the
+    /// constraints, meet accelerations that change faster than the iteration follows — is
+    /// taken by RK4 substeps instead and counted in [`Stats::fallbacks`].
     ///
     /// # Errors
     /// [`Error::InvalidSetting`] for a step that is not positive and finite;
     /// [`Error::DimensionMismatch`] for a state of another size; [`Error::NewtonFailed`] when
-    /// Newton does not converge even with a fresh Jacobian (the step is too large for the
-    /// motion) — on a system with constraints among its coordinates an [`Error::Diverged`]
-    /// instead, saying why and with the multipliers' rank at the step's start: Gauss's stage
-    /// values are not held on the constraints, and near a singular configuration (a
-    /// parallelogram laid flat) its iteration does not converge at any step, where the
-    /// variational integrator and the explicit methods go on; [`Error::Diverged`] naming the
-    /// quantity when a stage value or its accelerations stop being finite; any other error of
-    /// the equations of motion.
+    /// Newton does not converge even with a fresh Jacobian on a system without constraints (the
+    /// step is too large for the motion); [`Error::Diverged`] naming the quantity when a stage
+    /// value or its accelerations stop being finite; any other error of the equations of
+    /// motion.
     pub fn step<D: Dynamics>(
         &mut self,
         system: &D,
@@ -193,7 +204,7 @@ impl Gauss4 {
                 if self.newton.factor(h, &A, &self.a_squared) {
                     self.factored_step = h;
                 } else if self.jacobian_fresh {
-                    return Err(Error::NewtonFailed { t: state.t, iterations: 0, residual: None });
+                    return self.newton_failed(system, ws, state, h, 0, None);
                 } else {
                     self.refresh_jacobian = true;
                     continue;
@@ -207,8 +218,7 @@ impl Gauss4 {
                     self.zv.fill(0.0);
                 }
                 Err(Failure::Newton(iterations, residual)) => {
-                    self.last_step = f64::NAN;
-                    return Err(self.newton_failed(system, ws, state, iterations, residual));
+                    return self.newton_failed(system, ws, state, h, iterations, residual);
                 }
                 Err(Failure::NonFinite(quantity)) => {
                     self.last_step = f64::NAN;
@@ -239,45 +249,40 @@ impl Gauss4 {
         Ok(())
     }
 
-    /// The error of a step whose Newton iteration did not converge: [`Error::NewtonFailed`], or
-    /// for a system with constraints among its coordinates an [`Error::Diverged`] that says why
-    /// such a system stops Gauss and which methods go on, with the rank of its multipliers at
-    /// the step's start ([`Dynamics::multiplier_rank`]: directions lost and conditioning near a
-    /// singular configuration).
+    /// A step whose Newton iteration did not converge even with a fresh Jacobian: on a system
+    /// without constraints among its coordinates [`Error::NewtonFailed`] (the step is too large
+    /// for the motion); on one with constraints, the step taken by [`FALLBACK_SUBSTEPS`] RK4
+    /// substeps and counted in [`Stats::fallbacks`]. Gauss's stage values are not held on the
+    /// constraints, and where these lose rank (links aligned: a singular configuration) the
+    /// accelerations between the stages change faster than the iteration follows, at any step;
+    /// an explicit step needs no solve there.
     fn newton_failed<D: Dynamics>(
-        &self,
+        &mut self,
         system: &D,
         ws: &mut D::Workspace,
-        state: &State,
+        state: &mut State,
+        h: f64,
         iterations: usize,
         residual: Option<f64>,
-    ) -> Error {
-        let (m, k) = Dynamics::constraint_counts(system);
-        if m + k == 0 {
-            return Error::NewtonFailed { t: state.t, iterations, residual };
+    ) -> Result<(), Error> {
+        self.last_step = f64::NAN;
+        self.refresh_jacobian = true;
+        self.jacobian_fresh = false;
+        if Dynamics::constraint_counts(system) == (0, 0) {
+            return Err(Error::NewtonFailed { t: state.t, iterations, residual });
         }
-        let rank = match system.multiplier_rank(ws, state.t, &state.q, &state.qdot) {
-            Ok(Some(r)) => format!(
-                "at the step's start {} of its {} multiplier directions determined, G M⁻¹ Gᵀ conditioned {:.1e}",
-                r.determined, r.rows, r.conditioning
-            ),
-            _ => "its multipliers' rank unknown".to_string(),
-        };
-        let residual = match residual {
-            Some(r) => format!("residual {r:.1e}"),
-            None => "the Newton matrix singular".to_string(),
-        };
-        Error::Diverged {
-            t: state.t,
-            step: self.stats.steps,
-            quantity: format!(
-                "Gauss's Newton iteration did not converge ({iterations} iterations, {residual}) with constraints \
-                 among the coordinates ({rank}). Its stage values are not held on the constraints, and where these lose rank (links \
-                 aligned: a singular configuration) the accelerations between its stages change faster than its \
-                 iteration can follow, at any step; the variational integrator (Φ = 0 at every step), RK4 and the \
-                 adaptive methods pass singular configurations"
-            ),
+        let before = self.fallback.stats().evaluations;
+        let start = state.t;
+        for k in 0..FALLBACK_SUBSTEPS {
+            // Substeps end at `start + h k/4` (the last at `start + h` exactly: h·4/4 = h).
+            let end = start + h * (k + 1) as f64 / FALLBACK_SUBSTEPS as f64;
+            self.fallback.step(system, ws, state, end - state.t)?;
         }
+        state.t = start + h;
+        self.stats.evaluations += self.fallback.stats().evaluations - before;
+        self.stats.fallbacks += 1;
+        self.stats.steps += 1;
+        Ok(())
     }
 
     /// Stage increments of the next step from the collocation polynomial `u` of this one

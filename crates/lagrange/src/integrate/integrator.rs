@@ -31,6 +31,10 @@ pub struct Stats {
     /// first fired ([`Dopri5`](super::Dopri5) only; `None` otherwise). The integration goes on;
     /// only a later failure says so.
     pub stiffness: Option<f64>,
+    /// Steps taken another way than the method's own ([`Gauss4`](super::Gauss4) only): steps
+    /// on a system with constraints among its coordinates whose Newton iteration did not
+    /// converge (near a singular configuration), each taken by explicit RK4 substeps.
+    pub fallbacks: usize,
 }
 
 /// One stepping interface over all integrators, as the driver

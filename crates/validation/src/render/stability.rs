@@ -68,6 +68,9 @@ fn cost(m: &Measurement) -> String {
     if let (Some(j), Some(f)) = (c.jacobians, c.factorizations) {
         parts.push(format!("{j} Jac., {f} LU"));
     }
+    if let Some(n) = c.fallbacks {
+        parts.push(format!("{n} steps by RK4"));
+    }
     if c.wall_time_s > 0.0 {
         parts.push(format!("{:.2e} s", c.wall_time_s));
     }

@@ -201,6 +201,9 @@ pub struct Cost {
     pub jacobians: Option<usize>,
     /// LU factorizations of a Newton matrix.
     pub factorizations: Option<usize>,
+    /// Steps taken by RK4 substeps where Gauss's Newton iteration did not converge (see
+    /// `lagrange::integrate::Stats::fallbacks`).
+    pub fallbacks: Option<usize>,
     /// Wall time (s).
     pub wall_time_s: f64,
 }
@@ -213,6 +216,7 @@ impl Cost {
             evaluations: some(stats.evaluations),
             jacobians: some(stats.jacobians),
             factorizations: some(stats.factorizations),
+            fallbacks: some(stats.fallbacks),
             wall_time_s: wall_time,
         }
     }
