@@ -95,6 +95,8 @@ pub struct ConstraintBuffers<S: Scalar> {
     pub(crate) velocity_before: Vec<S>,
     /// The body poses (B), for the scale of the positions a projection meets.
     pub(crate) poses: Vec<crate::Pose<S>>,
+    /// Each row's `Σ_j |G_ij q̇_j|` and number of terms (c): the round-off scale of its rate.
+    pub(crate) rate_terms: Vec<(f64, usize)>,
 }
 
 impl<S: Scalar> ConstraintBuffers<S> {
@@ -127,6 +129,7 @@ impl<S: Scalar> ConstraintBuffers<S> {
             position_before: vec![zero; n],
             velocity_before: vec![zero; n],
             poses: vec![crate::Pose::default(); bodies],
+            rate_terms: vec![(0.0, 0); c],
         }
     }
 }
@@ -665,6 +668,57 @@ fn position_scale<M: Mechanism>(model: &Model<M>, positions: impl Iterator<Item 
     if scale.is_finite() { scale } else { 1.0 }
 }
 
+/// The velocity residuals at `(t, q, q̇)` into `b.rate`: the holonomic rows' `Φ̇` (the sparse
+/// path's own pass; the dense path's holonomic evaluation at this `q` already holds them) and
+/// the velocity constraints' rows with their `A` in `G`.
+#[allow(clippy::too_many_arguments)]
+fn velocity_rows<M: Mechanism>(
+    model: &Model<M>,
+    sparse: Option<&crate::eom::sparse::SparseStructure>,
+    (b, sb): (&mut ConstraintBuffers<f64>, &mut Option<SparseBuffers<f64>>),
+    ws: &mut Workspace<f64>,
+    t: f64,
+    q: &[f64],
+    qdot: &[f64],
+) {
+    match (sparse, sb.as_mut()) {
+        (Some(st), Some(_)) => st.holonomic_rates(&model.mechanism, &mut ws.q_dual, b, t, q, qdot),
+        _ => evaluate(
+            &model.mechanism,
+            model.constraint_counts,
+            Rows::Velocity,
+            &mut ws.q_dual,
+            &mut ws.q_dual2,
+            b,
+            t,
+            q,
+            qdot,
+        ),
+    }
+}
+
+/// Whether every velocity residual `ρ_i` (`b.rate`) is no larger than the round-off of summing
+/// its terms `G_ij q̇_j` ([`at_roundoff`]: `|ρ_i| ≤ (terms + 1) ε Σ_j |G_ij q̇_j|`, `G` as the
+/// last evaluation left it). A correction of that size is noise, so it is not made; over a run
+/// the residual left stays within this bound plus one step's drift.
+fn rates_at_roundoff(
+    sparse: Option<&crate::eom::sparse::SparseStructure>,
+    (b, sb): (&mut ConstraintBuffers<f64>, &Option<SparseBuffers<f64>>),
+    n: usize,
+    c: usize,
+    qdot: &[f64],
+) -> bool {
+    if let (Some(st), Some(sb)) = (sparse, sb.as_ref()) {
+        st.rate_terms(sb, qdot, &mut b.rate_terms[..c]);
+    } else {
+        for (i, o) in b.rate_terms[..c].iter_mut().enumerate() {
+            let row = &b.jacobian[i * n..(i + 1) * n];
+            *o = (row.iter().zip(qdot).map(|(g, v)| (g * v).abs()).sum(), n);
+        }
+    }
+    b.rate[..c].iter().zip(&b.rate_terms[..c]).all(|(&r, &(bound, terms))| at_roundoff(r, bound, terms))
+}
+
 /// A projection after an integration step that turns an angle by more than this (rad), moves a
 /// length coordinate by more than this fraction of the positions' scale `L`, or changes a
 /// velocity by more than this fraction of the largest one (plus [`VELOCITY_FLOOR`]) did not
@@ -698,10 +752,33 @@ pub(crate) fn project_holding<M: Mechanism>(
     let mut sb = if sparse.is_some() { ws.sparse.take() } else { None };
     let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
     let result = (|| {
-        let dense_factor = sparse.is_none() && weighted && model.constant.is_none();
+        model.mechanism.poses(t, q, &mut b.poses);
+        let scale = position_scale(model, b.poses.iter().map(|p| (p.x, p.y)), q);
+        if watch {
+            b.position_before.copy_from_slice(q);
+            b.velocity_before.copy_from_slice(qdot);
+        }
+        // Φ and G at q, then — where the positions hold — the rates there: a state whose
+        // residuals are both at their round-off is left as it is, without the mass metric's
+        // factor (most projections after a step at a fine setting).
+        match (sparse, sb.as_mut()) {
+            (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, &mut ws.q_lanes, &mut b, sb, t, q),
+            _ => {
+                evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot)
+            }
+        }
+        let positions_hold = largest(&b.residual[..m]).1 <= POSITION_TOLERANCE * scale;
+        if positions_hold {
+            velocity_rows(model, sparse, (&mut b, &mut sb), ws, t, q, qdot);
+            if rates_at_roundoff(sparse, (&mut b, &sb), n, m + k, qdot) {
+                return Ok(());
+            }
+        }
+        // The mass metric of the corrections: M's factor at the state the projection starts
+        // from (assembling coordinates held fixed take the plain smallest change instead).
         if let (Some(st), Some(sb)) = (sparse, sb.as_mut()) {
             st.factor_mass(model, &mut ws.q_lanes, &mut ws.poses_lanes, sb, t, q)?;
-        } else if dense_factor {
+        } else if weighted && model.constant.is_none() {
             crate::eom::factor_mass_matrix(model, ws, t, q)?;
         }
         let weight: Option<&[f64]> = match (weighted, model.constant.is_some()) {
@@ -709,26 +786,7 @@ pub(crate) fn project_holding<M: Mechanism>(
             (true, true) => Some(&ws.constant_factor),
             (true, false) => Some(&ws.factor),
         };
-        // The bodies' positions from the mass matrix's pass where it ran, from a pass of their
-        // own otherwise.
-        let scale = if dense_factor {
-            position_scale(model, ws.position.chunks(3).map(|p| (p[0], p[1])), q)
-        } else {
-            model.mechanism.poses(t, q, &mut b.poses);
-            position_scale(model, b.poses.iter().map(|p| (p.x, p.y)), q)
-        };
-        if watch {
-            b.position_before.copy_from_slice(q);
-            b.velocity_before.copy_from_slice(qdot);
-        }
-        // Φ and G at q; the smallest step that removes the first-order residual `rhs`.
-        let mut evaluate_at = |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, q: &[f64]| match (
-            sparse,
-            sb.as_mut(),
-        ) {
-            (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, &mut ws.q_lanes, b, sb, t, q),
-            _ => evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, b, t, q, qdot),
-        };
+        // The smallest step that removes the first-order residual `rhs`.
         let step = |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, rows: usize, rhs: Rhs| match (
             sparse,
             sb.as_mut(),
@@ -736,15 +794,35 @@ pub(crate) fn project_holding<M: Mechanism>(
             (Some(st), Some(sb)) => st.min_norm_step(n, sb, b, rhs),
             _ => min_norm_step(b, n, rows, rhs, held, weight),
         };
-        if m > 0 {
+        if !positions_hold {
+            // Φ and G at a trial q.
+            let mut evaluate_at =
+                |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, q: &[f64]| match (
+                    sparse,
+                    sb.as_mut(),
+                ) {
+                    (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, &mut ws.q_lanes, b, sb, t, q),
+                    _ => evaluate(
+                        &model.mechanism,
+                        (m, k),
+                        Rows::Holonomic,
+                        &mut ws.q_dual,
+                        &mut ws.q_dual2,
+                        b,
+                        t,
+                        q,
+                        qdot,
+                    ),
+                };
             correct_positions(model, t, q, scale, (&mut b, &mut sb), &mut evaluate_at, &step)?;
         }
         // Velocities: one exact linear step onto G q̇ + Φ_t = 0 and A q̇ + b = 0. The holonomic
         // rows (G and Φ̇) are those of the last Gauss–Newton evaluation, at the final q.
-        match (sparse, sb.as_mut()) {
-            (Some(st), Some(_)) => st.holonomic_rates(&model.mechanism, &mut ws.q_dual, &mut b, t, q, qdot),
-            _ => {
-                evaluate(&model.mechanism, (m, k), Rows::Velocity, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot)
+        if !positions_hold {
+            let (q_dual, q_dual2) = (&mut ws.q_dual, &mut ws.q_dual2);
+            match (sparse, sb.as_mut()) {
+                (Some(st), Some(_)) => st.holonomic_rates(&model.mechanism, q_dual, &mut b, t, q, qdot),
+                _ => evaluate(&model.mechanism, (m, k), Rows::Velocity, q_dual, q_dual2, &mut b, t, q, qdot),
             }
         }
         step(&mut b, &mut sb, m + k, Rhs::Rate);
@@ -766,7 +844,8 @@ pub(crate) fn project_holding<M: Mechanism>(
 /// The Gauss–Newton iteration of a projection on the positions: smallest steps
 /// (`step(…, Rhs::Residual)`) onto `Φ(t, q) = 0`, damped where the linear model does not hold,
 /// until `max |Φ|` is below [`POSITION_TOLERANCE`]` · scale` or stalls at its round-off
-/// ([`ROUNDOFF_BAND`]). `evaluate_at` refreshes `Φ` and `G` at a trial `q`.
+/// ([`ROUNDOFF_BAND`]), from `Φ` and `G` evaluated at `q` on entry. `evaluate_at` refreshes
+/// them at a trial `q`.
 fn correct_positions<M: Mechanism>(
     model: &Model<M>,
     t: f64,
@@ -778,7 +857,6 @@ fn correct_positions<M: Mechanism>(
 ) -> Result<(), Error> {
     let m = model.constraint_counts.0;
     let (mut iterations, mut previous) = (0, f64::INFINITY);
-    evaluate_at(b, sb, q);
     loop {
         let (worst, value) = largest(&b.residual);
         if !value.is_finite() {

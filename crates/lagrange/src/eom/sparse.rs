@@ -521,6 +521,16 @@ impl SparseStructure {
         }
     }
 
+    /// `Σ_j |G_ij q̇_j|` of each holonomic row `i` (`G` as in `sb.g`) into `out` (m), with
+    /// the number of its entries: the size of the terms its rate `Φ̇_i` sums.
+    pub(crate) fn rate_terms(&self, sb: &SparseBuffers<f64>, qdot: &[f64], out: &mut [(f64, usize)]) {
+        for (r, o) in out.iter_mut().enumerate() {
+            let range = self.g_start[r]..self.g_start[r + 1];
+            let sum = range.clone().map(|e| (sb.g[e] * qdot[self.g_column[e]]).abs()).sum();
+            *o = (sum, range.len());
+        }
+    }
+
     /// The projection's step in the metric of `M` (factored by
     /// [`factor_mass`](Self::factor_mass)): `cb.step = M⁻¹ Gᵀ μ` with `(G M⁻¹ Gᵀ) μ = rhs` by
     /// the regularized, refined solve, `G` the one in `sb.g`.
