@@ -668,32 +668,37 @@ fn position_scale<M: Mechanism>(model: &Model<M>, positions: impl Iterator<Item 
     if scale.is_finite() { scale } else { 1.0 }
 }
 
+/// The seeded-coordinate buffers of the projection's passes: vector duals (sparse path), duals
+/// and second-order duals (dense path).
+type Seeds<'a> = (&'a mut [Lanes<f64>], &'a mut [Dual<f64>], &'a mut [Dual2<f64>]);
+
+/// `Φ` and `G`'s holonomic rows at `(t, q)` (and, on the dense path, `Φ̇` along `q̇`).
+fn holonomic_rows<M: Mechanism>(
+    model: &Model<M>,
+    sparse: Option<&crate::eom::sparse::SparseStructure>,
+    (b, sb): (&mut ConstraintBuffers<f64>, &mut Option<SparseBuffers<f64>>),
+    (q_lanes, q_dual, q_dual2): Seeds,
+    (t, q, qdot): (f64, &[f64], &[f64]),
+) {
+    match (sparse, sb.as_mut()) {
+        (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, q_lanes, b, sb, t, q),
+        _ => evaluate(&model.mechanism, model.constraint_counts, Rows::Holonomic, q_dual, q_dual2, b, t, q, qdot),
+    }
+}
+
 /// The velocity residuals at `(t, q, q̇)` into `b.rate`: the holonomic rows' `Φ̇` (the sparse
 /// path's own pass; the dense path's holonomic evaluation at this `q` already holds them) and
 /// the velocity constraints' rows with their `A` in `G`.
-#[allow(clippy::too_many_arguments)]
 fn velocity_rows<M: Mechanism>(
     model: &Model<M>,
     sparse: Option<&crate::eom::sparse::SparseStructure>,
     (b, sb): (&mut ConstraintBuffers<f64>, &mut Option<SparseBuffers<f64>>),
-    ws: &mut Workspace<f64>,
-    t: f64,
-    q: &[f64],
-    qdot: &[f64],
+    (_, q_dual, q_dual2): Seeds,
+    (t, q, qdot): (f64, &[f64], &[f64]),
 ) {
     match (sparse, sb.as_mut()) {
-        (Some(st), Some(_)) => st.holonomic_rates(&model.mechanism, &mut ws.q_dual, b, t, q, qdot),
-        _ => evaluate(
-            &model.mechanism,
-            model.constraint_counts,
-            Rows::Velocity,
-            &mut ws.q_dual,
-            &mut ws.q_dual2,
-            b,
-            t,
-            q,
-            qdot,
-        ),
+        (Some(st), Some(_)) => st.holonomic_rates(&model.mechanism, q_dual, b, t, q, qdot),
+        _ => evaluate(&model.mechanism, model.constraint_counts, Rows::Velocity, q_dual, q_dual2, b, t, q, qdot),
     }
 }
 
@@ -761,15 +766,22 @@ pub(crate) fn project_holding<M: Mechanism>(
         // Φ and G at q, then — where the positions hold — the rates there: a state whose
         // residuals are both at their round-off is left as it is, without the mass metric's
         // factor (most projections after a step at a fine setting).
-        match (sparse, sb.as_mut()) {
-            (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, &mut ws.q_lanes, &mut b, sb, t, q),
-            _ => {
-                evaluate(&model.mechanism, (m, k), Rows::Holonomic, &mut ws.q_dual, &mut ws.q_dual2, &mut b, t, q, qdot)
-            }
-        }
+        holonomic_rows(
+            model,
+            sparse,
+            (&mut b, &mut sb),
+            (&mut ws.q_lanes, &mut ws.q_dual, &mut ws.q_dual2),
+            (t, q, qdot),
+        );
         let positions_hold = largest(&b.residual[..m]).1 <= POSITION_TOLERANCE * scale;
         if positions_hold {
-            velocity_rows(model, sparse, (&mut b, &mut sb), ws, t, q, qdot);
+            velocity_rows(
+                model,
+                sparse,
+                (&mut b, &mut sb),
+                (&mut ws.q_lanes, &mut ws.q_dual, &mut ws.q_dual2),
+                (t, q, qdot),
+            );
             if rates_at_roundoff(sparse, (&mut b, &sb), n, m + k, qdot) {
                 return Ok(());
             }
@@ -796,35 +808,27 @@ pub(crate) fn project_holding<M: Mechanism>(
         };
         if !positions_hold {
             // Φ and G at a trial q.
-            let mut evaluate_at =
-                |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, q: &[f64]| match (
+            let mut evaluate_at = |b: &mut ConstraintBuffers<f64>, sb: &mut Option<SparseBuffers<f64>>, q: &[f64]| {
+                holonomic_rows(
+                    model,
                     sparse,
-                    sb.as_mut(),
-                ) {
-                    (Some(st), Some(sb)) => st.holonomic_rows(&model.mechanism, &mut ws.q_lanes, b, sb, t, q),
-                    _ => evaluate(
-                        &model.mechanism,
-                        (m, k),
-                        Rows::Holonomic,
-                        &mut ws.q_dual,
-                        &mut ws.q_dual2,
-                        b,
-                        t,
-                        q,
-                        qdot,
-                    ),
-                };
+                    (b, sb),
+                    (&mut ws.q_lanes, &mut ws.q_dual, &mut ws.q_dual2),
+                    (t, q, qdot),
+                );
+            };
             correct_positions(model, t, q, scale, (&mut b, &mut sb), &mut evaluate_at, &step)?;
+            // Velocities at the final q: the holonomic rows (G and Φ̇) are those of the last
+            // Gauss–Newton evaluation there.
+            velocity_rows(
+                model,
+                sparse,
+                (&mut b, &mut sb),
+                (&mut ws.q_lanes, &mut ws.q_dual, &mut ws.q_dual2),
+                (t, q, qdot),
+            );
         }
-        // Velocities: one exact linear step onto G q̇ + Φ_t = 0 and A q̇ + b = 0. The holonomic
-        // rows (G and Φ̇) are those of the last Gauss–Newton evaluation, at the final q.
-        if !positions_hold {
-            let (q_dual, q_dual2) = (&mut ws.q_dual, &mut ws.q_dual2);
-            match (sparse, sb.as_mut()) {
-                (Some(st), Some(_)) => st.holonomic_rates(&model.mechanism, q_dual, &mut b, t, q, qdot),
-                _ => evaluate(&model.mechanism, (m, k), Rows::Velocity, q_dual, q_dual2, &mut b, t, q, qdot),
-            }
-        }
+        // Velocities: one exact linear step onto G q̇ + Φ_t = 0 and A q̇ + b = 0.
         step(&mut b, &mut sb, m + k, Rhs::Rate);
         for (v, d) in qdot.iter_mut().zip(&b.step) {
             *v -= d;
