@@ -652,12 +652,12 @@ const ROUNDOFF_BAND: f64 = 1e3;
 /// onto the crossing branch).
 const ASSEMBLY_REGULARIZATION: f64 = 1e-15;
 
-/// The scale `L` of the positions at `(t, q)`: `1 + max(|x_b|, |y_b|)` over the bodies and
+/// The scale `L` of the positions, from the bodies' `poses` at `(t, q)`: `1 + max(|x_b|, |y_b|)` and
 /// `|q_j|` over the length coordinates. Angles do not enter (a turned crank is not larger), and
 /// a mechanism far from the origin gets the tolerance its positions' round-off needs: the
 /// outcome does not depend on where the world's origin is.
-fn position_scale<M: Mechanism>(model: &Model<M>, positions: impl Iterator<Item = (f64, f64)>, q: &[f64]) -> f64 {
-    let bodies = positions.fold(0.0_f64, |m, (x, y)| m.max(x.abs()).max(y.abs()));
+fn position_scale<M: Mechanism>(model: &Model<M>, poses: &[crate::Pose<f64>], q: &[f64]) -> f64 {
+    let bodies = poses.iter().fold(0.0_f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
     let lengths = model
         .coordinates()
         .iter()
@@ -758,7 +758,7 @@ pub(crate) fn project_holding<M: Mechanism>(
     let mut b = ws.constraints.take().expect("a constrained model's workspace has constraint buffers");
     let result = (|| {
         model.mechanism.poses(t, q, &mut b.poses);
-        let scale = position_scale(model, b.poses.iter().map(|p| (p.x, p.y)), q);
+        let scale = position_scale(model, &b.poses, q);
         if watch {
             b.position_before.copy_from_slice(q);
             b.velocity_before.copy_from_slice(qdot);

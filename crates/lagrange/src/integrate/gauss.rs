@@ -204,7 +204,7 @@ impl Gauss4 {
                 if self.newton.factor(h, &A, &self.a_squared) {
                     self.factored_step = h;
                 } else if self.jacobian_fresh {
-                    return self.newton_failed(system, ws, state, h, 0, None);
+                    return self.after_newton_failure(system, ws, state, h, 0, None);
                 } else {
                     self.refresh_jacobian = true;
                     continue;
@@ -218,7 +218,7 @@ impl Gauss4 {
                     self.zv.fill(0.0);
                 }
                 Err(Failure::Newton(iterations, residual)) => {
-                    return self.newton_failed(system, ws, state, h, iterations, residual);
+                    return self.after_newton_failure(system, ws, state, h, iterations, residual);
                 }
                 Err(Failure::NonFinite(quantity)) => {
                     self.last_step = f64::NAN;
@@ -256,7 +256,7 @@ impl Gauss4 {
     /// constraints, and where these lose rank (links aligned: a singular configuration) the
     /// accelerations between the stages change faster than the iteration follows, at any step;
     /// an explicit step needs no solve there.
-    fn newton_failed<D: Dynamics>(
+    fn after_newton_failure<D: Dynamics>(
         &mut self,
         system: &D,
         ws: &mut D::Workspace,

@@ -52,10 +52,10 @@ fn branch(case: &mut CaseBuilder, effort: Effort) -> Result<(), crate::Error> {
     for tol in [1e-4, 1e-6, 1e-8] {
         methods.push(Method::Sdirk4 { tol: Tolerances::uniform(tol) });
     }
-    let mut variational: Vec<Method> = plan.variational_steps.iter().map(|&dt| Method::Variational { dt }).collect();
     // Gauss at two steps: its Newton iteration does not converge at a flat position, and the
     // steps there are taken by RK4 substeps (counted in the run's statistics).
-    variational.extend([1e-2, 1e-3].map(|dt| Method::Gauss4 { dt }));
+    methods.extend([1e-2, 1e-3].map(|dt| Method::Gauss4 { dt }));
+    let variational: Vec<Method> = plan.variational_steps.iter().map(|&dt| Method::Variational { dt }).collect();
     for windows in [2.0, 10.0] {
         let params = scene_params(scene, &[("N", windows)])?;
         let methods: Vec<Method> = methods.iter().chain(&variational).copied().collect();
