@@ -2,7 +2,8 @@
 //! the equations of motion, the AD Jacobian and one step of every integrator (RK4,
 //! Dormand–Prince, variational, SDIRK4, Gauss–Legendre) and the projection onto the constraints,
 //! for every scene, on the tree path, the assembled-mass-matrix path and (for scenes without
-//! constraints among their coordinates) the raw-Lagrangian path.
+//! constraints among their coordinates) the raw-Lagrangian path. The counts are per thread, so
+//! the other modules of this test binary, running beside it, do not enter them.
 #![allow(unsafe_code)] // a global allocator is necessarily `unsafe impl`
 
 use lagrange::integrate::{Dopri5, Gauss4, Rk4, Sdirk4, Variational};
