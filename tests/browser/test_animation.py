@@ -3,7 +3,7 @@ Playwright as a user drives it — clicking on the time slider and on Play. Each
 without an error logged, draw the mechanism (not a blank canvas), redraw where the bodies moved
 when the slider seeks, move the error plot's cursor, and play.
 
-Run by scripts/browser-check, from `cargo test --workspace` (crates/cli/tests/browser.rs), with
+Run by scripts/browser-check, from `cargo test --workspace` (crates/cli/tests/cli/browser.rs), with
 LAGRANGE_BIN naming the binary under test (default: the release build). The screenshot of the four-bar that the README shows is written to
 target/browser/four_bar.png.
 """

@@ -1,4 +1,4 @@
-"""Shared fixtures: the command line under test (LAGRANGE_BIN, set by crates/cli/tests/python.rs;
+"""Shared fixtures: the command line under test (LAGRANGE_BIN, set by crates/cli/tests/cli/python.rs;
 target/debug/lagrange when run by hand), whose numbers the bindings must reproduce."""
 
 import json

@@ -102,7 +102,7 @@ def test_a_malformed_scene_file(cli, tmp_path):
 
 def test_a_drifting_run_raises_with_its_trajectory(cli):
     # RK4 at a step too long for the four-bar: its energy drifts 6 % (the command line's own
-    # test of this check, crates/cli/tests/outputs.rs).
+    # test of this check, crates/cli/tests/cli/outputs.rs).
     four_bar = lagrange.scene("four_bar")
     with pytest.raises(lagrange.UnhealthyRunError) as raised:
         four_bar.simulate(10.0, method="rk4", dt=0.05)
