@@ -223,18 +223,26 @@ fn default_states_are_admissible_and_unbounded_scenes_declare_no_region() {
 }
 
 /// Every scene's default state stays inside its region over the report's full horizon: the
-/// report, `simulate` and `compare` with their defaults never end in `Inadmissible`.
+/// report, `simulate` and `compare` with their defaults never end in `Inadmissible`. Only a
+/// scene that declares a region can end there (the test above: the others declare none), so
+/// only those are run; the others' full-horizon runs are the full report's.
 #[test]
 fn default_states_stay_inside_over_the_full_horizon() {
     let horizon = lagrange_validation::plan::FULL_HORIZON;
+    let mut bounded = 0;
     for scene in lagrange_scenes::all() {
         let params = scene.default_params();
         let initial = scene.default_state(&params).expect("valid");
         let system = scene.build(&params).expect("valid");
+        if system.check_admissible(initial.t, &initial.q, &initial.qdot) != Ok(true) {
+            continue;
+        }
+        bounded += 1;
         let method = Method::Dopri5 { tol: Tolerances::uniform(1e-8) };
         let run = system.simulate(&initial, horizon, method, &Output::Every(horizon / 1000.0));
         assert!(run.is_ok(), "{}: {:?}", scene.id(), run.err());
     }
+    assert_eq!(bounded, 7, "the scenes that declare a region, as listed above");
 }
 
 /// `--tol 10` used to be accepted (a conservative oscillator's energy grew from 0.05 to 1e16),
