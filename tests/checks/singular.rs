@@ -140,32 +140,46 @@ fn thirty_parallelogram_windows_project_at_the_round_off_of_their_positions() {
 /// The parallelogram chain of the scene (`N` windows listed as written, on the tree path) run
 /// for 20 s — 25 turns, about 50 flat positions, where `N` of the `2N` loop rows become
 /// dependent and the anti-parallelogram branches cross the parallelogram one — by every
-/// explicit and SDIRK method over its range of settings, from coarse to tight: each run ends
-/// without an error and keeps every crank at one angle. Bound 1e-8 rad (the issue's; measured
-/// ≤ 1.3e-11 at N = 2 and 10, ≤ 1.9e-10 at N = 40). N = 40 costs about 28 s here, most of it
-/// SDIRK at 1e-8 (16 s: its Jacobian has 2n = 162 columns); 80 windows are walked by the
-/// explicit methods in the next test; the variational integrator walks the report's steps in
-/// its own test below, and Gauss passes the flat positions by counted RK4 steps (the test after it).
+/// explicit and SDIRK method over its range of settings, from coarse to tight, with 2 and 10
+/// windows, and at a sample of them with 40 (81 coordinates): each run ends without an error and
+/// keeps every crank at one angle. Bound 1e-8 rad (the issue's; measured ≤ 1.3e-11 at N = 2 and
+/// 10, ≤ 1.9e-10 at N = 40). The sample at 40 windows is one setting of each method, the coarse
+/// ones (SDIRK at 1e-8 alone took 16 s there: its Jacobian has 2n = 162 columns); every setting
+/// at 40 windows is walked by the stability suite's `parallelogram_branch` case in the full
+/// report (the same runs, the same bounds). 80 windows are walked by the explicit methods in the
+/// next test; the variational integrator walks the report's steps in its own test below, and
+/// Gauss passes the flat positions by counted RK4 steps (the test after it).
 #[test]
 fn the_parallelogram_chain_keeps_its_branch_through_fifty_flat_positions_at_every_setting() {
-    for windows in [2, 10, 40] {
-        let mut methods = explicit_settings();
-        methods.extend([1e-4, 1e-6, 1e-8].map(|tol| Method::Sdirk4 { tol: Tolerances::uniform(tol) }));
+    let sdirk = [1e-4, 1e-6, 1e-8].map(|tol| Method::Sdirk4 { tol: Tolerances::uniform(tol) });
+    for windows in [2, 10] {
+        let methods: Vec<Method> = explicit_settings().into_iter().chain(sdirk).collect();
         walk(windows, &methods, |_| 1e-8);
     }
+    let tol = Tolerances::uniform(1e-6);
+    walk(40, &[Method::Rk4 { dt: 1e-2 }, Method::Dopri5 { tol }, Method::Dop853 { tol }, sdirk[0]], |_| 1e-8);
 }
 
 /// Eighty windows (161 coordinates, 160 loop rows) through the same fifty flat positions by the
-/// explicit methods over their range of settings (about 35 s in a release build; SDIRK's
-/// Jacobian of 322 columns would cost minutes): each run ends without an error, going round with
-/// the pendulum, on the parallelogram branch. The cranks stay within the 1e-8 rad at
-/// RK4's steps and at tolerances 1e-10 and 1e-12 (measured ≤ 5.0e-9). At 1e-6 and 1e-8 the
+/// explicit methods at a coarse setting of each and DOP853 at a tight one: each run ends without an error,
+/// going round with the pendulum, on the parallelogram branch. The cranks stay within the
+/// issue's 1e-8 rad at RK4's step and at tolerance 1e-12 (measured ≤ 5.0e-9). At 1e-6 the
 /// spread is the run's own error, not the solve's round-off (measured 1.5e-11 … 3.8e-10, and
 /// 5.4e-8 by DOP853 at 1e-8): bounded there by 1e3 tol, a global error of 10³ steps' local errors
-/// adding up — still 10³ below the 3.1 rad of a jump to an anti-parallelogram branch.
+/// adding up — still 10³ below the 3.1 rad of a jump to an anti-parallelogram branch. Every
+/// explicit setting at 80 windows (RK4 at 1e-2 and 2.5e-3 s, both methods at 1e-6 … 1e-12: about
+/// 35 s) is walked by the stability suite's `parallelogram_branch` case in the full report, with
+/// these bounds.
 #[test]
-fn eighty_parallelogram_windows_keep_their_branch_at_every_explicit_setting() {
-    walk(80, &explicit_settings(), |method| match method {
+fn eighty_parallelogram_windows_keep_their_branch_at_coarse_and_tight_settings() {
+    let [coarse, tight] = [1e-6, 1e-12].map(Tolerances::uniform);
+    let methods = [
+        Method::Rk4 { dt: 1e-2 },
+        Method::Dopri5 { tol: coarse },
+        Method::Dop853 { tol: coarse },
+        Method::Dop853 { tol: tight },
+    ];
+    walk(80, &methods, |method| match method {
         Method::Dopri5 { tol } | Method::Dop853 { tol } if tol.rtol > 1e-10 => 1e3 * tol.rtol,
         _ => 1e-8,
     });
