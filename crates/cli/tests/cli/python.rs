@@ -1,5 +1,6 @@
-//! The Python package (crates/python) from Python: `scripts/python-check` builds it with maturin
-//! into the project's `.venv` and runs its pytest suite (crates/python/tests), which checks every
+//! The Python package (crates/python) from Python: `scripts/python-check` builds its extension
+//! module in the test profile, puts it in place in the package and runs the package's pytest
+//! suite (crates/python/tests) in the project's `.venv`, which checks every
 //! binding against this build of the `lagrange` command line (`LAGRANGE_BIN`) on the same runs.
 //! The script installs what it needs the first time; a machine where it cannot fails here with
 //! the script's message, never skips.
