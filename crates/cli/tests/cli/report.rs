@@ -2,32 +2,15 @@
 //! report.json (crates/cli/REPORT_SCHEMA.md), errors that fall along the sweeps, and one-line
 //! errors for bad arguments.
 
+use super::{assert_one_line_error, lagrange, stderr};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn lagrange(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lagrange")).args(args).output().expect("the binary runs")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 /// A fresh directory under the system's temporary directory.
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("lagrange-report-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     dir
-}
-
-/// A failing command: non-zero exit, one line on stderr that mentions `needle`.
-fn assert_one_line_error(args: &[&str], needle: &str) {
-    let output = lagrange(args);
-    let err = stderr(&output);
-    assert!(!output.status.success(), "{args:?} succeeded");
-    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
-    assert!(err.contains(needle), "{args:?}: `{err}` does not mention `{needle}`");
 }
 
 const METHODS: [&str; 9] = [

@@ -2,11 +2,8 @@
 //! on standard output, an acceleration that disagrees with its closed form, negative and extreme
 //! numbers, repeated or ASCII-spelled parameters, no arguments at all.
 
+use super::{lagrange, stderr, stdout};
 use std::process::{Command, Output, Stdio};
-
-fn lagrange(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lagrange")).args(args).output().expect("the binary runs")
-}
 
 /// Run with standard output connected to a pipe whose reading end is already closed, as
 /// `lagrange … | head -1` once `head` has exited: every write fails with a broken pipe.
@@ -19,14 +16,6 @@ fn lagrange_into_closed_pipe(args: &[&str]) -> Output {
         .stderr(Stdio::piped())
         .output()
         .expect("the binary runs")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
 /// The exit code and the one line on standard error of a failing command.
